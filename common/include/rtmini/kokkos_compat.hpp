@@ -1,0 +1,87 @@
+#pragma once
+// The one place where differences between Kokkos 3.4 (Debian, CPU) and Kokkos 4.x
+// (CUDA) are bridged. Everything else includes this instead of spelling versions.
+#include <Kokkos_Core.hpp>
+#include <Kokkos_Sort.hpp>
+#include <cstring>
+
+#ifndef KOKKOS_VERSION
+#error "Kokkos_Core.hpp did not define KOKKOS_VERSION"
+#endif
+
+namespace rtmini::compat {
+
+#if KOKKOS_VERSION >= 40000
+inline constexpr bool kKokkos4 = true;
+#else
+inline constexpr bool kKokkos4 = false;
+#endif
+
+// Sort a 1D view of keys in place on its own execution space.
+// 3.4 on host spaces falls back to std::sort; 4.x on CUDA uses the vendor sort.
+template <class ExecSpace, class ViewType>
+void sort(const ExecSpace& space, const ViewType& view) {
+#if KOKKOS_VERSION >= 40200
+  Kokkos::sort(space, view);
+#else
+  space.fence();
+  Kokkos::sort(view);
+#endif
+}
+
+// Bit-level reinterpretation usable in device code (std::bit_cast is C++20).
+template <class To, class From>
+KOKKOS_INLINE_FUNCTION To bit_cast(const From& from) {
+  static_assert(sizeof(To) == sizeof(From), "bit_cast needs equal sizes");
+  To to;
+  memcpy(&to, &from, sizeof(To));
+  return to;
+}
+
+template <class T>
+KOKKOS_INLINE_FUNCTION T kmin(T a, T b) { return b < a ? b : a; }
+template <class T>
+KOKKOS_INLINE_FUNCTION T kmax(T a, T b) { return a < b ? b : a; }
+
+// Name of the default execution space, e.g. "OpenMP", "Cuda".
+inline const char* backend_name() { return Kokkos::DefaultExecutionSpace::name(); }
+
+inline int concurrency() {
+#if KOKKOS_VERSION >= 40000
+  return Kokkos::DefaultExecutionSpace().concurrency();
+#else
+  return Kokkos::DefaultExecutionSpace::concurrency();
+#endif
+}
+
+}  // namespace rtmini::compat
+
+// Device-callable math: Kokkos 3.4 keeps these in Kokkos::Experimental, 4.x in Kokkos.
+namespace rtmini::math {
+#if KOKKOS_VERSION >= 40000
+using Kokkos::acos; using Kokkos::atan2; using Kokkos::ceil; using Kokkos::cos; using Kokkos::exp;
+using Kokkos::fabs; using Kokkos::floor; using Kokkos::fmax; using Kokkos::fmin; using Kokkos::log;
+using Kokkos::pow; using Kokkos::sin; using Kokkos::sqrt; using Kokkos::tan; using Kokkos::asin;
+using Kokkos::log2; using Kokkos::atan;
+#else
+using Kokkos::Experimental::acos; using Kokkos::Experimental::atan2; using Kokkos::Experimental::ceil;
+using Kokkos::Experimental::cos; using Kokkos::Experimental::exp; using Kokkos::Experimental::fabs;
+using Kokkos::Experimental::floor; using Kokkos::Experimental::fmax; using Kokkos::Experimental::fmin;
+using Kokkos::Experimental::log; using Kokkos::Experimental::pow; using Kokkos::Experimental::sin;
+using Kokkos::Experimental::sqrt; using Kokkos::Experimental::tan; using Kokkos::Experimental::asin;
+using Kokkos::Experimental::log2; using Kokkos::Experimental::atan;
+#endif
+// Written out because 3.4 has no device isfinite/copysign; exact for IEEE types.
+template <class T>
+KOKKOS_INLINE_FUNCTION bool isfinite(T x) { return (x - x) == T(0); }
+template <class T>
+KOKKOS_INLINE_FUNCTION bool signbit(T x) { return x < T(0) || (x == T(0) && T(1) / x < T(0)); }
+template <class T>
+KOKKOS_INLINE_FUNCTION T copysign(T mag, T sgn) {
+  const T m = mag < T(0) ? -mag : mag;
+  return signbit(sgn) ? -m : m;
+}
+template <class T>
+KOKKOS_INLINE_FUNCTION T clamp(T x, T lo, T hi) { return x < lo ? lo : (x > hi ? hi : x); }
+inline constexpr double kPi = 3.14159265358979323846;
+}  // namespace rtmini::math
