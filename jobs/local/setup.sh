@@ -20,6 +20,7 @@ packages=(
   libembree-dev
   python3 python3-numpy python3-matplotlib python3-h5py python3-pytest
   shellcheck clang-format
+  slurm-wlm munge
 )
 
 sudo_if_needed() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }

@@ -3,6 +3,7 @@
 // (CUDA) are bridged. Everything else includes this instead of spelling versions.
 #include <Kokkos_Core.hpp>
 #include <Kokkos_Sort.hpp>
+#include <cstdint>
 #include <cstring>
 
 #ifndef KOKKOS_VERSION
@@ -74,8 +75,8 @@ using Kokkos::Experimental::log2; using Kokkos::Experimental::atan;
 // Written out because 3.4 has no device isfinite/copysign; exact for IEEE types.
 template <class T>
 KOKKOS_INLINE_FUNCTION bool isfinite(T x) { return (x - x) == T(0); }
-template <class T>
-KOKKOS_INLINE_FUNCTION bool signbit(T x) { return x < T(0) || (x == T(0) && T(1) / x < T(0)); }
+KOKKOS_INLINE_FUNCTION bool signbit(float x) { return (compat::bit_cast<std::uint32_t>(x) >> 31) != 0u; }
+KOKKOS_INLINE_FUNCTION bool signbit(double x) { return (compat::bit_cast<std::uint64_t>(x) >> 63) != 0u; }
 template <class T>
 KOKKOS_INLINE_FUNCTION T copysign(T mag, T sgn) {
   const T m = mag < T(0) ? -mag : mag;

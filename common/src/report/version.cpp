@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "rtmini/config.hpp"
 #include "rtmini/kokkos_compat.hpp"
 #ifdef RTMINI_HAVE_MPI
 #include <mpi.h>

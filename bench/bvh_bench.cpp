@@ -1,0 +1,314 @@
+// rtmini-bvh-bench: BVH build time and traversal throughput on a mesh for a
+// fixed workload, optionally against Embree on the identical ray set.
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+#include "ray_buffer.hpp"
+#include "rtmini/bvh/build.hpp"
+#include "rtmini/bvh/quality.hpp"
+#include "rtmini/bvh/traverse.hpp"
+#include "rtmini/geometry/offset.hpp"
+#include "rtmini/io/error.hpp"
+#include "rtmini/io/obj_reader.hpp"
+#include "rtmini/parallel/communicator.hpp"
+#include "rtmini/report/hash.hpp"
+#include "rtmini/report/version.hpp"
+#include "rtmini/sampling/rng.hpp"
+#include "rtmini/sampling/sampling.hpp"
+#include "rtmini/scene/device_mesh.hpp"
+
+namespace {
+
+using namespace rtmini;
+using Exec = Kokkos::DefaultExecutionSpace;
+using Mem = Exec::memory_space;
+using Clock = std::chrono::steady_clock;
+
+struct Options {
+  std::string mesh;
+  std::string workload = "ao";
+  std::string quality = "sah";
+  std::string peer;
+  int samples_per_face = 3;
+  int rays = 64;
+  int width = 1024, height = 1024;
+  int repeats = 3;
+  std::uint64_t seed = 1;
+};
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// Primary camera that frames the mesh (used by primary, shadow and diffuse workloads).
+Kokkos::View<Ray*, Mem> primary_rays(const Aabb& box, int w, int h) {
+  const Vec3 c = box.center();
+  const Real diag = box.diagonal();
+  const Vec3 eye = c + normalize(Vec3(1, Real(0.6), Real(1.4))) * (Real(1.4) * diag);
+  const Frame f(normalize(c - eye));
+  const Real tan_half = Real(0.45);
+  Kokkos::View<Ray*, Mem> rays("rtmini::bench::primary_rays", std::size_t(w) * h);
+  Kokkos::parallel_for(
+      "rtmini::bench::gen_primary", Kokkos::RangePolicy<Exec>(0, w * h), KOKKOS_LAMBDA(int i) {
+        const int x = i % w, y = i / w;
+        const Real sx = (Real(2) * (x + Real(0.5)) / w - 1) * tan_half;
+        const Real sy = (1 - Real(2) * (y + Real(0.5)) / h) * tan_half;
+        Ray r;
+        r.org = eye;
+        r.dir = normalize(f.n + f.t * sx + f.b * sy);
+        r.tmin = 0;
+        r.tmax = Real(1e30);
+        rays(i) = r;
+      });
+  return rays;
+}
+
+// The fixed AO workload: S samples per triangle at random barycentric points,
+// R cosine-weighted rays each, origin offset 1e-4 x extent along the normal,
+// maximum distance 10 x extent. Also returns per-sample areas for the mean AO.
+Kokkos::View<Ray*, Mem> ao_rays(const DeviceMesh<Mem>& m, const Options& o, Real extent,
+                                Kokkos::View<Real*, Mem>& area) {
+  const int nt = static_cast<int>(m.tris.extent(0));
+  const int S = o.samples_per_face, R = o.rays;
+  Kokkos::View<Ray*, Mem> rays(Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bench::ao_rays"),
+                               std::size_t(nt) * S * R);
+  area = Kokkos::View<Real*, Mem>("rtmini::bench::ao_area", nt);
+  const auto tris = m.tris;
+  const std::uint64_t seed = o.seed;
+  Kokkos::parallel_for(
+      "rtmini::bench::gen_ao", Kokkos::RangePolicy<Exec>(0, nt * S), KOKKOS_LAMBDA(int ps) {
+        const int t = ps / S;
+        const Triangle tri = tris(t);
+        const Vec3 n = triangle_normal(tri.a, tri.b, tri.c);
+        if (ps % S == 0) area(t) = triangle_area(tri.a, tri.b, tri.c);
+        const Rng point_rng(seed, std::uint64_t(ps), 0);
+        float r1, r2;
+        point_rng.uniform2(0, r1, r2);
+        Real u, v;
+        uniform_triangle(r1, r2, u, v);
+        const Vec3 p = barycentric_point(tri.a, tri.b, tri.c, u, v);
+        const Vec3 org = p + n * (Real(1e-4) * extent);
+        const Frame f(n);
+        for (int k = 0; k < R; ++k) {
+          const Rng rng(seed, std::uint64_t(ps), std::uint32_t(k + 1));
+          float a, b;
+          rng.uniform2(0, a, b);
+          Ray r;
+          r.org = org;
+          r.dir = f.to_world(cosine_hemisphere(a, b));
+          r.tmin = 0;
+          r.tmax = Real(10) * extent;
+          rays(std::size_t(ps) * R + k) = r;
+        }
+      });
+  return rays;
+}
+
+// Secondary rays from primary hits: shadow (any hit toward a point light) or diffuse (closest hit).
+Kokkos::View<Ray*, Mem> secondary_rays(const DeviceMesh<Mem>& m, const Kokkos::View<Ray*, Mem>& prim,
+                                       bool shadow, const Aabb& box, std::uint64_t seed) {
+  const int n = static_cast<int>(prim.extent(0));
+  Kokkos::View<Ray*, Mem> out("rtmini::bench::secondary_rays", n);
+  const auto accel = m.accel;
+  const auto tris = m.tris;
+  const Vec3 light = box.center() + Vec3(Real(0.3), 1, Real(0.5)) * box.diagonal();
+  Kokkos::parallel_for(
+      "rtmini::bench::gen_secondary", Kokkos::RangePolicy<Exec>(0, n), KOKKOS_LAMBDA(int i) {
+        const Ray pr = prim(i);
+        const Hit h = bvh::closest_hit(accel, pr);
+        Ray r;
+        r.org = pr.org;
+        r.dir = pr.dir;
+        r.tmin = 0;
+        r.tmax = -1;  // empty segment for rays that missed: traced but trivially rejected
+        if (h.valid()) {
+          const Triangle tri = tris(h.prim);
+          Vec3 nrm = triangle_normal(tri.a, tri.b, tri.c);
+          if (dot(nrm, pr.dir) > 0) nrm = -nrm;
+          const Vec3 p = offset_ray_origin(barycentric_point(tri.a, tri.b, tri.c, h.u, h.v), nrm);
+          r.org = p;
+          if (shadow) {
+            const Vec3 d = light - p;
+            r.tmax = length(d) * Real(0.9999);
+            r.dir = normalize(d);
+          } else {
+            const Rng rng(seed, std::uint64_t(i), 0);
+            float a, b;
+            rng.uniform2(0, a, b);
+            r.dir = Frame(nrm).to_world(cosine_hemisphere(a, b));
+            r.tmax = Real(1e30);
+          }
+        }
+        out(i) = r;
+      });
+  return out;
+}
+
+int run(const Options& o) {
+  const Mesh mesh = read_mesh(o.mesh);
+  bvh::BuildQuality quality;
+  if (o.quality == "lbvh") quality = bvh::BuildQuality::kLbvh;
+  else if (o.quality == "sah") quality = bvh::BuildQuality::kSah;
+  else throw InputError("--quality must be lbvh or sah, got '" + o.quality + "'");
+  const bool any = o.workload == "ao" || o.workload == "shadow";
+
+  std::cout << build_banner() << "\n";
+  std::cout << "threads " << compat::concurrency() << ", mesh " << o.mesh << ": " << mesh.positions.size()
+            << " vertices, " << mesh.triangle_count() << " triangles\n";
+
+  DeviceMesh<Mem> dm = upload_mesh(mesh, quality);
+  // Build timings: the best of several builds of the already-uploaded triangles.
+  double lbvh_s = 1e300, sah_s = 1e300;
+  for (int rep = 0; rep < std::max(1, o.repeats); ++rep) {
+    auto t0 = Clock::now();
+    auto b1 = bvh::build_lbvh<Exec, Mem>(Exec(), dm.tris);
+    Kokkos::fence();
+    lbvh_s = std::min(lbvh_s, seconds_since(t0));
+    t0 = Clock::now();
+    auto b2 = bvh::build<Exec, Mem>(Exec(), dm.tris, bvh::BuildQuality::kSah);
+    Kokkos::fence();
+    sah_s = std::min(sah_s, seconds_since(t0));
+  }
+  const auto q = bvh::measure_quality(dm.accel);
+  std::printf("build: lbvh %.2f ms, sah %.2f ms; traced with %s: %s\n", lbvh_s * 1e3, sah_s * 1e3,
+              bvh::to_string(quality), q.to_string().c_str());
+
+  const Aabb box = dm.accel.bounds;
+  const Real extent = box.diagonal();
+  Kokkos::View<Real*, Mem> area;
+  Kokkos::View<Ray*, Mem> rays;
+  if (o.workload == "ao") {
+    rays = ao_rays(dm, o, extent, area);
+    std::printf("workload ao: %d samples/triangle x %d cosine rays, offset 1e-4 x extent, tmax 10 x extent "
+                "(extent = bbox diagonal %.6g), any hit\n",
+                o.samples_per_face, o.rays, double(extent));
+  } else if (o.workload == "primary") {
+    rays = primary_rays(box, o.width, o.height);
+    std::printf("workload primary: %dx%d camera rays, closest hit\n", o.width, o.height);
+  } else if (o.workload == "shadow" || o.workload == "diffuse") {
+    rays = secondary_rays(dm, primary_rays(box, o.width, o.height), o.workload == "shadow", box, o.seed);
+    std::printf("workload %s: from %dx%d primary hits, %s\n", o.workload.c_str(), o.width, o.height,
+                o.workload == "shadow" ? "any hit toward a point light" : "cosine bounce, closest hit");
+  } else {
+    throw InputError("--workload must be primary, shadow, ao or diffuse, got '" + o.workload + "'");
+  }
+  const long long nr = static_cast<long long>(rays.extent(0));
+  Kokkos::View<int*, Mem> result(Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bench::result"), nr);
+  const auto accel = dm.accel;
+  double best = 1e300;
+  for (int rep = 0; rep < std::max(1, o.repeats); ++rep) {
+    Kokkos::fence();
+    const auto t0 = Clock::now();
+    if (any) {
+      Kokkos::parallel_for(
+          "rtmini::bench::trace_any", Kokkos::RangePolicy<Exec>(0, nr), KOKKOS_LAMBDA(long long i) {
+            result(i) = bvh::any_hit(accel, rays(i)) ? 1 : 0;
+          });
+    } else {
+      Kokkos::parallel_for(
+          "rtmini::bench::trace_closest", Kokkos::RangePolicy<Exec>(0, nr), KOKKOS_LAMBDA(long long i) {
+            result(i) = bvh::closest_hit(accel, rays(i)).prim;
+          });
+    }
+    Kokkos::fence();
+    best = std::min(best, seconds_since(t0));
+  }
+  std::uint64_t hash = 0;
+  Kokkos::parallel_reduce(
+      "rtmini::bench::hash", Kokkos::RangePolicy<Exec>(0, nr),
+      KOKKOS_LAMBDA(long long i, std::uint64_t& h) {
+        h += hash_term(std::uint64_t(i), std::uint64_t(std::int64_t(result(i))));
+      },
+      hash);
+  const double mrays = nr / best * 1e-6;
+  {
+    // Untimed pass counting node visits and ray-triangle tests per ray.
+    double nodes = 0, tests = 0;
+    Kokkos::parallel_reduce(
+        "rtmini::bench::stats", Kokkos::RangePolicy<Exec>(0, nr),
+        KOKKOS_LAMBDA(long long i, double& nn, double& tt) {
+          bvh::TraversalStats st;
+          if (any) bvh::any_hit(accel, rays(i), st);
+          else bvh::closest_hit(accel, rays(i), st);
+          nn += st.nodes;
+          tt += st.tests;
+        },
+        nodes, tests);
+    std::printf("per ray: %.1f nodes visited, %.1f triangle tests (brute force: %d)\n", nodes / nr,
+                tests / nr, dm.accel.num_prims);
+  }
+  std::printf("rays %lld, trace %.4f s (best of %d), %.2f Mrays/s\n", nr, best, o.repeats, mrays);
+
+  if (o.workload == "ao") {
+    const int R = o.rays, S = o.samples_per_face;
+    double num = 0, den = 0;
+    Kokkos::parallel_reduce(
+        "rtmini::bench::mean_ao", Kokkos::RangePolicy<Exec>(0, int(area.extent(0))),
+        KOKKOS_LAMBDA(int t, double& n, double& d) {
+          int hits = 0;
+          for (long long k = std::int64_t(t) * S * R; k < std::int64_t(t + 1) * S * R; ++k) hits += result(k);
+          n += double(area(t)) * (1.0 - double(hits) / (S * R));
+          d += double(area(t));
+        },
+        num, den);
+    std::printf("area-weighted mean AO (unoccluded fraction): %.6f\n", den > 0 ? num / den : 0.0);
+  }
+
+  if (o.peer == "embree") {
+#ifdef RTMINI_HAVE_EMBREE
+    auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rays);
+    auto ht = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), dm.tris);
+    auto hres = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), result);
+    std::vector<Ray> rv(hr.data(), hr.data() + nr);
+    std::vector<Triangle> tv(ht.data(), ht.data() + ht.extent(0));
+    const auto pr = bench::trace_with_embree(tv, rv, any, std::max(1, o.repeats));
+    long long agree = 0;
+    for (long long i = 0; i < nr; ++i) agree += pr.result[i] == hres(i);
+    const double peer_mrays = nr / pr.trace_seconds * 1e-6;
+    std::printf("peer embree %s: build %.2f ms, trace %.4f s, %.2f Mrays/s; agreement %.5f%%\n",
+                pr.version.c_str(), pr.build_seconds * 1e3,
+                pr.trace_seconds, peer_mrays, 100.0 * agree / std::max(1LL, nr));
+    std::printf("ratio rtmini/embree: %.3f\n", mrays / peer_mrays);
+#else
+    throw InputError("--peer embree: this build has no Embree (install libembree-dev and reconfigure)");
+#endif
+  } else if (!o.peer.empty()) {
+    throw InputError("--peer must be embree, got '" + o.peer + "'");
+  }
+  std::printf("FOM %.3f Mrays/s (%s, %s) verification %s\n", mrays, o.workload.c_str(),
+              bvh::to_string(quality), hash_hex(hash).c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  CLI::App app{"rtmini-bvh-bench: BVH build and traversal throughput"};
+  app.add_option("mesh", o.mesh, "OBJ or .bs mesh")->required();
+  app.add_option("--workload", o.workload, "primary, shadow, ao or diffuse")->capture_default_str();
+  app.add_option("--quality", o.quality, "BVH build used for tracing: lbvh or sah")->capture_default_str();
+  app.add_option("--samples-per-face", o.samples_per_face, "AO sample points per triangle")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--rays", o.rays, "AO rays per sample point")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--width", o.width, "camera width (primary/shadow/diffuse)")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--height", o.height, "camera height")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--repeats", o.repeats, "timed repetitions (best is reported)")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--seed", o.seed, "random seed")->capture_default_str();
+  app.add_option("--peer", o.peer, "trace the identical rays with a peer: embree");
+  app.set_version_flag("--version", std::string(version_string()) + " (git " + git_hash() + ")");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : kExitBadInput;
+  }
+  Environment env(argc, argv);
+  try {
+    return run(o);
+  } catch (const InputError& e) {
+    std::cerr << "rtmini-bvh-bench: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "rtmini-bvh-bench: " << e.what() << "\n";
+    return kExitResource;
+  }
+}

@@ -1,0 +1,58 @@
+#pragma once
+// The BVH shared by every kernel: a binary tree whose nodes store both
+// children's boxes (one node fetch tests two boxes), leaves of up to 8
+// triangles stored contiguously in leaf order. Built by build_lbvh.hpp
+// (Karras 2012, on any Kokkos backend) or build_sah.hpp (binned SAH, host).
+#include <cstdint>
+
+#include "rtmini/geometry/aabb.hpp"
+#include "rtmini/geometry/triangle.hpp"
+
+namespace rtmini::bvh {
+
+inline constexpr int kMaxLeafSize = 8;
+inline constexpr int kStackSize = 64;  // builders guarantee depth <= kStackSize
+inline constexpr std::uint32_t kLeafBit = 0x80000000u;
+inline constexpr std::uint32_t kEmptyLeaf = kLeafBit;  // count 0: never hit (empty box)
+
+// Child reference: an internal node index, or kLeafBit | first << 3 | (count - 1).
+KOKKOS_INLINE_FUNCTION constexpr std::uint32_t make_leaf(std::uint32_t first, std::uint32_t count) {
+  return kLeafBit | (first << 3) | (count - 1u);
+}
+KOKKOS_INLINE_FUNCTION constexpr bool is_leaf(std::uint32_t c) { return (c & kLeafBit) != 0u; }
+KOKKOS_INLINE_FUNCTION constexpr std::uint32_t leaf_first(std::uint32_t c) { return (c & ~kLeafBit) >> 3; }
+KOKKOS_INLINE_FUNCTION constexpr std::uint32_t leaf_count(std::uint32_t c) { return (c & 7u) + 1u; }
+
+struct alignas(16) BvhNode {
+  Real lo_x[2], lo_y[2], lo_z[2];
+  Real hi_x[2], hi_y[2], hi_z[2];
+  std::uint32_t child[2];
+
+  KOKKOS_INLINE_FUNCTION void set_child(int k, const Aabb& box, std::uint32_t ref) {
+    lo_x[k] = box.lo.x; lo_y[k] = box.lo.y; lo_z[k] = box.lo.z;
+    hi_x[k] = box.hi.x; hi_y[k] = box.hi.y; hi_z[k] = box.hi.z;
+    child[k] = ref;
+  }
+  KOKKOS_INLINE_FUNCTION Aabb box(int k) const {
+    Aabb b;
+    b.lo = Vec3(lo_x[k], lo_y[k], lo_z[k]);
+    b.hi = Vec3(hi_x[k], hi_y[k], hi_z[k]);
+    return b;
+  }
+};
+
+enum class BuildQuality { kLbvh, kSah };
+
+// Device-resident BVH. tris and prim are in leaf order; prim maps a leaf slot
+// back to the caller's triangle index, which is what queries report.
+template <class MemorySpace>
+struct Bvh {
+  Kokkos::View<BvhNode*, MemorySpace> nodes;
+  Kokkos::View<Triangle*, MemorySpace> tris;
+  Kokkos::View<int*, MemorySpace> prim;
+  Aabb bounds;
+  int num_prims = 0;
+  BuildQuality quality = BuildQuality::kLbvh;
+};
+
+}  // namespace rtmini::bvh

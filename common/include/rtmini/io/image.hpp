@@ -1,0 +1,62 @@
+#pragma once
+// Linear float images and their files. 8-bit formats (PPM P6 -- the hand-drawn
+// seed's output -- and PNG) are sRGB-encoded on write and decoded on read; EXR
+// stays linear. Every write is atomic (temporary file + rename).
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace rtmini {
+
+// Row-major, top row first, interleaved channels (1 = grey/Y, 3 = RGB, 4 = RGBA).
+struct Image {
+  int width = 0;
+  int height = 0;
+  int channels = 3;
+  std::vector<float> data;
+
+  Image() = default;
+  Image(int w, int h, int c = 3)
+      : width(w), height(h), channels(c), data(static_cast<std::size_t>(w) * h * c, 0.f) {}
+
+  float& at(int x, int y, int c) { return data[index(x, y, c)]; }
+  float at(int x, int y, int c) const { return data[index(x, y, c)]; }
+
+ private:
+  std::size_t index(int x, int y, int c) const {
+    return (static_cast<std::size_t>(y) * width + x) * channels + c;
+  }
+};
+
+enum class ExrPixel { kHalf, kFloat };
+
+// Dispatch on the extension (.ppm, .png, .exr; case-insensitive); InputError otherwise.
+void write_image(const std::string& path, const Image& image);
+Image read_image(const std::string& path);
+
+// P6, 8-bit sRGB. Grey images are written as RGB; alpha is dropped.
+void write_ppm(const std::string& path, const Image& image);
+// P3 or P6, maxval up to 65535; returns 3 linear channels. InputError "file:line: reason".
+Image read_ppm(const std::string& path);
+
+// 8-bit sRGB (grey, RGB or RGBA; alpha stored linearly). IoError without libpng.
+void write_png(const std::string& path, const Image& image);
+Image read_png(const std::string& path);
+
+// Linear RGB(A) in channels R, G, B (A). IoError without OpenEXR.
+void write_exr(const std::string& path, const Image& image, ExrPixel pixel = ExrPixel::kHalf);
+// The unprefixed R, G, B (A) channels, or Y alone as a 1-channel image.
+Image read_exr(const std::string& path);
+
+// AOV layers as channels of one EXR file. A layer named "normal" with 3 (4) channels
+// becomes normal.R/G/B(/A); "" is the unprefixed beauty image; a 1-channel layer named
+// "depth.Z" keeps its name, one without a dot ("cost") becomes "cost.Y". All images
+// must have the same size.
+void write_exr_layers(const std::string& path,
+                      const std::vector<std::pair<std::string, Image>>& layers,
+                      ExrPixel pixel = ExrPixel::kFloat);
+// Inverse of write_exr_layers: R/G/B(/A) groups come back under their layer name,
+// any other channel as a 1-channel image under its full channel name.
+std::vector<std::pair<std::string, Image>> read_exr_layers(const std::string& path);
+
+}  // namespace rtmini

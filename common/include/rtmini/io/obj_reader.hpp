@@ -1,0 +1,22 @@
+#pragma once
+// Wavefront OBJ/MTL input (through Debian's tinyobjloader) and the mesh-file
+// dispatcher used by the apps and the scene loader.
+#include <string>
+
+#include "rtmini/scene/mesh.hpp"
+
+namespace rtmini {
+
+// Reads an OBJ and its MTL libraries. Triangles and quads are kept as they are;
+// polygons with more vertices are fan-triangulated. Each `o`/`g` name becomes one
+// entry of Mesh::objects (repeated names share an id; unnamed faces go to "default").
+// MTL Kd/Ks/Ke/Ns/Ni/d fill Material. A light pre-scan validates field counts,
+// numbers, finiteness and index ranges first, so errors carry "file:line: reason";
+// an undefined `usemtl` name, or a missing MTL file in an OBJ that uses materials,
+// is an InputError too (an OBJ without `usemtl` loads without its missing library).
+Mesh read_obj(const std::string& path);
+
+// Dispatches on the extension (case-insensitive): .obj -> read_obj, .bs -> read_bakeshop.
+Mesh read_mesh(const std::string& path);
+
+}  // namespace rtmini

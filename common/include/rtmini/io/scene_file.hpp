@@ -1,0 +1,112 @@
+#pragma once
+// TOML scene descriptions (toml++). Layout, every key optional unless noted:
+//
+//   ambient = [r, g, b]
+//   [camera]    position, look_at, up ([3]), fov_deg, aperture, focus_distance (0 = distance
+//               to look_at), shutter_open, shutter_close, velocity ([3], units per shutter time)
+//   [[lights]]  type = "quad" (corner, edge_u, edge_v, emission) | "point" (position,
+//               intensity) | "sphere" (center, radius, emission); all fields required
+//   [[materials]] name (required) + any of kd, ks, ke ([3]), ns, ni, d: overrides the fields
+//               of every mesh material of that name; also the target of a mesh `material`
+//   [[meshes]]  file (required, relative to the TOML file's folder), translate [3],
+//               rotate_deg [3] (XYZ Euler: about x, then y, then z), scale (number or [3]),
+//               material (name of a [[materials]] entry, replaces all the mesh's materials)
+//   [[spheres]] center, radius (required), material = { kd, ks, ke, ns, ni, d }
+//   [settings]  passed through; each app checks its own keys with check_known_keys
+//
+// Unknown keys, wrong types, bad values and missing mesh files are InputErrors
+// "file:line: reason" pointing at the offending TOML line.
+#include <toml++/toml.h>
+
+#include <initializer_list>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "rtmini/geometry/vec.hpp"
+#include "rtmini/scene/mesh.hpp"
+
+namespace rtmini {
+
+struct CameraDesc {
+  Vec3d position{0.0, 0.0, 1.0};
+  Vec3d look_at{0.0, 0.0, 0.0};
+  Vec3d up{0.0, 1.0, 0.0};
+  double fov_deg = 45.0;  // vertical field of view
+  double aperture = 0.0;  // lens diameter; 0 = pinhole
+  double focus_distance = 0.0;
+  double shutter_open = 0.0;
+  double shutter_close = 0.0;
+  Vec3d velocity{0.0, 0.0, 0.0};
+};
+
+enum class LightType { kQuad, kPoint, kSphere };
+
+// Fields not used by a type keep their zero defaults.
+struct LightDesc {
+  LightType type = LightType::kPoint;
+  Vec3d corner, edge_u, edge_v;  // quad
+  Vec3d position;                // point
+  Vec3f intensity;               // point
+  Vec3d center;                  // sphere
+  double radius = 0.0;           // sphere
+  Vec3f emission;                // quad, sphere
+  long line = 0;
+};
+
+struct MaterialOverride {
+  std::string name;
+  std::optional<Vec3f> kd, ks, ke;
+  std::optional<float> ns, ni, d;
+  long line = 0;
+};
+
+struct MeshDesc {
+  std::string file;  // resolved against the TOML file's folder
+  Vec3d translate{0.0, 0.0, 0.0};
+  Vec3d rotate_deg{0.0, 0.0, 0.0};
+  Vec3d scale{1.0, 1.0, 1.0};
+  std::string material;  // empty = keep the file's materials
+  long line = 0;
+};
+
+struct SphereDesc {
+  Vec3d center;
+  double radius = 1.0;
+  Material material;
+  long line = 0;
+};
+
+struct SceneDescription {
+  std::string path;  // the TOML file, for error messages
+  bool has_camera = false;
+  CameraDesc camera;
+  std::vector<LightDesc> lights;
+  std::vector<MaterialOverride> materials;
+  std::vector<MeshDesc> meshes;
+  std::vector<SphereDesc> spheres;
+  Vec3f ambient{0.f, 0.f, 0.f};
+  toml::table settings;
+};
+
+// Parses and validates a scene file; InputError "file:line: reason" on any problem.
+SceneDescription read_scene_file(const std::string& path);
+
+// Every key of `table` must be in `known`, else InputError
+// "file:line: unknown key 'foo' in [where]".
+void check_known_keys(const toml::table& table, std::initializer_list<std::string_view> known,
+                      const std::string& file, const std::string& where);
+
+// Material{} defaults with the override's fields applied.
+Material make_material(const MaterialOverride& fields);
+// Overwrites the fields the override sets.
+void apply_material_override(const MaterialOverride& fields, Material& material);
+
+// Reads every mesh (read_mesh), applies scale, rotation, translation (in that order),
+// and appends them into one Mesh: object ids stay distinct, material indices are
+// offset, [[materials]] overrides apply by name, a mesh `material` replaces its faces'
+// materials. Viewpoint colours of .bs inputs are dropped (scenes carry geometry only).
+Mesh load_scene_meshes(const SceneDescription& scene);
+
+}  // namespace rtmini

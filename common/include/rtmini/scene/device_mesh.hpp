@@ -1,0 +1,76 @@
+#pragma once
+// A mesh uploaded once to the default memory space, struct-of-arrays per
+// triangle, shared by both apps' kernels (ARCHITECTURE §2).
+#include <vector>
+
+#include "rtmini/bvh/build.hpp"
+#include "rtmini/scene/mesh.hpp"
+
+namespace rtmini {
+
+struct DeviceMaterial {
+  Vec3 diffuse, reflective, emissive;
+  Real shininess, ior, opacity;
+};
+
+template <class MemorySpace = Kokkos::DefaultExecutionSpace::memory_space>
+struct DeviceMesh {
+  Kokkos::View<Vec3*, MemorySpace> positions;
+  Kokkos::View<Triangle*, MemorySpace> tris;         // original triangle order
+  Kokkos::View<int* [3], MemorySpace> tri_vertices;  // vertex ids of each triangle
+  Kokkos::View<int*, MemorySpace> tri_face;          // polygon (quad) id
+  Kokkos::View<int*, MemorySpace> tri_material;      // -1 = none
+  Kokkos::View<int*, MemorySpace> tri_object;
+  Kokkos::View<DeviceMaterial*, MemorySpace> materials;
+  bvh::Bvh<MemorySpace> accel;
+};
+
+inline DeviceMaterial to_device(const Material& m) {
+  return {Vec3(m.diffuse), Vec3(m.reflective), Vec3(m.emissive), Real(m.shininess), Real(m.ior),
+          Real(m.opacity)};
+}
+
+template <class ExecSpace = Kokkos::DefaultExecutionSpace>
+DeviceMesh<typename ExecSpace::memory_space> upload_mesh(const Mesh& mesh, bvh::BuildQuality quality,
+                                                         const ExecSpace& space = ExecSpace()) {
+  using MS = typename ExecSpace::memory_space;
+  DeviceMesh<MS> d;
+  const TriangleList tl = triangulate(mesh);
+  const std::size_t nt = tl.vertices.size(), nv = mesh.positions.size();
+  d.positions = Kokkos::View<Vec3*, MS>("rtmini::scene::positions", nv);
+  d.tris = Kokkos::View<Triangle*, MS>("rtmini::scene::tris", nt);
+  d.tri_vertices = Kokkos::View<int* [3], MS>("rtmini::scene::tri_vertices", nt);
+  d.tri_face = Kokkos::View<int*, MS>("rtmini::scene::tri_face", nt);
+  d.tri_material = Kokkos::View<int*, MS>("rtmini::scene::tri_material", nt);
+  d.tri_object = Kokkos::View<int*, MS>("rtmini::scene::tri_object", nt);
+  d.materials = Kokkos::View<DeviceMaterial*, MS>("rtmini::scene::materials", mesh.materials.size());
+  auto hp = Kokkos::create_mirror_view(d.positions);
+  auto ht = Kokkos::create_mirror_view(d.tris);
+  auto hv = Kokkos::create_mirror_view(d.tri_vertices);
+  auto hf = Kokkos::create_mirror_view(d.tri_face);
+  auto hm = Kokkos::create_mirror_view(d.tri_material);
+  auto ho = Kokkos::create_mirror_view(d.tri_object);
+  auto hmat = Kokkos::create_mirror_view(d.materials);
+  for (std::size_t i = 0; i < nv; ++i) hp(i) = Vec3(mesh.positions[i]);
+  for (std::size_t t = 0; t < nt; ++t) {
+    const auto& v = tl.vertices[t];
+    const Face& f = mesh.faces[tl.face[t]];
+    ht(t) = {hp(v[0]), hp(v[1]), hp(v[2])};
+    for (int k = 0; k < 3; ++k) hv(t, k) = v[k];
+    hf(t) = tl.face[t];
+    hm(t) = f.material;
+    ho(t) = f.object;
+  }
+  for (std::size_t m = 0; m < mesh.materials.size(); ++m) hmat(m) = to_device(mesh.materials[m]);
+  Kokkos::deep_copy(d.positions, hp);
+  Kokkos::deep_copy(d.tris, ht);
+  Kokkos::deep_copy(d.tri_vertices, hv);
+  Kokkos::deep_copy(d.tri_face, hf);
+  Kokkos::deep_copy(d.tri_material, hm);
+  Kokkos::deep_copy(d.tri_object, ho);
+  Kokkos::deep_copy(d.materials, hmat);
+  d.accel = bvh::build<ExecSpace, MS>(space, d.tris, quality);
+  return d;
+}
+
+}  // namespace rtmini

@@ -1,0 +1,498 @@
+#include "rtmini/io/hdf5_file.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+
+#include "rtmini/io/error.hpp"
+
+#ifdef RTMINI_HAVE_HDF5
+#include <hdf5.h>
+#endif
+
+namespace rtmini {
+
+#ifdef RTMINI_HAVE_HDF5
+namespace {
+
+template <class T>
+hid_t native_type();
+template <>
+hid_t native_type<double>() {
+  return H5T_NATIVE_DOUBLE;
+}
+template <>
+hid_t native_type<float>() {
+  return H5T_NATIVE_FLOAT;
+}
+template <>
+hid_t native_type<std::int64_t>() {
+  return H5T_NATIVE_INT64;
+}
+template <>
+hid_t native_type<std::uint8_t>() {
+  return H5T_NATIVE_UINT8;
+}
+
+// Closes an HDF5 handle of any kind at scope exit.
+class Handle {
+ public:
+  explicit Handle(hid_t id) : id_(id) {}
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  ~Handle() {
+    if (id_ >= 0) H5Idec_ref(id_);
+  }
+  hid_t get() const { return id_; }
+  bool valid() const { return id_ >= 0; }
+
+ private:
+  hid_t id_;
+};
+
+// Suppresses HDF5's error-stack printing: failures become exceptions instead.
+class QuietErrors {
+ public:
+  QuietErrors() {
+    H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
+  ~QuietErrors() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
+
+ private:
+  H5E_auto2_t func_ = nullptr;
+  void* data_ = nullptr;
+};
+
+[[noreturn]] void fail(const std::string& file, const std::string& what) {
+  throw IoError(file + ": HDF5 " + what);
+}
+
+hid_t check(hid_t id, const std::string& file, const std::string& what) {
+  if (id < 0) fail(file, what);
+  return id;
+}
+
+hid_t link_create_plist() {
+  const hid_t plist = H5Pcreate(H5P_LINK_CREATE);
+  H5Pset_create_intermediate_group(plist, 1);
+  return plist;
+}
+
+hid_t transfer_plist(bool parallel) {
+  const hid_t plist = H5Pcreate(H5P_DATASET_XFER);
+#ifdef RTMINI_HAVE_PARALLEL_HDF5
+  if (parallel) H5Pset_dxpl_mpio(plist, H5FD_MPIO_COLLECTIVE);
+#else
+  (void)parallel;
+#endif
+  return plist;
+}
+
+}  // namespace
+
+Hdf5File Hdf5File::create(const std::string& path) {
+  QuietErrors quiet;
+  Hdf5File f;
+  f.path_ = path;
+  f.tmp_path_ = path + ".tmp." + std::to_string(::getpid());
+  f.id_ = H5Fcreate(f.tmp_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (f.id_ < 0) throw IoError(path + ": cannot create HDF5 file");
+  return f;
+}
+
+#ifdef RTMINI_HAVE_MPI
+Hdf5File Hdf5File::create(const std::string& path, MPI_Comm comm) {
+#ifdef RTMINI_HAVE_PARALLEL_HDF5
+  QuietErrors quiet;
+  Hdf5File f;
+  f.path_ = path;
+  f.parallel_ = true;
+  f.comm_ = comm;
+  MPI_Comm_rank(comm, &f.rank_);
+  // Every rank must agree on the temporary name: take rank 0's pid.
+  long pid = static_cast<long>(::getpid());
+  MPI_Bcast(&pid, 1, MPI_LONG, 0, comm);
+  f.tmp_path_ = path + ".tmp." + std::to_string(pid);
+  const Handle fapl(H5Pcreate(H5P_FILE_ACCESS));
+  H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL);
+  f.id_ = H5Fcreate(f.tmp_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
+  if (f.id_ < 0) throw IoError(path + ": cannot create HDF5 file (parallel)");
+  return f;
+#else
+  (void)comm;
+  throw IoError(path + ": built without parallel HDF5");
+#endif
+}
+#endif
+
+Hdf5File Hdf5File::open(const std::string& path) {
+  QuietErrors quiet;
+  Hdf5File f;
+  f.path_ = path;
+  f.id_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f.id_ < 0) throw InputError(path, 0, "cannot open as an HDF5 file");
+  return f;
+}
+
+Hdf5File::Hdf5File(Hdf5File&& other) noexcept { *this = std::move(other); }
+
+Hdf5File& Hdf5File::operator=(Hdf5File&& other) noexcept {
+  if (this != &other) {
+    close();
+    path_ = std::move(other.path_);
+    tmp_path_ = std::move(other.tmp_path_);
+    id_ = other.id_;
+    parallel_ = other.parallel_;
+    rank_ = other.rank_;
+#ifdef RTMINI_HAVE_MPI
+    comm_ = other.comm_;
+#endif
+    other.id_ = -1;
+    other.tmp_path_.clear();
+  }
+  return *this;
+}
+
+Hdf5File::~Hdf5File() { close(); }
+
+void Hdf5File::close() noexcept {
+  if (id_ >= 0) H5Fclose(id_);
+  id_ = -1;
+  // An uncommitted created file is incomplete: remove it.
+  if (!tmp_path_.empty() && rank_ == 0) std::remove(tmp_path_.c_str());
+  tmp_path_.clear();
+}
+
+void Hdf5File::commit() {
+  if (tmp_path_.empty()) return;
+  const bool closed = H5Fclose(id_) >= 0;
+  id_ = -1;
+  int status = 0;
+  if (rank_ == 0) {
+    if (!closed || std::rename(tmp_path_.c_str(), path_.c_str()) != 0) {
+      std::remove(tmp_path_.c_str());
+      status = 1;
+    }
+  }
+#ifdef RTMINI_HAVE_MPI
+  if (parallel_) MPI_Bcast(&status, 1, MPI_INT, 0, comm_);
+#endif
+  tmp_path_.clear();
+  if (status != 0) throw IoError(path_ + ": cannot close HDF5 file or rename it into place");
+}
+
+void Hdf5File::create_group(const std::string& path) {
+  const Handle lcpl(link_create_plist());
+  const Handle group(H5Gcreate2(id_, path.c_str(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT));
+  if (!group.valid()) fail(path_, "cannot create group '" + path + "'");
+}
+
+bool Hdf5File::exists(const std::string& path) const {
+  QuietErrors quiet;
+  if (path == "/") return true;
+  // Check each prefix: H5Lexists fails on a missing intermediate group.
+  for (std::size_t pos = 1; pos <= path.size(); ++pos) {
+    if (pos != path.size() && path[pos] != '/') continue;
+    if (H5Lexists(id_, path.substr(0, pos).c_str(), H5P_DEFAULT) <= 0) return false;
+  }
+  return true;
+}
+
+namespace {
+
+template <class T>
+void write_dataset(hid_t file, const std::string& file_path, bool parallel, const std::string& path,
+                   const std::vector<T>& data, int rank, const hsize_t* dims) {
+  const Handle space(check(H5Screate_simple(rank, dims, nullptr), file_path, "dataspace"));
+  const Handle lcpl(link_create_plist());
+  const Handle dset(H5Dcreate2(file, path.c_str(), native_type<T>(), space.get(), lcpl.get(),
+                               H5P_DEFAULT, H5P_DEFAULT));
+  if (!dset.valid()) fail(file_path, "cannot create dataset '" + path + "'");
+  if (data.empty()) return;
+  const Handle xfer(transfer_plist(parallel));
+  if (H5Dwrite(dset.get(), native_type<T>(), H5S_ALL, H5S_ALL, xfer.get(), data.data()) < 0)
+    fail(file_path, "cannot write dataset '" + path + "'");
+}
+
+}  // namespace
+
+template <class T>
+void Hdf5File::write(const std::string& path, const std::vector<T>& data) {
+  const hsize_t dims[1] = {data.size()};
+  write_dataset(id_, path_, parallel_, path, data, 1, dims);
+}
+
+template <class T>
+void Hdf5File::write(const std::string& path, const std::vector<T>& data, std::size_t rows,
+                     std::size_t cols) {
+  if (data.size() != rows * cols)
+    fail(path_, "dataset '" + path + "' size does not match its shape");
+  const hsize_t dims[2] = {rows, cols};
+  write_dataset(id_, path_, parallel_, path, data, 2, dims);
+}
+
+template <class T>
+std::vector<T> Hdf5File::read(const std::string& path, std::vector<std::size_t>* dims) const {
+  QuietErrors quiet;
+  const Handle dset(H5Dopen2(id_, path.c_str(), H5P_DEFAULT));
+  if (!dset.valid()) fail(path_, "no dataset '" + path + "'");
+  const Handle space(H5Dget_space(dset.get()));
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  if (rank < 0 || rank > 8) fail(path_, "bad dataspace of '" + path + "'");
+  hsize_t shape[8];
+  H5Sget_simple_extent_dims(space.get(), shape, nullptr);
+  std::size_t count = 1;
+  if (dims) dims->clear();
+  for (int i = 0; i < rank; ++i) {
+    count *= shape[i];
+    if (dims) dims->push_back(shape[i]);
+  }
+  std::vector<T> data(count);
+  if (count > 0 &&
+      H5Dread(dset.get(), native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
+    fail(path_, "cannot read dataset '" + path + "'");
+  return data;
+}
+
+template <class T>
+void Hdf5File::create_dataset(const std::string& path, std::size_t total) {
+  const hsize_t dims[1] = {total};
+  const Handle space(check(H5Screate_simple(1, dims, nullptr), path_, "dataspace"));
+  const Handle lcpl(link_create_plist());
+  const Handle dset(H5Dcreate2(id_, path.c_str(), native_type<T>(), space.get(), lcpl.get(),
+                               H5P_DEFAULT, H5P_DEFAULT));
+  if (!dset.valid()) fail(path_, "cannot create dataset '" + path + "'");
+}
+
+template <class T>
+void Hdf5File::write_slab(const std::string& path, std::size_t offset,
+                          const std::vector<T>& local) {
+  const Handle dset(H5Dopen2(id_, path.c_str(), H5P_DEFAULT));
+  if (!dset.valid()) fail(path_, "no dataset '" + path + "'");
+  const Handle file_space(H5Dget_space(dset.get()));
+  const hsize_t start[1] = {offset};
+  const hsize_t count[1] = {local.size()};
+  const Handle mem_space(H5Screate_simple(1, count, nullptr));
+  // A rank with nothing to write still joins the collective call with an empty selection.
+  if (local.empty()) {
+    H5Sselect_none(file_space.get());
+    H5Sselect_none(mem_space.get());
+  } else if (H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr) <
+             0) {
+    fail(path_, "slab out of range in '" + path + "'");
+  }
+  const Handle xfer(transfer_plist(parallel_));
+  if (H5Dwrite(dset.get(), native_type<T>(), mem_space.get(), file_space.get(), xfer.get(),
+               local.data()) < 0)
+    fail(path_, "cannot write slab of '" + path + "'");
+}
+
+void Hdf5File::write_strings(const std::string& path, const std::vector<std::string>& values) {
+  std::size_t width = 1;
+  for (const std::string& s : values) width = std::max(width, s.size());
+  std::vector<char> buffer(values.size() * width, '\0');
+  for (std::size_t i = 0; i < values.size(); ++i)
+    std::memcpy(buffer.data() + i * width, values[i].data(), values[i].size());
+  const Handle type(H5Tcopy(H5T_C_S1));
+  H5Tset_size(type.get(), width);
+  H5Tset_strpad(type.get(), H5T_STR_NULLPAD);
+  const hsize_t dims[1] = {values.size()};
+  const Handle space(H5Screate_simple(1, dims, nullptr));
+  const Handle lcpl(link_create_plist());
+  const Handle dset(
+      H5Dcreate2(id_, path.c_str(), type.get(), space.get(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT));
+  if (!dset.valid()) fail(path_, "cannot create dataset '" + path + "'");
+  if (values.empty()) return;
+  const Handle xfer(transfer_plist(parallel_));
+  if (H5Dwrite(dset.get(), type.get(), H5S_ALL, H5S_ALL, xfer.get(), buffer.data()) < 0)
+    fail(path_, "cannot write dataset '" + path + "'");
+}
+
+std::vector<std::string> Hdf5File::read_strings(const std::string& path) const {
+  QuietErrors quiet;
+  const Handle dset(H5Dopen2(id_, path.c_str(), H5P_DEFAULT));
+  if (!dset.valid()) fail(path_, "no dataset '" + path + "'");
+  const Handle type(H5Dget_type(dset.get()));
+  if (H5Tget_class(type.get()) != H5T_STRING || H5Tis_variable_str(type.get()) > 0)
+    fail(path_, "'" + path + "' is not a fixed-length string dataset");
+  const std::size_t width = H5Tget_size(type.get());
+  const Handle space(H5Dget_space(dset.get()));
+  const hssize_t count = H5Sget_simple_extent_npoints(space.get());
+  std::vector<char> buffer(static_cast<std::size_t>(count) * width);
+  if (count > 0 &&
+      H5Dread(dset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()) < 0)
+    fail(path_, "cannot read dataset '" + path + "'");
+  std::vector<std::string> values;
+  for (hssize_t i = 0; i < count; ++i) {
+    const char* s = buffer.data() + i * width;
+    values.emplace_back(s, strnlen(s, width));
+  }
+  return values;
+}
+
+namespace {
+
+// Replaces attribute `name` on `object` with a scalar of `type`.
+void put_attribute(hid_t file, const std::string& file_path, const std::string& object,
+                   const std::string& name, hid_t type, const void* value) {
+  const Handle obj(H5Oopen(file, object.c_str(), H5P_DEFAULT));
+  if (!obj.valid()) fail(file_path, "no object '" + object + "' for attribute '" + name + "'");
+  if (H5Aexists(obj.get(), name.c_str()) > 0) H5Adelete(obj.get(), name.c_str());
+  const Handle space(H5Screate(H5S_SCALAR));
+  const hid_t attr =
+      H5Acreate2(obj.get(), name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT);
+  if (attr < 0) fail(file_path, "cannot create attribute '" + name + "'");
+  const herr_t status = H5Awrite(attr, type, value);
+  H5Aclose(attr);
+  if (status < 0) fail(file_path, "cannot write attribute '" + name + "'");
+}
+
+hid_t open_attribute(hid_t file, const std::string& file_path, const std::string& object,
+                     const std::string& name) {
+  const hid_t attr = H5Aopen_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT);
+  if (attr < 0) fail(file_path, "no attribute '" + name + "' on '" + object + "'");
+  return attr;
+}
+
+template <class T>
+T read_scalar_attribute(hid_t file, const std::string& file_path, const std::string& object,
+                        const std::string& name) {
+  QuietErrors quiet;
+  const hid_t attr = open_attribute(file, file_path, object, name);
+  T value{};
+  const herr_t status = H5Aread(attr, native_type<T>(), &value);
+  H5Aclose(attr);
+  if (status < 0) fail(file_path, "cannot read attribute '" + name + "'");
+  return value;
+}
+
+}  // namespace
+
+void Hdf5File::set_attribute(const std::string& object, const std::string& name,
+                             const std::string& value) {
+  // Variable-length UTF-8 so h5py returns str, not bytes.
+  const Handle type(H5Tcopy(H5T_C_S1));
+  H5Tset_size(type.get(), H5T_VARIABLE);
+  H5Tset_cset(type.get(), H5T_CSET_UTF8);
+  const char* ptr = value.c_str();
+  put_attribute(id_, path_, object, name, type.get(), &ptr);
+}
+
+void Hdf5File::set_attribute(const std::string& object, const std::string& name, double value) {
+  put_attribute(id_, path_, object, name, H5T_NATIVE_DOUBLE, &value);
+}
+
+void Hdf5File::set_attribute(const std::string& object, const std::string& name,
+                             std::int64_t value) {
+  put_attribute(id_, path_, object, name, H5T_NATIVE_INT64, &value);
+}
+
+std::string Hdf5File::string_attribute(const std::string& object, const std::string& name) const {
+  QuietErrors quiet;
+  const hid_t attr = open_attribute(id_, path_, object, name);
+  const Handle type(H5Aget_type(attr));
+  std::string value;
+  herr_t status = -1;
+  if (H5Tget_class(type.get()) == H5T_STRING && H5Tis_variable_str(type.get()) > 0) {
+    char* ptr = nullptr;
+    const Handle mem(H5Tcopy(H5T_C_S1));
+    H5Tset_size(mem.get(), H5T_VARIABLE);
+    H5Tset_cset(mem.get(), H5Tget_cset(type.get()));
+    status = H5Aread(attr, mem.get(), &ptr);
+    if (status >= 0 && ptr) {
+      value = ptr;
+      H5free_memory(ptr);
+    }
+  }
+  H5Aclose(attr);
+  if (status < 0) fail(path_, "attribute '" + name + "' is not a readable string");
+  return value;
+}
+
+double Hdf5File::double_attribute(const std::string& object, const std::string& name) const {
+  return read_scalar_attribute<double>(id_, path_, object, name);
+}
+
+std::int64_t Hdf5File::int_attribute(const std::string& object, const std::string& name) const {
+  return read_scalar_attribute<std::int64_t>(id_, path_, object, name);
+}
+
+#else  // without HDF5: every entry point reports the missing feature.
+
+namespace {
+[[noreturn]] void no_hdf5(const std::string& path) {
+  throw IoError(path + ": built without HDF5 (configure with RTMINI_ENABLE_HDF5=ON)");
+}
+}  // namespace
+
+Hdf5File Hdf5File::create(const std::string& path) { no_hdf5(path); }
+#ifdef RTMINI_HAVE_MPI
+Hdf5File Hdf5File::create(const std::string& path, MPI_Comm) { no_hdf5(path); }
+#endif
+Hdf5File Hdf5File::open(const std::string& path) { no_hdf5(path); }
+Hdf5File::Hdf5File(Hdf5File&& other) noexcept : path_(std::move(other.path_)) {}
+Hdf5File& Hdf5File::operator=(Hdf5File&&) noexcept { return *this; }
+Hdf5File::~Hdf5File() = default;
+void Hdf5File::close() noexcept {}
+void Hdf5File::commit() { no_hdf5(path_); }
+void Hdf5File::create_group(const std::string&) { no_hdf5(path_); }
+bool Hdf5File::exists(const std::string&) const { no_hdf5(path_); }
+template <class T>
+void Hdf5File::write(const std::string&, const std::vector<T>&) {
+  no_hdf5(path_);
+}
+template <class T>
+void Hdf5File::write(const std::string&, const std::vector<T>&, std::size_t, std::size_t) {
+  no_hdf5(path_);
+}
+template <class T>
+std::vector<T> Hdf5File::read(const std::string&, std::vector<std::size_t>*) const {
+  no_hdf5(path_);
+}
+template <class T>
+void Hdf5File::create_dataset(const std::string&, std::size_t) {
+  no_hdf5(path_);
+}
+template <class T>
+void Hdf5File::write_slab(const std::string&, std::size_t, const std::vector<T>&) {
+  no_hdf5(path_);
+}
+void Hdf5File::write_strings(const std::string&, const std::vector<std::string>&) {
+  no_hdf5(path_);
+}
+std::vector<std::string> Hdf5File::read_strings(const std::string&) const { no_hdf5(path_); }
+void Hdf5File::set_attribute(const std::string&, const std::string&, const std::string&) {
+  no_hdf5(path_);
+}
+void Hdf5File::set_attribute(const std::string&, const std::string&, double) { no_hdf5(path_); }
+void Hdf5File::set_attribute(const std::string&, const std::string&, std::int64_t) {
+  no_hdf5(path_);
+}
+std::string Hdf5File::string_attribute(const std::string&, const std::string&) const {
+  no_hdf5(path_);
+}
+double Hdf5File::double_attribute(const std::string&, const std::string&) const { no_hdf5(path_); }
+std::int64_t Hdf5File::int_attribute(const std::string&, const std::string&) const {
+  no_hdf5(path_);
+}
+
+#endif
+
+#define RTMINI_HDF5_INSTANTIATE(T)                                                                \
+  template void Hdf5File::write<T>(const std::string&, const std::vector<T>&);                    \
+  template void Hdf5File::write<T>(const std::string&, const std::vector<T>&, std::size_t,        \
+                                   std::size_t);                                                  \
+  template std::vector<T> Hdf5File::read<T>(const std::string&, std::vector<std::size_t>*) const; \
+  template void Hdf5File::create_dataset<T>(const std::string&, std::size_t);                     \
+  template void Hdf5File::write_slab<T>(const std::string&, std::size_t, const std::vector<T>&);
+
+RTMINI_HDF5_INSTANTIATE(double)
+RTMINI_HDF5_INSTANTIATE(float)
+RTMINI_HDF5_INSTANTIATE(std::int64_t)
+RTMINI_HDF5_INSTANTIATE(std::uint8_t)
+#undef RTMINI_HDF5_INSTANTIATE
+
+}  // namespace rtmini

@@ -1,0 +1,45 @@
+#include "rtmini/io/image.hpp"
+
+#include <algorithm>
+#include <cctype>
+
+#include "rtmini/io/error.hpp"
+
+namespace rtmini {
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  const std::size_t dot = path.find_last_of('.');
+  const std::size_t slash = path.find_last_of('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
+  std::string ext = path.substr(dot);
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+[[noreturn]] void unknown_extension(const std::string& path) {
+  throw InputError(
+      path, 0,
+      "unknown image format '" + lower_extension(path) + "' (expected .ppm, .png or .exr)");
+}
+
+}  // namespace
+
+void write_image(const std::string& path, const Image& image) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".ppm") return write_ppm(path, image);
+  if (ext == ".png") return write_png(path, image);
+  if (ext == ".exr") return write_exr(path, image);
+  unknown_extension(path);
+}
+
+Image read_image(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".ppm") return read_ppm(path);
+  if (ext == ".png") return read_png(path);
+  if (ext == ".exr") return read_exr(path);
+  unknown_extension(path);
+}
+
+}  // namespace rtmini

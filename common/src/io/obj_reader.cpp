@@ -1,0 +1,223 @@
+#define TINYOBJLOADER_USE_DOUBLE
+#define TINYOBJLOADER_IMPLEMENTATION
+#include "rtmini/io/obj_reader.hpp"
+
+#include <tiny_obj_loader.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <utility>
+
+#include "rtmini/io/bakeshop.hpp"
+#include "rtmini/io/error.hpp"
+#include "rtmini/io/text_fields.hpp"
+
+namespace rtmini {
+namespace {
+
+std::string directory_of(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? std::string(".") : path.substr(0, slash);
+}
+
+// tinyobjloader reports no line numbers, so this pass checks what it would
+// otherwise accept silently or crash on: counts, numbers, finiteness, index ranges.
+class ObjPrescan {
+ public:
+  explicit ObjPrescan(const std::string& path) : path_(path) {}
+
+  void run(std::string_view text) {
+    detail::LineCursor cursor(text);
+    std::string_view line;
+    while (cursor.next(line)) {
+      line_ = cursor.line_number();
+      const std::size_t hash = line.find('#');
+      if (hash != std::string_view::npos) line = line.substr(0, hash);
+      const auto f = detail::split_fields(line);
+      if (f.empty()) continue;
+      if (f[0] == "v") {
+        if (f.size() != 4 && f.size() != 5 && f.size() != 7)
+          fail("vertex needs 3 coordinates (optionally w, or r g b), got " +
+               std::to_string(f.size() - 1) + " fields");
+        check_numbers(f, "vertex");
+        ++nv_;
+      } else if (f[0] == "vt") {
+        if (f.size() < 2 || f.size() > 4) fail("texture coordinate needs 1 to 3 fields");
+        check_numbers(f, "texture coordinate");
+        ++nvt_;
+      } else if (f[0] == "vn") {
+        if (f.size() != 4) fail("normal needs 3 fields, got " + std::to_string(f.size() - 1));
+        check_numbers(f, "normal");
+        ++nvn_;
+      } else if (f[0] == "f") {
+        if (f.size() < 4)
+          fail("face needs at least 3 vertices, got " + std::to_string(f.size() - 1));
+        for (std::size_t i = 1; i < f.size(); ++i) check_face_vertex(f[i]);
+      } else if (f[0] == "mtllib") {
+        if (f.size() < 2) fail("mtllib without a file name");
+        for (std::size_t i = 1; i < f.size(); ++i) {
+          const std::string mtl = directory_of(path_) + "/" + std::string(f[i]);
+          if (!std::ifstream(mtl) && missing_mtl_line_ == 0) {
+            missing_mtl_line_ = line_;
+            missing_mtl_ = mtl;
+          }
+        }
+      } else if (f[0] == "usemtl") {
+        if (f.size() != 2) fail("usemtl needs exactly one material name");
+        usemtl_.emplace_back(std::string(f[1]), line_);
+      }
+    }
+    // A missing library matters only when a face asks for a material from it
+    // (the shared dragon.obj names a dragon.mtl that does not exist and uses none).
+    if (missing_mtl_line_ > 0 && !usemtl_.empty()) {
+      line_ = missing_mtl_line_;
+      fail("cannot open material library '" + missing_mtl_ + "'");
+    }
+  }
+
+  const std::vector<std::pair<std::string, long>>& usemtl() const { return usemtl_; }
+
+ private:
+  [[noreturn]] void fail(const std::string& reason) const {
+    throw InputError(path_, line_, reason);
+  }
+
+  void check_numbers(const std::vector<std::string_view>& f, const char* what) const {
+    for (std::size_t i = 1; i < f.size(); ++i) {
+      const auto value = detail::parse_number<double>(f[i]);
+      if (!value) fail("invalid number '" + std::string(f[i]) + "' in " + what);
+      if (!std::isfinite(*value)) fail("non-finite value '" + std::string(f[i]) + "' in " + what);
+    }
+  }
+
+  void check_index(std::string_view field, long count, const char* what) const {
+    const auto value = detail::parse_number<long>(field);
+    if (!value) fail("invalid " + std::string(what) + " index '" + std::string(field) + "'");
+    if (*value == 0) fail(std::string(what) + " index 0 is invalid (OBJ indices start at 1)");
+    if (*value > count || -*value > count)
+      fail(std::string(what) + " index " + std::to_string(*value) + " out of range (" +
+           std::to_string(count) + " defined so far)");
+  }
+
+  void check_face_vertex(std::string_view ref) const {
+    const std::size_t s1 = ref.find('/');
+    check_index(ref.substr(0, s1), nv_, "vertex");
+    if (s1 == std::string_view::npos) return;
+    const std::string_view rest = ref.substr(s1 + 1);
+    const std::size_t s2 = rest.find('/');
+    const std::string_view vt = rest.substr(0, s2);
+    if (!vt.empty()) check_index(vt, nvt_, "texture coordinate");
+    if (s2 == std::string_view::npos) return;
+    const std::string_view vn = rest.substr(s2 + 1);
+    if (vn.empty() || vn.find('/') != std::string_view::npos)
+      fail("malformed face vertex '" + std::string(ref) + "'");
+    check_index(vn, nvn_, "normal");
+  }
+
+  const std::string& path_;
+  long line_ = 0;
+  long nv_ = 0, nvt_ = 0, nvn_ = 0;
+  std::vector<std::pair<std::string, long>> usemtl_;
+  long missing_mtl_line_ = 0;
+  std::string missing_mtl_;
+};
+
+Material to_material(const tinyobj::material_t& m) {
+  const auto v = [](const tinyobj::real_t* c) {
+    return Vec3f(static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2]));
+  };
+  Material out;
+  out.name = m.name;
+  out.diffuse = v(m.diffuse);
+  out.reflective = v(m.specular);
+  out.emissive = v(m.emission);
+  out.shininess = static_cast<float>(m.shininess);
+  out.ior = static_cast<float>(m.ior);
+  out.opacity = static_cast<float>(m.dissolve);
+  return out;
+}
+
+bool material_is_finite(const Material& m) {
+  return is_finite(m.diffuse) && is_finite(m.reflective) && is_finite(m.emissive) &&
+         std::isfinite(m.shininess) && std::isfinite(m.ior) && std::isfinite(m.opacity);
+}
+
+}  // namespace
+
+Mesh read_obj(const std::string& path) {
+  const std::string text = detail::read_text_file(path);
+  ObjPrescan prescan(path);
+  prescan.run(text);
+
+  tinyobj::ObjReaderConfig config;
+  config.triangulate = false;
+  config.vertex_color = false;
+  config.mtl_search_path = directory_of(path);
+  tinyobj::ObjReader reader;
+  if (!reader.ParseFromFile(path, config))
+    throw InputError(path, 0, "OBJ parse failed: " + reader.Error());
+
+  Mesh mesh;
+  for (const tinyobj::material_t& m : reader.GetMaterials()) {
+    mesh.materials.push_back(to_material(m));
+    if (!material_is_finite(mesh.materials.back()))
+      throw InputError(path, 0, "material '" + m.name + "' has a non-finite value");
+  }
+  for (const auto& [name, line] : prescan.usemtl()) {
+    const bool known = std::any_of(mesh.materials.begin(), mesh.materials.end(),
+                                   [&](const Material& m) { return m.name == name; });
+    if (!known)
+      throw InputError(path, line, "material '" + name + "' is not defined in any mtllib");
+  }
+
+  const std::vector<tinyobj::real_t>& v = reader.GetAttrib().vertices;
+  mesh.positions.reserve(v.size() / 3);
+  for (std::size_t i = 0; i + 2 < v.size(); i += 3)
+    mesh.positions.emplace_back(v[i], v[i + 1], v[i + 2]);
+
+  std::map<std::string, int> object_ids;
+  for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+    const std::string name = shape.name.empty() ? "default" : shape.name;
+    const auto [it, inserted] = object_ids.emplace(name, static_cast<int>(mesh.objects.size()));
+    if (inserted) mesh.objects.push_back(name);
+    std::size_t base = 0;
+    for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
+      const int n = shape.mesh.num_face_vertices[f];
+      const auto index = [&](int k) { return shape.mesh.indices[base + k].vertex_index; };
+      Face face;
+      face.material = shape.mesh.material_ids[f];
+      face.object = it->second;
+      if (n <= 4) {
+        face.count = n;
+        for (int k = 0; k < n; ++k) face.v[k] = index(k);
+        mesh.faces.push_back(face);
+      } else {
+        face.count = 3;
+        for (int k = 1; k + 1 < n; ++k) {
+          face.v = {index(0), index(k), index(k + 1), -1};
+          mesh.faces.push_back(face);
+        }
+      }
+      base += n;
+    }
+  }
+  return mesh;
+}
+
+Mesh read_mesh(const std::string& path) {
+  const std::size_t dot = path.find_last_of('.');
+  const std::size_t slash = path.find_last_of('/');
+  std::string ext = dot == std::string::npos || (slash != std::string::npos && dot < slash)
+                        ? std::string()
+                        : path.substr(dot);
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".obj") return read_obj(path);
+  if (ext == ".bs") return read_bakeshop(path);
+  throw InputError(path, 0, "unknown mesh format '" + ext + "' (expected .obj or .bs)");
+}
+
+}  // namespace rtmini

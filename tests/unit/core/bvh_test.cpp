@@ -1,0 +1,182 @@
+// BVH against the brute-force reference: every hit distance and triangle id
+// equal, for both builders, on the bundled meshes and on degenerate inputs.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "rtmini/bvh/brute_force.hpp"
+#include "rtmini/bvh/build.hpp"
+#include "rtmini/bvh/quality.hpp"
+#include "rtmini/bvh/traverse.hpp"
+#include "rtmini/io/obj_reader.hpp"
+#include "rtmini/sampling/rng.hpp"
+#include "rtmini/sampling/sampling.hpp"
+#include "rtmini/scene/device_mesh.hpp"
+#include "rtmini/scene/primitives.hpp"
+#include "test_space.hpp"
+
+namespace rtmini::test {
+namespace {
+
+using Policy = Kokkos::RangePolicy<TestExecSpace>;
+
+Kokkos::View<Triangle*, TestMemSpace> upload_triangles(const Mesh& mesh) {
+  const TriangleList tl = triangulate(mesh);
+  Kokkos::View<Triangle*, TestMemSpace> tris("tris", tl.vertices.size());
+  auto h = Kokkos::create_mirror_view(tris);
+  for (std::size_t t = 0; t < tl.vertices.size(); ++t)
+    h(t) = {Vec3(mesh.positions[tl.vertices[t][0]]), Vec3(mesh.positions[tl.vertices[t][1]]),
+            Vec3(mesh.positions[tl.vertices[t][2]])};
+  Kokkos::deep_copy(tris, h);
+  return tris;
+}
+
+// Random rays: origins in a box 1.5x the scene, directions uniform; half of
+// them aimed at a random triangle's vertex or edge point (the hard cases).
+Kokkos::View<Ray*, TestMemSpace> random_rays(Kokkos::View<const Triangle*, TestMemSpace> tris, const Aabb& box,
+                                             int n, std::uint64_t seed) {
+  Kokkos::View<Ray*, TestMemSpace> rays("rays", n);
+  const int nt = static_cast<int>(tris.extent(0));
+  const Vec3 c = box.center(), e = box.extent() * Real(0.75);
+  Kokkos::parallel_for(
+      "test::random_rays", Policy(0, n), KOKKOS_LAMBDA(int i) {
+        const Rng rng(seed, std::uint64_t(i), 0);
+        const auto a = rng.block(0), b = rng.block(1);
+        Ray r;
+        r.org = c + Vec3(e.x * (2 * Rng::to_unit(a.v[0]) - 1), e.y * (2 * Rng::to_unit(a.v[1]) - 1),
+                         e.z * (2 * Rng::to_unit(a.v[2]) - 1));
+        if (i % 2 == 0) {
+          r.dir = uniform_sphere(Rng::to_unit(b.v[0]), Rng::to_unit(b.v[1]));
+        } else {
+          const Triangle t = tris(int(b.v[0] % std::uint32_t(nt)));
+          const int kind = int(b.v[1] % 3u);
+          const Real s = Rng::to_unit(b.v[2]);
+          const Vec3 target = kind == 0 ? t.a : (kind == 1 ? t.a + (t.b - t.a) * s : t.b + (t.c - t.b) * s);
+          r.dir = normalize(target - r.org);
+        }
+        r.tmin = 0;
+        r.tmax = (i % 7 == 0) ? Real(0.3) * box.diagonal() : Real(1e30);
+        rays(i) = r;
+      });
+  return rays;
+}
+
+template <class Accel, class Ref>
+void expect_same_hits(const Accel& accel, const Ref& ref, Kokkos::View<Ray*, TestMemSpace> rays,
+                      const std::string& what) {
+  const int n = static_cast<int>(rays.extent(0));
+  Kokkos::View<Hit*, TestMemSpace> a("a", n), b("b", n);
+  Kokkos::View<int*[2], TestMemSpace> occ("occ", n);
+  Kokkos::parallel_for(
+      "test::trace", Policy(0, n), KOKKOS_LAMBDA(int i) {
+        a(i) = bvh::closest_hit(accel, rays(i));
+        b(i) = bvh::closest_hit(ref, rays(i));
+        occ(i, 0) = bvh::any_hit(accel, rays(i));
+        occ(i, 1) = bvh::any_hit(ref, rays(i));
+      });
+  auto ha = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a);
+  auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b);
+  auto ho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), occ);
+  int mismatches = 0, hits = 0;
+  for (int i = 0; i < n; ++i) {
+    hits += hb(i).valid();
+    const bool same = ha(i).prim == hb(i).prim && (ha(i).prim < 0 || ha(i).t == hb(i).t) &&
+                      ho(i, 0) == ho(i, 1) && ho(i, 0) == int(hb(i).valid());
+    if (!same && ++mismatches <= 5)
+      ADD_FAILURE() << what << " ray " << i << ": bvh (" << ha(i).prim << ", t=" << ha(i).t << ", any "
+                    << ho(i, 0) << ") vs reference (" << hb(i).prim << ", t=" << hb(i).t << ", any "
+                    << ho(i, 1) << ")";
+  }
+  EXPECT_EQ(mismatches, 0) << what;
+  EXPECT_GT(hits, n / 20) << what << ": too few rays hit anything for the test to mean much";
+}
+
+Mesh load_scene(const std::string& name) { return read_mesh(std::string(scenes_dir()) + "/" + name); }
+
+class BvhVsBruteForce : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BvhVsBruteForce, EveryHitEqual) {
+  const Mesh mesh = load_scene(GetParam());
+  auto tris = upload_triangles(mesh);
+  const bvh::BruteForce<TestMemSpace> ref{tris};
+  for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah}) {
+    const auto accel = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, q);
+    auto rays = random_rays(tris, accel.bounds, 250000, 7);
+    expect_same_hits(accel, ref, rays, GetParam() + " " + bvh::to_string(q));
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(SmallMeshes, BvhVsBruteForce,
+                         ::testing::Values("teapot.obj", "spot.obj", "cow.obj", "CornellBox-Original.obj"));
+
+// On the large meshes brute force is too slow for a million rays: the two
+// builders must agree with each other on 1M rays, and with brute force on 5K.
+class BvhLargeMesh : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BvhLargeMesh, BuildersAgreeAndMatchBruteForce) {
+  const Mesh mesh = load_scene(GetParam());
+  auto tris = upload_triangles(mesh);
+  const auto lbvh = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, bvh::BuildQuality::kLbvh);
+  const auto sah = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, bvh::BuildQuality::kSah);
+  expect_same_hits(lbvh, sah, random_rays(tris, lbvh.bounds, 1000000, 11), GetParam() + " lbvh vs sah");
+  const bvh::BruteForce<TestMemSpace> ref{tris};
+  expect_same_hits(sah, ref, random_rays(tris, sah.bounds, 5000, 13), GetParam() + " sah vs brute force");
+}
+
+INSTANTIATE_TEST_SUITE_P(LargeMeshes, BvhLargeMesh, ::testing::Values("stanford-bunny.obj", "dragon.obj"));
+
+TEST(Bvh, TinyAndDegenerateInputs) {
+  // 0, 1, 2 and 9 triangles; zero-area and duplicate triangles; all centroids equal.
+  Mesh m;
+  for (int count : {0, 1, 2, 9, 40}) {
+    m = Mesh();
+    for (int i = 0; i < count; ++i) {
+      const double z = (i % 3 == 0) ? 0.0 : double(i);  // duplicates at z = 0
+      m.positions.push_back({0, 0, z});
+      m.positions.push_back({1, 0, z});
+      m.positions.push_back({i % 5 == 4 ? 2.0 : 0.0, i % 5 == 4 ? 0.0 : 1.0, z});  // some zero-area
+      Face f;
+      f.v = {3 * i, 3 * i + 1, 3 * i + 2, -1};
+      m.faces.push_back(f);
+    }
+    auto tris = upload_triangles(m);
+    const bvh::BruteForce<TestMemSpace> ref{tris};
+    Aabb box;
+    box.expand(Vec3(-1, -1, -1));
+    box.expand(Vec3(2, 2, Real(count + 1)));
+    for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah}) {
+      const auto accel = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, q);
+      if (count == 0) continue;
+      Kokkos::View<Ray*, TestMemSpace> rays("rays", 2000);
+      Kokkos::parallel_for(
+          "test::axis_rays", Policy(0, 2000), KOKKOS_LAMBDA(int i) {
+            const Rng rng(3, std::uint64_t(i), 0);
+            Ray r;
+            r.org = Vec3(rng.uniform(0), rng.uniform(1), Real(-0.5));
+            r.dir = Vec3(0, 0, 1);
+            rays(i) = r;
+          });
+      expect_same_hits(accel, ref, rays, "degenerate n=" + std::to_string(count));
+    }
+  }
+}
+
+TEST(Bvh, QualityReportIsConsistent) {
+  const Mesh mesh = load_scene("teapot.obj");
+  auto tris = upload_triangles(mesh);
+  for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah}) {
+    const auto accel = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, q);
+    const auto r = bvh::measure_quality(accel);
+    int prims = 0;
+    for (int s = 1; s <= bvh::kMaxLeafSize; ++s) prims += s * r.leaf_size_histogram[s];
+    EXPECT_EQ(prims, int(tris.extent(0))) << "every triangle in exactly one leaf";
+    EXPECT_LE(r.max_depth, bvh::kStackSize);
+    EXPECT_GT(r.sah_cost, 1.0);
+  }
+  const auto lb = bvh::measure_quality(bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, bvh::BuildQuality::kLbvh));
+  const auto sa = bvh::measure_quality(bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, bvh::BuildQuality::kSah));
+  EXPECT_LT(sa.sah_cost, lb.sah_cost) << "the SAH build must have the lower SAH cost";
+}
+
+}  // namespace
+}  // namespace rtmini::test

@@ -1,0 +1,118 @@
+#include "rtmini/io/obj_reader.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "io_test_util.hpp"
+#include "rtmini/io/error.hpp"
+
+namespace rtmini {
+namespace {
+
+constexpr const char* kMtl =
+    "newmtl red\nKd 0.63 0.065 0.05\nKs 0.1 0.2 0.3\nNs 200\nNi 1.44\nd 0.5\nKe 0 0 0\n\n"
+    "newmtl light\nKd 0.78 0.78 0.78\nKe 17 12 4\n";
+
+constexpr const char* kObj =
+    "# quads, a triangle, a pentagon, groups and materials\n"
+    "mtllib box.mtl\n"
+    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 1.5 0\n"
+    "vn 0 0 1\n"
+    "o floor\n"
+    "usemtl red\n"
+    "f 1//1 2//1 3//1 4//1\n"
+    "g lamp\n"
+    "usemtl light\n"
+    "f -5 -4 -3\n"
+    "f 1 2 3 5 4\n"
+    "o floor\n"
+    "f 4 3 2 1\n";
+
+TEST(ObjReader, QuadsGroupsAndMaterials) {
+  test::TempDir dir;
+  test::write_file(dir.file("box.mtl"), kMtl);
+  test::write_file(dir.file("box.obj"), kObj);
+  const Mesh m = read_mesh(dir.file("box.obj"));
+
+  ASSERT_EQ(m.positions.size(), 5u);
+  EXPECT_EQ(m.positions[4].x, 0.5);
+  EXPECT_EQ(m.positions[4].y, 1.5);
+
+  ASSERT_EQ(m.materials.size(), 2u);
+  const Material& red = m.materials[0];
+  EXPECT_EQ(red.name, "red");
+  EXPECT_FLOAT_EQ(red.diffuse.y, 0.065f);
+  EXPECT_FLOAT_EQ(red.reflective.z, 0.3f);
+  EXPECT_FLOAT_EQ(red.shininess, 200.f);
+  EXPECT_FLOAT_EQ(red.ior, 1.44f);
+  EXPECT_FLOAT_EQ(red.opacity, 0.5f);
+  EXPECT_FLOAT_EQ(m.materials[1].emissive.x, 17.f);
+  EXPECT_FLOAT_EQ(m.materials[1].emissive.z, 4.f);
+
+  // quad, triangle, pentagon fanned into 3 triangles, quad again.
+  ASSERT_EQ(m.faces.size(), 6u);
+  EXPECT_EQ(m.faces[0].count, 4);
+  EXPECT_EQ(m.faces[0].v, (std::array<int, 4>{0, 1, 2, 3}));
+  EXPECT_EQ(m.faces[0].material, 0);
+  EXPECT_EQ(m.faces[1].count, 3);
+  EXPECT_EQ(m.faces[1].v[0], 0);  // negative indices resolved
+  EXPECT_EQ(m.faces[1].v[2], 2);
+  EXPECT_EQ(m.faces[1].material, 1);
+  EXPECT_EQ(m.faces[2].v, (std::array<int, 4>{0, 1, 2, -1}));
+  EXPECT_EQ(m.faces[3].v, (std::array<int, 4>{0, 2, 4, -1}));
+  EXPECT_EQ(m.faces[4].v, (std::array<int, 4>{0, 4, 3, -1}));
+  EXPECT_EQ(m.faces[5].count, 4);
+
+  ASSERT_EQ(m.objects.size(), 2u);
+  EXPECT_EQ(m.objects[m.faces[0].object], "floor");
+  EXPECT_EQ(m.objects[m.faces[1].object], "lamp");
+  EXPECT_EQ(m.faces[2].object, m.faces[1].object);
+  EXPECT_EQ(m.faces[5].object, m.faces[0].object);  // a repeated name shares its id
+  EXPECT_EQ(m.triangle_count(), 1u * 2 + 1 + 3 + 2);
+}
+
+TEST(ObjReader, NoGroupsNoMaterials) {
+  test::TempDir dir;
+  test::write_file(dir.file("t.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const Mesh m = read_obj(dir.file("t.obj"));
+  ASSERT_EQ(m.faces.size(), 1u);
+  EXPECT_EQ(m.faces[0].material, -1);
+  EXPECT_EQ(m.objects, std::vector<std::string>{"default"});
+}
+
+TEST(ObjReader, MissingLibraryWithoutUsemtlIsHarmless) {
+  test::TempDir dir;
+  test::write_file(dir.file("d.obj"), "mtllib d.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const Mesh m = read_obj(dir.file("d.obj"));
+  EXPECT_EQ(m.faces.size(), 1u);
+  EXPECT_TRUE(m.materials.empty());
+}
+
+TEST(ObjReader, UnknownExtensionAndMissingFile) {
+  test::TempDir dir;
+  EXPECT_THROW(read_mesh(dir.file("mesh.ply")), InputError);
+  EXPECT_THROW(read_mesh(dir.file("absent.obj")), InputError);
+}
+
+// The shared Cornell box: 72 vertices, 18 quads and the light's Ke, when the shared data is
+// present.
+TEST(ObjReader, CornellBoxFromSharedScenes) {
+#ifndef RTMINI_SCENES_DIR
+  GTEST_SKIP() << "RTMINI_SCENES_DIR not configured";
+#else
+  const std::string path = std::string(RTMINI_SCENES_DIR) + "/CornellBox-Original.obj";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not present";
+  const Mesh m = read_obj(path);
+  EXPECT_EQ(m.positions.size(), 72u);  // `grep -c "^\s*v\s"`; the README says 24
+  EXPECT_EQ(m.faces.size(), 18u);
+  bool has_light = false;
+  for (const Material& mat : m.materials)
+    has_light |= mat.name == "light" && mat.emissive.x == 17.f;
+  EXPECT_TRUE(has_light);
+  for (const Face& f : m.faces) EXPECT_EQ(f.count, 4);
+#endif
+}
+
+}  // namespace
+}  // namespace rtmini
