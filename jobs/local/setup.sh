@@ -69,11 +69,14 @@ else
   aptopts=(-o Dir::Etc::SourceList="$work/sources.list" -o Dir::Etc::SourceParts=/dev/null
            -o Dir::State::Lists="$work/lists" -o Dir::Cache::Archives="$work/archives"
            -o APT::Sandbox::User=root)
-  if ! ls "$work"/trilinos_*.orig.tar.* >/dev/null 2>&1; then
+  shopt -s nullglob
+  tarballs=("$work"/trilinos_*.orig.tar.*)
+  if [ ${#tarballs[@]} -eq 0 ]; then
     apt-get "${aptopts[@]}" update -qq
     (cd "$work" && apt-get "${aptopts[@]}" source --download-only trilinos)
+    tarballs=("$work"/trilinos_*.orig.tar.*)
   fi
-  tarball=$(ls "$work"/trilinos_*.orig.tar.* | head -n1)
+  tarball=${tarballs[0]}
   rm -rf "$work/src" && mkdir -p "$work/src"
   tar -xf "$tarball" -C "$work/src" --wildcards '*/packages/kokkos/*'
   ksrc=$(dirname "$(find "$work/src" -maxdepth 4 -path '*/packages/kokkos/CMakeLists.txt' | head -n1)")

@@ -61,34 +61,48 @@ Kokkos::View<Ray*, TestMemSpace> random_rays(Kokkos::View<const Triangle*, TestM
   return rays;
 }
 
-template <class Accel, class Ref>
-void expect_same_hits(const Accel& accel, const Ref& ref, Kokkos::View<Ray*, TestMemSpace> rays,
-                      const std::string& what) {
+// Closest hit and any-hit answers for every ray.
+struct Answers {
+  Kokkos::View<Hit*, TestMemSpace> hit;
+  Kokkos::View<int*, TestMemSpace> any;
+};
+
+template <class Accel>
+Answers trace_all(const Accel& accel, Kokkos::View<Ray*, TestMemSpace> rays) {
   const int n = static_cast<int>(rays.extent(0));
-  Kokkos::View<Hit*, TestMemSpace> a("a", n), b("b", n);
-  Kokkos::View<int*[2], TestMemSpace> occ("occ", n);
+  Answers a{Kokkos::View<Hit*, TestMemSpace>("hit", n), Kokkos::View<int*, TestMemSpace>("any", n)};
   Kokkos::parallel_for(
       "test::trace", Policy(0, n), KOKKOS_LAMBDA(int i) {
-        a(i) = bvh::closest_hit(accel, rays(i));
-        b(i) = bvh::closest_hit(ref, rays(i));
-        occ(i, 0) = bvh::any_hit(accel, rays(i));
-        occ(i, 1) = bvh::any_hit(ref, rays(i));
+        a.hit(i) = bvh::closest_hit(accel, rays(i));
+        a.any(i) = bvh::any_hit(accel, rays(i));
       });
-  auto ha = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a);
-  auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b);
-  auto ho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), occ);
+  return a;
+}
+
+void expect_same(const Answers& x, const Answers& ref, const std::string& what) {
+  auto ha = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), x.hit);
+  auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ref.hit);
+  auto oa = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), x.any);
+  auto ob = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ref.any);
+  const int n = static_cast<int>(ha.extent(0));
   int mismatches = 0, hits = 0;
   for (int i = 0; i < n; ++i) {
     hits += hb(i).valid();
     const bool same = ha(i).prim == hb(i).prim && (ha(i).prim < 0 || ha(i).t == hb(i).t) &&
-                      ho(i, 0) == ho(i, 1) && ho(i, 0) == int(hb(i).valid());
+                      oa(i) == ob(i) && ob(i) == int(hb(i).valid());
     if (!same && ++mismatches <= 5)
       ADD_FAILURE() << what << " ray " << i << ": bvh (" << ha(i).prim << ", t=" << ha(i).t << ", any "
-                    << ho(i, 0) << ") vs reference (" << hb(i).prim << ", t=" << hb(i).t << ", any "
-                    << ho(i, 1) << ")";
+                    << oa(i) << ") vs reference (" << hb(i).prim << ", t=" << hb(i).t << ", any " << ob(i)
+                    << ")";
   }
   EXPECT_EQ(mismatches, 0) << what;
   EXPECT_GT(hits, n / 20) << what << ": too few rays hit anything for the test to mean much";
+}
+
+template <class Accel, class Ref>
+void expect_same_hits(const Accel& accel, const Ref& ref, Kokkos::View<Ray*, TestMemSpace> rays,
+                      const std::string& what) {
+  expect_same(trace_all(accel, rays), trace_all(ref, rays), what);
 }
 
 Mesh load_scene(const std::string& name) { return read_mesh(std::string(scenes_dir()) + "/" + name); }
@@ -98,11 +112,13 @@ class BvhVsBruteForce : public ::testing::TestWithParam<std::string> {};
 TEST_P(BvhVsBruteForce, EveryHitEqual) {
   const Mesh mesh = load_scene(GetParam());
   auto tris = upload_triangles(mesh);
-  const bvh::BruteForce<TestMemSpace> ref{tris};
+  Aabb box;
+  for (const auto& p : mesh.positions) box.expand(Vec3(p));
+  auto rays = random_rays(tris, box, 100000, 7);
+  const Answers ref = trace_all(bvh::BruteForce<TestMemSpace>{tris}, rays);
   for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah}) {
     const auto accel = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, q);
-    auto rays = random_rays(tris, accel.bounds, 250000, 7);
-    expect_same_hits(accel, ref, rays, GetParam() + " " + bvh::to_string(q));
+    expect_same(trace_all(accel, rays), ref, GetParam() + " " + bvh::to_string(q));
   }
 }
 
@@ -156,7 +172,7 @@ TEST(Bvh, TinyAndDegenerateInputs) {
             r.dir = Vec3(0, 0, 1);
             rays(i) = r;
           });
-      expect_same_hits(accel, ref, rays, "degenerate n=" + std::to_string(count));
+      expect_same_hits(accel, ref, rays, "degenerate n=" + std::to_string(count) + " " + bvh::to_string(q));
     }
   }
 }
@@ -169,7 +185,7 @@ TEST(Bvh, QualityReportIsConsistent) {
     const auto r = bvh::measure_quality(accel);
     int prims = 0;
     for (int s = 1; s <= bvh::kMaxLeafSize; ++s) prims += s * r.leaf_size_histogram[s];
-    EXPECT_EQ(prims, int(tris.extent(0))) << "every triangle in exactly one leaf";
+    EXPECT_EQ(prims, int(tris.extent(0))) << bvh::to_string(q) << ": every triangle in exactly one leaf";
     EXPECT_LE(r.max_depth, bvh::kStackSize);
     EXPECT_GT(r.sah_cost, 1.0);
   }

@@ -205,7 +205,7 @@ Bvh<MemorySpace> build_lbvh(const ExecSpace& space, Kokkos::View<const Triangle*
           box(node) = nb;
           const Real sa = nb.surface_area();
           const int count = range(node, 1) - range(node, 0) + 1;
-          const Real split = kTraversalCost * sa + cost(l) + cost(r);
+          const Real split = kTraversalCost * sa + math::fabs(cost(l)) + math::fabs(cost(r));
           const Real leaf = kTriangleCost * count * sa;
           // A negative cost marks "collapse into one leaf" (the magnitude is the cost).
           cost(node) = (count <= kMaxLeafSize && leaf <= split) ? -leaf : split;

@@ -13,7 +13,9 @@ namespace rtmini::bvh {
 inline constexpr int kMaxLeafSize = 8;
 inline constexpr int kStackSize = 64;  // builders guarantee depth <= kStackSize
 inline constexpr std::uint32_t kLeafBit = 0x80000000u;
-inline constexpr std::uint32_t kEmptyLeaf = kLeafBit;  // count 0: never hit (empty box)
+// A child slot with nothing in it (only in one-triangle trees): all bits set
+// (no real leaf has first = 2^28 - 1 with 8 triangles), and an empty box.
+inline constexpr std::uint32_t kEmptyLeaf = 0xffffffffu;
 
 // Child reference: an internal node index, or kLeafBit | first << 3 | (count - 1).
 KOKKOS_INLINE_FUNCTION constexpr std::uint32_t make_leaf(std::uint32_t first, std::uint32_t count) {

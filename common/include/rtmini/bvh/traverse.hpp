@@ -37,6 +37,7 @@ KOKKOS_INLINE_FUNCTION bool traverse(const BvhT& bvh, const Ray& ray, Hit& hit, 
     for (int k = 0; k < 2; ++k) {
       if (!hk[k] || !is_leaf(c[k])) continue;
       hk[k] = false;
+      if (c[k] == kEmptyLeaf) continue;
       const std::uint32_t first = leaf_first(c[k]), end = first + leaf_count(c[k]);
       for (std::uint32_t i = first; i < end; ++i) {
         const Triangle& tri = bvh.tris(i);

@@ -60,8 +60,9 @@ KOKKOS_INLINE_FUNCTION bool slab_test(const RaySlab& r, const Vec3& lo, const Ve
   n = t0 < t1 ? t0 : t1; f = t0 < t1 ? t1 : t0;
   near = n > near ? n : near; far = f < far ? f : far;
   near = tmin > near ? tmin : near;
-  far = far * slab_widening();
-  far = tmax < far ? tmax : far;
+  // Widen after clamping to tmax too: a closest hit found earlier sets tmax,
+  // and a triangle lying on this box's face may be hit at t = near - 1 ulp.
+  far = (tmax < far ? tmax : far) * slab_widening();
   tenter = near;
   return near <= far;
 }

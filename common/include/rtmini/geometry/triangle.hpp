@@ -53,14 +53,12 @@ KOKKOS_INLINE_FUNCTION bool intersect_triangle(const WatertightRay& r, const Vec
   if (det == Real(0)) return false;
   const Real az = r.sz * A[r.kz], bz = r.sz * B[r.kz], cz = r.sz * C[r.kz];
   const Real T = U * az + V * bz + W * cz;
-  // Compare T against the interval scaled by det, without dividing first.
-  if (det > Real(0)) {
-    if (T <= tmin * det || T > tmax * det) return false;
-  } else {
-    if (T >= tmin * det || T < tmax * det) return false;
-  }
+  // Divide first, then compare t itself, so every caller (BVH, brute force,
+  // any ordering of leaves) accepts exactly the same t for the same interval.
   const Real inv = Real(1) / det;
-  t_out = T * inv;
+  const Real t = T * inv;
+  if (!(t >= tmin && t <= tmax)) return false;
+  t_out = t;
   u_out = V * inv;
   v_out = W * inv;
   return true;
