@@ -47,9 +47,21 @@ enum class BuildQuality { kLbvh, kSah };
 
 // Device-resident BVH. tris and prim are in leaf order; prim maps a leaf slot
 // back to the caller's triangle index, which is what queries report.
+// 4-wide node for CPU traversal (see wide.hpp): the four children's boxes as
+// structure-of-arrays lanes so one visit tests four boxes with SIMD.
+inline constexpr int kWidth = 4;
+struct alignas(64) WideNode {
+  Real lo_x[kWidth], lo_y[kWidth], lo_z[kWidth];
+  Real hi_x[kWidth], hi_y[kWidth], hi_z[kWidth];
+  std::uint32_t child[kWidth];  // same encoding as BvhNode; kEmptyLeaf = unused lane
+};
+
 template <class MemorySpace>
 struct Bvh {
+  using memory_space = MemorySpace;
   Kokkos::View<BvhNode*, MemorySpace> nodes;
+  // 4-wide copy of the same tree for host (CPU) traversal; empty on devices.
+  Kokkos::View<WideNode*, MemorySpace> wide;
   Kokkos::View<Triangle*, MemorySpace> tris;
   Kokkos::View<int*, MemorySpace> prim;
   Aabb bounds;

@@ -2,6 +2,9 @@
 // Iterative BVH traversal with a short fixed stack (no recursion, GPU-safe):
 // closest hit with a deterministic tie-break (equal t -> lower triangle id, so
 // results match the brute-force reference exactly) and any hit for shadow/AO.
+#include <cstring>
+#include <type_traits>
+
 #include "rtmini/bvh/bvh.hpp"
 
 namespace rtmini::bvh {
@@ -74,6 +77,155 @@ KOKKOS_INLINE_FUNCTION bool traverse(const BvhT& bvh, const Ray& ray, Hit& hit, 
   return found;
 }
 
+// Leaf triangles [first, first + count): updates hit/tmax; true when any-hit may stop.
+template <class BvhT, bool kAnyHit, bool kStats>
+KOKKOS_INLINE_FUNCTION bool intersect_leaf(const BvhT& bvh, std::uint32_t ref, const WatertightRay& wr,
+                                           const Ray& ray, Real& tmax, Hit& hit, bool& found,
+                                           TraversalStats* stats) {
+  const std::uint32_t first = leaf_first(ref), end = first + leaf_count(ref);
+  for (std::uint32_t i = first; i < end; ++i) {
+    const Triangle& tri = bvh.tris(i);
+    if (kStats) ++stats->tests;
+    Real t, u, v;
+    if (!intersect_triangle(wr, tri.a, tri.b, tri.c, ray.tmin, tmax, t, u, v)) continue;
+    const int id = bvh.prim(i);
+    if (kAnyHit) {
+      hit.t = t; hit.u = u; hit.v = v; hit.prim = id;
+      found = true;
+      return true;
+    }
+    if (t < tmax || id < hit.prim || !found) {
+      tmax = t;
+      hit.t = t; hit.u = u; hit.v = v; hit.prim = id;
+      found = true;
+    }
+  }
+  return false;
+}
+
+#if defined(__GNUC__) && !defined(__CUDACC__)
+// Four box tests at once with GCC/Clang vector extensions (SSE/AVX/NEON as available).
+typedef Real RealLanes __attribute__((vector_size(kWidth * sizeof(Real))));
+typedef std::conditional_t<sizeof(Real) == 4, std::int32_t, std::int64_t> LaneInt;
+typedef LaneInt IntLanes __attribute__((vector_size(kWidth * sizeof(Real))));
+
+inline int wide_box_test(const WideNode& nd, bool neg_x, bool neg_y, bool neg_z, Real ox, Real oy, Real oz,
+                         const Vec3& inv, Real tmin, Real tmax, Real* tn) {
+  RealLanes lx, ly, lz, hx, hy, hz;
+  std::memcpy(&lx, neg_x ? nd.hi_x : nd.lo_x, sizeof lx);
+  std::memcpy(&hx, neg_x ? nd.lo_x : nd.hi_x, sizeof hx);
+  std::memcpy(&ly, neg_y ? nd.hi_y : nd.lo_y, sizeof ly);
+  std::memcpy(&hy, neg_y ? nd.lo_y : nd.hi_y, sizeof hy);
+  std::memcpy(&lz, neg_z ? nd.hi_z : nd.lo_z, sizeof lz);
+  std::memcpy(&hz, neg_z ? nd.lo_z : nd.hi_z, sizeof hz);
+  const RealLanes a = (lx - ox) * inv.x, b = (ly - oy) * inv.y, c = (lz - oz) * inv.z;
+  const RealLanes d = (hx - ox) * inv.x, e = (hy - oy) * inv.y, f = (hz - oz) * inv.z;
+  RealLanes near = a > b ? a : b;
+  near = c > near ? c : near;
+  const RealLanes vmin = RealLanes{} + tmin;
+  near = vmin > near ? vmin : near;
+  RealLanes far = d < e ? d : e;
+  far = f < far ? f : far;
+  far = far * slab_widening();
+  const RealLanes vmax = RealLanes{} + tmax * slab_widening();
+  far = vmax < far ? vmax : far;
+  const IntLanes hit = near <= far;
+  std::memcpy(tn, &near, sizeof near);
+  int mask = 0;
+  for (int k = 0; k < kWidth; ++k) mask |= (hit[k] != 0 ? 1 : 0) << k;
+  return mask;
+}
+#else
+KOKKOS_INLINE_FUNCTION int wide_box_test(const WideNode& nd, bool neg_x, bool neg_y, bool neg_z, Real ox,
+                                         Real oy, Real oz, const Vec3& inv, Real tmin, Real tmax, Real* tn) {
+  const Real* nx = neg_x ? nd.hi_x : nd.lo_x;
+  const Real* fx = neg_x ? nd.lo_x : nd.hi_x;
+  const Real* ny = neg_y ? nd.hi_y : nd.lo_y;
+  const Real* fy = neg_y ? nd.lo_y : nd.hi_y;
+  const Real* nz = neg_z ? nd.hi_z : nd.lo_z;
+  const Real* fz = neg_z ? nd.lo_z : nd.hi_z;
+  int mask = 0;
+  for (int k = 0; k < kWidth; ++k) {
+    const Real a = (nx[k] - ox) * inv.x, b = (ny[k] - oy) * inv.y, c = (nz[k] - oz) * inv.z;
+    const Real d = (fx[k] - ox) * inv.x, e = (fy[k] - oy) * inv.y, f = (fz[k] - oz) * inv.z;
+    Real near = a > b ? a : b;
+    near = c > near ? c : near;
+    near = tmin > near ? tmin : near;
+    Real far = d < e ? d : e;
+    far = f < far ? f : far;
+    far = far * slab_widening();
+    const Real lim = tmax * slab_widening();
+    far = lim < far ? lim : far;
+    tn[k] = near;
+    mask |= (near <= far ? 1 : 0) << k;
+  }
+  return mask;
+}
+#endif
+
+// 4-wide traversal for host memory: the lane loops below vectorise. The near
+// plane of each axis is chosen by the ray's direction sign, so an inverted
+// (empty) box always has near > far and unused lanes never hit.
+template <class BvhT, bool kAnyHit, bool kStats>
+KOKKOS_INLINE_FUNCTION bool traverse_wide(const BvhT& bvh, const Ray& ray, Hit& hit, TraversalStats* stats) {
+  const WatertightRay wr(ray.org, ray.dir);
+  const Vec3 inv(safe_reciprocal(ray.dir.x), safe_reciprocal(ray.dir.y), safe_reciprocal(ray.dir.z));
+  const bool neg_x = inv.x < 0, neg_y = inv.y < 0, neg_z = inv.z < 0;
+  const Real ox = ray.org.x, oy = ray.org.y, oz = ray.org.z;
+  Real tmax = ray.tmax;
+  constexpr int kWideStack = 3 * kStackSize / 2 + 8;
+  std::uint32_t stack[kWideStack];
+  int sp = 0;
+  std::uint32_t node = 0;
+  bool found = false;
+  while (true) {
+    const WideNode& nd = bvh.wide(node);
+    if (kStats) ++stats->nodes;
+    Real tn[kWidth];
+    const int hitmask = wide_box_test(nd, neg_x, neg_y, neg_z, ox, oy, oz, inv, ray.tmin, tmax, tn);
+    // Leaves first: a closer hit shrinks tmax before inner children are ordered.
+    int inner = 0;
+    for (int k = 0; k < kWidth; ++k) {
+      if (!(hitmask >> k & 1)) continue;
+      const std::uint32_t c = nd.child[k];
+      if (!is_leaf(c)) { ++inner; continue; }
+      if (c == kEmptyLeaf) continue;
+      if (intersect_leaf<BvhT, kAnyHit, kStats>(bvh, c, wr, ray, tmax, hit, found, stats)) return true;
+    }
+    // Inner children still within tmax, pushed far-to-near so the nearest is visited next.
+    std::uint32_t ids[kWidth];
+    Real ds[kWidth];
+    int m = 0;
+    if (inner > 0) {
+      for (int k = 0; k < kWidth; ++k) {
+        const std::uint32_t c = nd.child[k];
+        if (!(hitmask >> k & 1) || is_leaf(c) || tn[k] > tmax * slab_widening()) continue;
+        int j = m++;
+        while (j > 0 && ds[j - 1] < tn[k]) { ds[j] = ds[j - 1]; ids[j] = ids[j - 1]; --j; }
+        ds[j] = tn[k];
+        ids[j] = c;
+      }
+    }
+    if (m > 0) {
+      for (int j = 0; j < m - 1; ++j) stack[sp++] = ids[j];
+      node = ids[m - 1];
+    } else {
+      if (sp == 0) break;
+      node = stack[--sp];
+    }
+  }
+  return found;
+}
+
+template <class BvhT, bool kAnyHit, bool kStats>
+KOKKOS_INLINE_FUNCTION bool traverse_any_layout(const BvhT& bvh, const Ray& ray, Hit& hit,
+                                                TraversalStats* stats) {
+  if constexpr (Kokkos::SpaceAccessibility<Kokkos::HostSpace, typename BvhT::memory_space>::accessible) {
+    if (bvh.wide.extent(0) > 0) return traverse_wide<BvhT, kAnyHit, kStats>(bvh, ray, hit, stats);
+  }
+  return traverse<BvhT, kAnyHit, kStats>(bvh, ray, hit, stats);
+}
+
 }  // namespace detail
 
 // Closest hit in [ray.tmin, ray.tmax]; hit.prim = -1 when nothing is hit.
@@ -81,7 +233,7 @@ template <class BvhT>
 KOKKOS_INLINE_FUNCTION Hit closest_hit(const BvhT& bvh, const Ray& ray) {
   Hit hit;
   hit.t = ray.tmax;
-  detail::traverse<BvhT, false, false>(bvh, ray, hit, nullptr);
+  detail::traverse_any_layout<BvhT, false, false>(bvh, ray, hit, nullptr);
   return hit;
 }
 
@@ -89,7 +241,7 @@ template <class BvhT>
 KOKKOS_INLINE_FUNCTION Hit closest_hit(const BvhT& bvh, const Ray& ray, TraversalStats& stats) {
   Hit hit;
   hit.t = ray.tmax;
-  detail::traverse<BvhT, false, true>(bvh, ray, hit, &stats);
+  detail::traverse_any_layout<BvhT, false, true>(bvh, ray, hit, &stats);
   return hit;
 }
 
@@ -97,13 +249,13 @@ KOKKOS_INLINE_FUNCTION Hit closest_hit(const BvhT& bvh, const Ray& ray, Traversa
 template <class BvhT>
 KOKKOS_INLINE_FUNCTION bool any_hit(const BvhT& bvh, const Ray& ray) {
   Hit hit;
-  return detail::traverse<BvhT, true, false>(bvh, ray, hit, nullptr);
+  return detail::traverse_any_layout<BvhT, true, false>(bvh, ray, hit, nullptr);
 }
 
 template <class BvhT>
 KOKKOS_INLINE_FUNCTION bool any_hit(const BvhT& bvh, const Ray& ray, TraversalStats& stats) {
   Hit hit;
-  return detail::traverse<BvhT, true, true>(bvh, ray, hit, &stats);
+  return detail::traverse_any_layout<BvhT, true, true>(bvh, ray, hit, &stats);
 }
 
 }  // namespace rtmini::bvh

@@ -35,7 +35,11 @@ struct WatertightRay {
 KOKKOS_INLINE_FUNCTION bool intersect_triangle(const WatertightRay& r, const Vec3& a, const Vec3& b,
                                                const Vec3& c, Real tmin, Real tmax, Real& t_out,
                                                Real& u_out, Real& v_out) {
-  const Vec3 A = a - r.org, B = b - r.org, C = c - r.org;
+  // Index the permuted axes through small arrays: one load each instead of a
+  // compare-and-select chain per access.
+  const Real A[3] = {a.x - r.org.x, a.y - r.org.y, a.z - r.org.z};
+  const Real B[3] = {b.x - r.org.x, b.y - r.org.y, b.z - r.org.z};
+  const Real C[3] = {c.x - r.org.x, c.y - r.org.y, c.z - r.org.z};
   const Real ax = A[r.kx] - r.sx * A[r.kz], ay = A[r.ky] - r.sy * A[r.kz];
   const Real bx = B[r.kx] - r.sx * B[r.kz], by = B[r.ky] - r.sy * B[r.kz];
   const Real cx = C[r.kx] - r.sx * C[r.kz], cy = C[r.ky] - r.sy * C[r.kz];

@@ -3,6 +3,16 @@
 // Easy as 1, 2, 3", SC'11): Philox4x32-10 from Random123. A draw is a pure
 // function of (run seed, item id, sample index, dimension), so results never
 // depend on rank count, thread count, scheduling or restarts (ARCHITECTURE §4).
+#if defined(__CUDACC__)
+// Random123 marks its CUDA functions __device__ only; Kokkos code calls them
+// from __host__ __device__ functions, and its trap-based assert is device asm.
+#ifndef R123_CUDA_DEVICE
+#define R123_CUDA_DEVICE __host__ __device__
+#endif
+#ifndef R123_ASSERT
+#define R123_ASSERT(x)
+#endif
+#endif
 #include <Random123/philox.h>
 
 #include "rtmini/kokkos_compat.hpp"
