@@ -1,6 +1,33 @@
 #pragma once
 // The one place where differences between Kokkos 3.4 (Debian, CPU) and Kokkos 4.x
 // (CUDA) are bridged. Everything else includes this instead of spelling versions.
+//
+// RTMINI_NO_KOKKOS: host-only translation units (the TOML scene reader, whose
+// library nvcc cannot parse) are compiled by the plain host compiler without
+// Kokkos; they still share Vec3/Mesh through the fallbacks below.
+#ifdef RTMINI_NO_KOKKOS
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#ifndef KOKKOS_INLINE_FUNCTION
+#define KOKKOS_INLINE_FUNCTION inline
+#define KOKKOS_FUNCTION
+#endif
+namespace rtmini::compat {
+template <class To, class From>
+inline To bit_cast(const From& from) {
+  static_assert(sizeof(To) == sizeof(From), "bit_cast needs equal sizes");
+  To to;
+  std::memcpy(&to, &from, sizeof(To));
+  return to;
+}
+}  // namespace rtmini::compat
+namespace rtmini::math {
+using std::acos; using std::asin; using std::atan; using std::atan2; using std::ceil; using std::cos;
+using std::exp; using std::fabs; using std::floor; using std::fmax; using std::fmin; using std::log;
+using std::log2; using std::pow; using std::sin; using std::sqrt; using std::tan;
+}  // namespace rtmini::math
+#else
 #include <Kokkos_Core.hpp>
 #include <Kokkos_Sort.hpp>
 #include <cstdint>
@@ -72,6 +99,10 @@ using Kokkos::Experimental::log; using Kokkos::Experimental::pow; using Kokkos::
 using Kokkos::Experimental::sqrt; using Kokkos::Experimental::tan; using Kokkos::Experimental::asin;
 using Kokkos::Experimental::log2; using Kokkos::Experimental::atan;
 #endif
+}  // namespace rtmini::math
+#endif  // RTMINI_NO_KOKKOS
+
+namespace rtmini::math {
 // Written out because 3.4 has no device isfinite/copysign; exact for IEEE types.
 template <class T>
 KOKKOS_INLINE_FUNCTION bool isfinite(T x) { return (x - x) == T(0); }
