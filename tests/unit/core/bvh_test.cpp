@@ -107,6 +107,21 @@ void expect_same_hits(const Accel& accel, const Ref& ref, Kokkos::View<Ray*, Tes
 
 Mesh load_scene(const std::string& name) { return read_mesh(std::string(scenes_dir()) + "/" + name); }
 
+// Rays straight up through the unit square (a free function: CUDA lambdas may
+// not live inside a test body).
+Kokkos::View<Ray*, TestMemSpace> axis_rays(int n) {
+  Kokkos::View<Ray*, TestMemSpace> rays("rays", n);
+  Kokkos::parallel_for(
+      "test::axis_rays", Policy(0, n), KOKKOS_LAMBDA(int i) {
+        const Rng rng(3, std::uint64_t(i), 0);
+        Ray r;
+        r.org = Vec3(rng.uniform(0), rng.uniform(1), Real(-0.5));
+        r.dir = Vec3(0, 0, 1);
+        rays(i) = r;
+      });
+  return rays;
+}
+
 class BvhVsBruteForce : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BvhVsBruteForce, EveryHitEqual) {
@@ -163,15 +178,7 @@ TEST(Bvh, TinyAndDegenerateInputs) {
     for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah}) {
       const auto accel = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, q);
       if (count == 0) continue;
-      Kokkos::View<Ray*, TestMemSpace> rays("rays", 2000);
-      Kokkos::parallel_for(
-          "test::axis_rays", Policy(0, 2000), KOKKOS_LAMBDA(int i) {
-            const Rng rng(3, std::uint64_t(i), 0);
-            Ray r;
-            r.org = Vec3(rng.uniform(0), rng.uniform(1), Real(-0.5));
-            r.dir = Vec3(0, 0, 1);
-            rays(i) = r;
-          });
+      auto rays = axis_rays(2000);
       expect_same_hits(accel, ref, rays, "degenerate n=" + std::to_string(count) + " " + bvh::to_string(q));
     }
   }
