@@ -7,6 +7,28 @@
 
 namespace rtmini {
 
+namespace detail {
+// Edge functions must be evaluated identically (up to sign) for the two
+// triangles sharing an edge; a fused multiply-add breaks that symmetry and
+// leaks rays through shared edges. CUDA contracts a*b - c*d into an FMA by
+// default, so the products are rounded explicitly there; host builds use
+// -ffp-contract=off (set in CMake).
+KOKKOS_INLINE_FUNCTION float mul_rn(float a, float b) {
+#if defined(__CUDA_ARCH__)
+  return __fmul_rn(a, b);
+#else
+  return a * b;
+#endif
+}
+KOKKOS_INLINE_FUNCTION double mul_rn(double a, double b) {
+#if defined(__CUDA_ARCH__)
+  return __dmul_rn(a, b);
+#else
+  return a * b;
+#endif
+}
+}  // namespace detail
+
 struct Triangle {
   Vec3 a, b, c;
 };
@@ -43,13 +65,14 @@ KOKKOS_INLINE_FUNCTION bool intersect_triangle(const WatertightRay& r, const Vec
   const Real ax = A[r.kx] - r.sx * A[r.kz], ay = A[r.ky] - r.sy * A[r.kz];
   const Real bx = B[r.kx] - r.sx * B[r.kz], by = B[r.ky] - r.sy * B[r.kz];
   const Real cx = C[r.kx] - r.sx * C[r.kz], cy = C[r.ky] - r.sy * C[r.kz];
-  Real U = cx * by - cy * bx;
-  Real V = ax * cy - ay * cx;
-  Real W = bx * ay - by * ax;
+  using detail::mul_rn;
+  Real U = mul_rn(cx, by) - mul_rn(cy, bx);
+  Real V = mul_rn(ax, cy) - mul_rn(ay, cx);
+  Real W = mul_rn(bx, ay) - mul_rn(by, ax);
   if (sizeof(Real) == 4 && (U == Real(0) || V == Real(0) || W == Real(0))) {
-    U = Real(double(cx) * double(by) - double(cy) * double(bx));
-    V = Real(double(ax) * double(cy) - double(ay) * double(cx));
-    W = Real(double(bx) * double(ay) - double(by) * double(ax));
+    U = Real(mul_rn(double(cx), double(by)) - mul_rn(double(cy), double(bx)));
+    V = Real(mul_rn(double(ax), double(cy)) - mul_rn(double(ay), double(cx)));
+    W = Real(mul_rn(double(bx), double(ay)) - mul_rn(double(by), double(ax)));
   }
   if ((U < Real(0) || V < Real(0) || W < Real(0)) && (U > Real(0) || V > Real(0) || W > Real(0)))
     return false;
