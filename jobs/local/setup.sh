@@ -21,6 +21,7 @@ packages=(
   python3 python3-numpy python3-matplotlib python3-h5py python3-pytest
   shellcheck clang-format
   slurm-wlm munge
+  nodejs chromium
 )
 
 sudo_if_needed() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
@@ -89,4 +90,13 @@ else
   touch "$prefix/.rtmini-built"
   rm -rf "$work/src" "$work/build"
   echo "setup: Kokkos installed in $prefix" >&2
+fi
+
+# The web viewer's test dependencies (three.js, playwright-core) from npm, pinned by its lockfile.
+viewer="$root/miniapps/bake/viewer"
+if [ -f "$viewer/package-lock.json" ] && command -v npm >/dev/null 2>&1; then
+  if [ ! -d "$viewer/node_modules" ] || [ "$viewer/package-lock.json" -nt "$viewer/node_modules" ]; then
+    echo "setup: npm ci in miniapps/bake/viewer" >&2
+    (cd "$viewer" && npm ci --no-audit --no-fund --loglevel=error) && touch "$viewer/node_modules"
+  fi
 fi

@@ -315,13 +315,23 @@ struct FibonacciInverse {
     lattice(q, f0, f1, base);
     const long long offsets[5] = {1, f1 - f0, f0, f1, f0 + f1};
     const Real r2 = radius * radius, walk2 = Real(2.25) * r2;
-    constexpr int kMaxSeen = 8 * kMaxViewNeighbors;
-    int seen[kMaxSeen];
-    int nseen = 0;
-    int queue[2 * kMaxViewNeighbors];
-    int head = 0, tail = 0;
+    // Visited set: open addressing over a small table (the walk sees ~50 points).
+    constexpr int kTable = 256, kMaxQueue = 2 * kMaxViewNeighbors;
+    int table[kTable];
+    for (int s = 0; s < kTable; ++s) table[s] = -1;
+    auto first_visit = [&](int i) {
+      unsigned h = (static_cast<unsigned>(i) * 2654435761u) >> 24;
+      while (table[h] >= 0) {
+        if (table[h] == i) return false;
+        h = (h + 1u) & (kTable - 1);
+      }
+      table[h] = i;
+      return true;
+    };
+    int queue[kMaxQueue];
+    int head = 0, tail = 0, visited = 1;
     detail::NeighborCollector c;
-    seen[nseen++] = start;
+    first_visit(start);
     queue[tail++] = start;
     const Real d0 = length_squared(points(start) - q);
     if (d0 <= r2) c.add(start, d0);
@@ -329,14 +339,11 @@ struct FibonacciInverse {
       const long long at = queue[head++];
       for (int k = 0; k < 10; ++k) {
         const long long i = k < 5 ? at + offsets[k] : at - offsets[k - 5];
-        if (i < 0 || i >= n) continue;
-        bool known = false;
-        for (int s = 0; s < nseen && !known; ++s) known = seen[s] == i;
-        if (known || nseen >= kMaxSeen) continue;
-        seen[nseen++] = static_cast<int>(i);
+        if (i < 0 || i >= n || visited >= kTable / 2 || !first_visit(static_cast<int>(i))) continue;
+        ++visited;
         const Real d2 = length_squared(points(static_cast<int>(i)) - q);
         if (d2 <= r2) c.add(static_cast<int>(i), d2);
-        if (d2 <= walk2 && tail < 2 * kMaxViewNeighbors) queue[tail++] = static_cast<int>(i);
+        if (d2 <= walk2 && tail < kMaxQueue) queue[tail++] = static_cast<int>(i);
       }
     }
     return detail::finish_neighbors(c, radius, start);

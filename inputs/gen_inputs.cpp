@@ -1,0 +1,190 @@
+// rtmini-gen-inputs: regenerates the bake inputs (inputs/README.md): the seed's "cube" and
+// "cornell_big_raw" cases, the furnace box of the correctness tests, the shared Cornell box
+// converted to .bs, and a bunny bake scene built around ../shared/scenes/stanford-bunny.obj.
+#include <CLI/CLI.hpp>
+#include <array>
+#include <map>
+#include <cmath>
+#include <iostream>
+#include <string>
+
+#include "rtmini/io/bakeshop.hpp"
+#include "rtmini/io/error.hpp"
+#include "rtmini/io/obj_reader.hpp"
+#include "rtmini/scene/primitives.hpp"
+
+namespace rtmini {
+namespace {
+
+int add_material(Mesh& m, Vec3f diffuse, Vec3f reflective, Vec3f emissive) {
+  Material mat;
+  mat.diffuse = diffuse;
+  mat.reflective = reflective;
+  mat.emissive = emissive;
+  m.materials.push_back(mat);
+  return static_cast<int>(m.materials.size()) - 1;
+}
+
+Vec3d rotate_y(const Vec3d& p, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return {c * p.x + s * p.z, p.y, -s * p.x + c * p.z};
+}
+
+// A box of per-face grids (cells[a] cells along axis a), rotated about y through its centre.
+// Each face has its own vertices, so every vertex normal is its face's normal.
+void append_grid_box(Mesh& m, const Vec3d& centre, const Vec3d& size, double angle,
+                     const int cells[3], bool with_bottom, int material) {
+  const Vec3d lo = size * -0.5;
+  const Vec3d ax[3] = {{size.x, 0, 0}, {0, size.y, 0}, {0, 0, size.z}};
+  struct FaceSpec {
+    Vec3d corner;
+    int a, b;  // u along axis a, v along axis b, outward normal = u x v
+  };
+  const FaceSpec faces[6] = {{lo + ax[0], 1, 2}, {lo, 2, 1}, {lo + ax[1], 2, 0},
+                             {lo, 0, 2},         {lo + ax[2], 0, 1}, {lo, 1, 0}};
+  for (int f = 0; f < 6; ++f) {
+    if (f == 3 && !with_bottom) continue;
+    const FaceSpec& s = faces[f];
+    append_grid(m, centre + rotate_y(s.corner, angle), rotate_y(ax[s.a], angle),
+                rotate_y(ax[s.b], angle), cells[s.a], cells[s.b], material, 0);
+  }
+}
+
+// The seed's "cube" (8 vertices, 6 quads): a closed room whose ceiling is the light and whose
+// other faces are semi-reflective; every corner averages light and wall materials (the seed's
+// corner model).
+Mesh make_cube() {
+  Mesh m;
+  const int wall = add_material(m, {0.6f, 0.6f, 0.6f}, {0.3f, 0.3f, 0.3f}, {0.f, 0.f, 0.f});
+  const int light = add_material(m, {0.f, 0.f, 0.f}, {0.f, 0.f, 0.f}, {1.f, 1.f, 1.f});
+  append_box(m, {-1, -1, -1}, {1, 1, 1}, wall, 0, true);
+  m.faces[3].material = light;  // the y = +1 face
+  return m;
+}
+
+// cornell_big_raw: 1,924 vertices. Floor, ceiling and side walls of 16x16 cells (4 x 289), a
+// back wall of 20x13 cells (294), one emissive quad (4), a short box (5 faces, 4x7x4 cells: 185)
+// and a tall box (4x12x4 cells: 285), both semi-reflective.
+Mesh make_cornell_big() {
+  Mesh m;
+  const int white = add_material(m, {0.725f, 0.71f, 0.68f}, {0, 0, 0}, {0, 0, 0});
+  const int red = add_material(m, {0.63f, 0.065f, 0.05f}, {0, 0, 0}, {0, 0, 0});
+  const int green = add_material(m, {0.14f, 0.45f, 0.091f}, {0, 0, 0}, {0, 0, 0});
+  const int light = add_material(m, {0.78f, 0.78f, 0.78f}, {0, 0, 0}, {17.f, 12.f, 4.f});
+  const int box = add_material(m, {0.3f, 0.3f, 0.3f}, {0.5f, 0.5f, 0.5f}, {0, 0, 0});
+  const int g = 16;
+  append_grid(m, {-1, 0, -1}, {0, 0, 2}, {2, 0, 0}, g, g, white, 0);  // floor, normal +y
+  append_grid(m, {-1, 2, -1}, {2, 0, 0}, {0, 0, 2}, g, g, white, 0);  // ceiling, -y
+  append_grid(m, {-1, 0, -1}, {2, 0, 0}, {0, 2, 0}, 20, 13, white, 0);  // back, +z
+  append_grid(m, {-1, 0, -1}, {0, 2, 0}, {0, 0, 2}, g, g, red, 0);    // left, +x
+  append_grid(m, {1, 0, -1}, {0, 0, 2}, {0, 2, 0}, g, g, green, 0);   // right, -x
+  append_quad(m, {-0.25, 1.98, -0.25}, {0.5, 0, 0}, {0, 0, 0.5}, light, 0);  // light, -y
+  const int short_cells[3] = {4, 7, 4}, tall_cells[3] = {4, 12, 4};
+  append_grid_box(m, {0.35, 0.3, 0.35}, {0.6, 0.6, 0.6}, -0.3, short_cells, false, box);
+  append_grid_box(m, {-0.35, 0.6, -0.3}, {0.6, 1.2, 0.6}, 0.3, tall_cells, false, box);
+  return m;
+}
+
+// Merges vertices with bit-identical positions (the grids of adjacent faces share their edges).
+void weld(Mesh& m) {
+  std::map<std::array<double, 3>, int> index;
+  std::vector<Vec3d> kept;
+  std::vector<int> remap(m.positions.size());
+  for (std::size_t i = 0; i < m.positions.size(); ++i) {
+    const Vec3d& p = m.positions[i];
+    const auto ins = index.emplace(std::array<double, 3>{p.x, p.y, p.z}, static_cast<int>(kept.size()));
+    if (ins.second) kept.push_back(p);
+    remap[i] = ins.first->second;
+  }
+  for (Face& f : m.faces)
+    for (int k = 0; k < f.count; ++k) f.v[k] = remap[f.v[k]];
+  m.positions = kept;
+}
+
+// Furnace: a closed box, every face emissive E with mirror reflectance rho and no diffuse part;
+// after K iterations every colour is E (1 - rho^(K+1)) / (1 - rho). The faces' grids are
+// welded, so the box is one closed surface (a vertex on an edge has the averaged normal and
+// its rays start inside); cells = 0: the plain 8-corner box.
+Mesh make_furnace(double rho, double emission, int cells) {
+  Mesh m;
+  const float r = static_cast<float>(rho), e = static_cast<float>(emission);
+  const int mat = add_material(m, {0, 0, 0}, {r, r, r}, {e, e, e});
+  if (cells == 0) {
+    append_box(m, {-1, -1, -1}, {1, 1, 1}, mat, 0, true);
+  } else {
+    const int c[3] = {cells, cells, cells};
+    append_grid_box(m, {0, 0, 0}, {2, 2, 2}, 0.0, c, true, mat);
+    for (Face& f : m.faces) std::swap(f.v[1], f.v[3]);  // inward: the inside of the box is seen
+    weld(m);
+  }
+  return m;
+}
+
+// The stanford bunny as the seed's reflective grey bunny, lit by a red panel above and a blue
+// panel below, with a grey diffuse backdrop behind it to reflect.
+Mesh make_bunny(const std::string& scene) {
+  Mesh m = read_obj(scene);
+  m.materials.clear();
+  const int bunny = add_material(m, {0.3f, 0.3f, 0.3f}, {0.6f, 0.6f, 0.6f}, {0, 0, 0});
+  const int red = add_material(m, {0, 0, 0}, {0, 0, 0}, {8.f, 1.f, 1.f});
+  const int blue = add_material(m, {0, 0, 0}, {0, 0, 0}, {1.f, 1.f, 8.f});
+  const int grey = add_material(m, {0.5f, 0.5f, 0.5f}, {0, 0, 0}, {0, 0, 0});
+  for (Face& f : m.faces) f.material = bunny;
+  Vec3d lo(1e300), hi(-1e300);
+  for (const Vec3d& p : m.positions) {
+    lo = vmin(lo, p);
+    hi = vmax(hi, p);
+  }
+  const Vec3d c = (lo + hi) * 0.5, e = hi - lo;
+  const double s = max_component(e);
+  append_quad(m, {c.x - 0.3 * s, hi.y + 0.4 * s, c.z - 0.3 * s}, {0.6 * s, 0, 0}, {0, 0, 0.6 * s},
+              red, 0);  // normal -y
+  append_quad(m, {c.x - 0.3 * s, lo.y - 0.2 * s, c.z - 0.3 * s}, {0, 0, 0.6 * s}, {0.6 * s, 0, 0},
+              blue, 0);  // normal +y
+  append_quad(m, {c.x - 1.5 * s, lo.y - 0.3 * s, lo.z - 0.5 * s}, {3.0 * s, 0, 0},
+              {0, 2.0 * s, 0}, grey, 0);  // backdrop, normal +z
+  return m;
+}
+
+}  // namespace
+}  // namespace rtmini
+
+int main(int argc, char** argv) {
+  using namespace rtmini;
+  CLI::App app{"rtmini-gen-inputs: regenerate the bake inputs (see inputs/README.md)"};
+  std::string out, scene;
+  double rho = 0.5, emission = 1.0;
+  int cells = 3;
+  auto* cube = app.add_subcommand("cube", "the seed's 8-vertex cube");
+  auto* big = app.add_subcommand("cornell_big", "cornell_big_raw (1,924 vertices)");
+  auto* furnace = app.add_subcommand("furnace", "all-emissive mirror box for the furnace test");
+  auto* cornell = app.add_subcommand("cornell", "an OBJ/MTL converted to .bs");
+  auto* bunny = app.add_subcommand("bunny", "the bunny bake scene");
+  for (auto* sub : {cube, big, furnace, cornell, bunny})
+    sub->add_option("-o,--output", out, "output .bs")->required();
+  furnace->add_option("--rho", rho, "mirror reflectance");
+  furnace->add_option("--emission", emission, "emission of every face");
+  furnace->add_option("--cells", cells, "grid cells per face edge (0: 8 shared corners)");
+  cornell->add_option("--scene", scene, "OBJ file")->required();
+  bunny->add_option("--scene", scene, "stanford-bunny.obj")->required();
+  app.require_subcommand(1);
+  CLI11_PARSE(app, argc, argv);
+  try {
+    Mesh m;
+    if (*cube) m = make_cube();
+    if (*big) m = make_cornell_big();
+    if (*furnace) m = make_furnace(rho, emission, cells);
+    if (*cornell) m = read_obj(scene);
+    if (*bunny) m = make_bunny(scene);
+    write_bakeshop(out, m);
+    std::cout << out << ": " << m.positions.size() << " vertices, " << m.faces.size()
+              << " faces, " << m.materials.size() << " materials\n";
+  } catch (const InputError& e) {
+    std::cerr << "rtmini-gen-inputs: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "rtmini-gen-inputs: " << e.what() << "\n";
+    return kExitResource;
+  }
+  return 0;
+}

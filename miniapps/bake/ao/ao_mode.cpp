@@ -1,0 +1,215 @@
+#include "ao_mode.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "ao_options.hpp"
+#include "ao_output.hpp"
+#include "ao_trace.hpp"
+#include "device_scene.hpp"
+#include "rtmini/io/error.hpp"
+#include "rtmini/report/hash.hpp"
+#include "rtmini/report/run_report.hpp"
+#include "rtmini/report/version.hpp"
+#include "vertex_mapping.hpp"
+
+namespace rtmini {
+namespace {
+
+// Order-independent hash of the per-vertex values quantised to 2^-16.
+std::uint64_t ao_hash(const std::vector<float>& values) {
+  std::uint64_t h = 0;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const auto q =
+        static_cast<std::int64_t>(std::llround(static_cast<double>(values[i]) * 65536.0));
+    h += hash_term(i, static_cast<std::uint64_t>(q));
+  }
+  return h;
+}
+
+nlohmann::json parameters_json(const ao::AoOptions& o) {
+  return {{"mode", "ao"},
+          {"input", o.input},
+          {"output", o.output},
+          {"instances", o.instances},
+          {"rays", o.rays},
+          {"samples", o.samples},
+          {"samples_per_face", o.min_samples_per_face},
+          {"ray_distance_scale", o.ray_distance_scale},
+          {"hit_distance_scale", o.hit_distance_scale},
+          {"ground_plane", o.ground_plane},
+          {"ground_axis", o.ground_axis},
+          {"ground_scale", o.ground_scale},
+          {"ground_offset", o.ground_offset},
+          {"least_squares", o.least_squares},
+          {"regularization_weight", o.regularization},
+          {"passes", o.passes},
+          {"batch", o.batch},
+          {"seed", o.seed},
+          {"bvh", o.bvh}};
+}
+
+}  // namespace
+
+int run_ao_mode(Communicator& comm, int argc, char** argv) {
+  ao::AoOptions o;
+  if (!ao::parse_ao_options(argc, argv, o)) return kExitOk;
+  ao::output_format(o.output);  // reject a bad extension before any work
+  const bool root = comm.is_root();
+  RunReport report;
+  report.app = "bake";
+  report.parameters = parameters_json(o);
+
+  report.timer.start("load");
+  ao::AoScene scene = ao::load_ao_scene(o.input);
+  ao::replicate_instances(scene, o.instances, o.ground_axis % 3);
+  const ao::Bounds bounds = scene.receiver_bounds();
+  const double extent = bounds.max_extent();
+  report.timer.stop();
+  const ao::GroundPlane ground = o.ground_plane
+                                     ? ao::make_ground_plane(bounds.lo, bounds.hi, o.ground_axis,
+                                                             o.ground_scale, o.ground_offset)
+                                     : ao::GroundPlane{};
+
+  report.timer.start("sample_plan");
+  const ao::SamplePlan plan = ao::plan_samples(scene, o.samples, o.min_samples_per_face);
+  report.timer.stop();
+  const std::int64_t total = plan.total_samples();
+  std::int64_t scene_tris = 0;
+  for (const auto& inst : scene.instances)
+    scene_tris += static_cast<std::int64_t>(scene.meshes[inst.mesh].tris.size());
+  std::int64_t stored_tris = 0;
+  for (const auto& m : scene.meshes) stored_tris += static_cast<std::int64_t>(m.tris.size());
+
+  if (root) {
+    const std::int64_t batch = std::min<std::int64_t>(o.batch, total);
+    const double mib = 1.0 / (1024.0 * 1024.0);
+    const double est = stored_tris * (36.0 + 4.0 + 28.0) + plan.total_triangles() * 44.0 +
+                       batch * (24.0 + 2.0) + total * (2.0 + 8.0);
+    std::printf("%s\n", build_banner().c_str());
+    std::printf("bake --mode ao: %s\n", o.input.c_str());
+    std::printf(
+        "  meshes %zu (stored triangles %lld), instances %zu (receivers %zu), instanced triangles "
+        "%lld\n",
+        scene.meshes.size(), static_cast<long long>(stored_tris), scene.instances.size(),
+        plan.receivers.size(), static_cast<long long>(scene_tris));
+    std::printf("  receiver vertices %lld, triangles %lld, scene scale (max extent) %.6g\n",
+                static_cast<long long>(plan.total_vertices()),
+                static_cast<long long>(plan.total_triangles()), extent);
+    std::printf(
+        "  samples %lld (min %d per face, requested %lld), rays per sample %d, total rays %lld\n",
+        static_cast<long long>(total), o.min_samples_per_face, static_cast<long long>(o.samples),
+        o.rays, static_cast<long long>(total) * o.rays);
+    std::printf("  ray offset %.6g (scale %g), max hit distance %.6g (scale %g)\n",
+                o.ray_distance_scale * extent, o.ray_distance_scale, o.hit_distance_scale * extent,
+                o.hit_distance_scale);
+    if (o.ground_plane)
+      std::printf("  ground plane: axis %d scale %g offset %g (level %.6g)\n", o.ground_axis,
+                  o.ground_scale, o.ground_offset, static_cast<double>(ground.level));
+    else
+      std::printf("  ground plane: off\n");
+    std::printf(
+        "  mapping: %s (regularization weight %g), passes %d, batch %lld, seed %llu, bvh %s\n",
+        o.least_squares ? "least squares" : "weighted average", o.regularization, o.passes,
+        static_cast<long long>(o.batch), static_cast<unsigned long long>(o.seed), o.bvh.c_str());
+    std::printf("  ranks %d, threads per rank %d, output %s\n", comm.size(), compat::concurrency(),
+                o.output.empty() ? "(none)" : o.output.c_str());
+    std::printf("  memory estimate per rank: %.1f MiB device, %.1f MiB host results\n", est * mib,
+                total * (2.0 + 8.0) * mib);
+    std::fflush(stdout);
+  }
+
+  report.timer.start("build");
+  const ao::DeviceScene device(
+      scene, o.bvh == "sah" ? bvh::BuildQuality::kSah : bvh::BuildQuality::kLbvh, ground);
+  const ao::DeviceSamplePlan dplan = ao::upload_plan(scene, plan);
+  report.timer.stop();
+
+  ao::TraceSettings ts;
+  ts.rays = o.rays;
+  ts.passes = o.passes;
+  ts.batch = o.batch;
+  ts.seed = o.seed;
+  ts.offset = static_cast<Real>(o.ray_distance_scale * extent);
+  ts.max_distance = static_cast<Real>(o.hit_distance_scale * extent);
+  // Contiguous sample ranges per rank; the counts are integers, so the gathered
+  // array (and everything after it) is identical for any rank count.
+  const std::int64_t first = total * comm.rank() / comm.size();
+  const std::int64_t last = total * (comm.rank() + 1) / comm.size();
+  const std::vector<std::uint16_t> mine =
+      ao::trace_samples(device.query(), dplan, ts, first, last, report.timer);
+
+  report.timer.start("gather");
+  const std::vector<std::uint16_t> occluded = comm.gatherv(mine, 0);
+  report.timer.stop();
+
+  ao::AoResult result;
+  result.scene = &scene;
+  result.plan = &plan;
+  ao::LeastSquaresStats lsq;
+  // Rank 0 maps, solves and writes; the others time the same (empty) phases so
+  // every rank reduces the same phase list in RunReport::finish.
+  ao::SampleValues values;
+  report.timer.start("mapping");
+  if (root) {
+    values = ao::make_sample_values(plan, o.seed, occluded, o.rays);
+    if (!o.least_squares) result.values = ao::map_weighted_average(scene, values);
+  }
+  report.timer.stop();
+  if (o.least_squares) {
+    report.timer.start("solve");
+    if (root) result.values = ao::map_least_squares(scene, values, o.regularization, &lsq);
+    report.timer.stop();
+  }
+  report.timer.start("write");
+  if (root && !o.output.empty()) ao::write_ao_output(o.output, result, o.ply_ascii);
+  report.timer.stop();
+
+  // The sample's timing report, max over ranks.
+  const char* names[] = {"load",   "sample_plan", "build", "samples", "rays",
+                         "gather", "mapping",     "solve", "write"};
+  double t[9];
+  for (int i = 0; i < 9; ++i) t[i] = comm.max(report.timer.total(names[i]));
+  const double total_rays = static_cast<double>(total) * o.rays;
+  const double run_time = comm.max(report.timer.now());
+  if (root) {
+    std::printf("Load scene ...               %10.2f ms\n", 1e3 * t[0]);
+    std::printf("Plan sample points ...       %10.2f ms\n", 1e3 * t[1]);
+    std::printf("Build BVHs ...               %10.2f ms\n", 1e3 * t[2]);
+    std::printf("Generate sample points ...   %10.2f ms\n", 1e3 * t[3]);
+    std::printf("Compute AO (rays) ...        %10.2f ms  (%.4g Mrays/s)\n", 1e3 * t[4],
+                t[4] > 0 ? total_rays / t[4] * 1e-6 : 0.0);
+    std::printf("Gather to rank 0 ...         %10.2f ms\n", 1e3 * t[5]);
+    std::printf("Map AO to vertices ...       %10.2f ms\n", 1e3 * (t[6] + t[7]));
+    if (o.least_squares) {
+      std::printf("    build mass matrices ...           %10.2f ms\n", 1e3 * lsq.assemble_s);
+      std::printf("    build regularization matrices ... %10.2f ms\n", 1e3 * lsq.regularize_s);
+      std::printf("    decompose matrices ...            %10.2f ms\n", 1e3 * lsq.factor_s);
+      std::printf("    solve linear systems ...          %10.2f ms\n", 1e3 * lsq.solve_s);
+      if (lsq.fallbacks > 0)
+        std::printf("    %d singular system(s): weighted average used there\n", lsq.fallbacks);
+    }
+    std::printf("Write output ...             %10.2f ms\n", 1e3 * t[8]);
+    std::printf("Whole bake (wall) ...        %10.2f ms\n", 1e3 * run_time);
+    std::fflush(stdout);
+  }
+
+  report.scene = {{"input", o.input},
+                  {"meshes", scene.meshes.size()},
+                  {"instances", scene.instances.size()},
+                  {"receivers", plan.receivers.size()},
+                  {"stored_triangles", stored_tris},
+                  {"instanced_triangles", scene_tris},
+                  {"receiver_vertices", plan.total_vertices()},
+                  {"samples", total},
+                  {"rays", static_cast<std::int64_t>(total) * o.rays},
+                  {"scene_scale", extent}};
+  report.fom_name = "ao_rays_per_second";
+  report.fom_unit = "rays/s";
+  report.fom_value = t[4] > 0 ? total_rays / t[4] : 0.0;
+  report.verification_hash = root ? ao_hash(result.values) : 0;
+  report.finish(comm, o.summary);
+  return kExitOk;
+}
+
+}  // namespace rtmini

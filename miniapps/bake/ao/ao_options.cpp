@@ -1,0 +1,99 @@
+#include "ao_options.hpp"
+
+#include <CLI/CLI.hpp>
+#include <iostream>
+#include <vector>
+
+#include "rtmini/io/error.hpp"
+#include "rtmini/report/version.hpp"
+
+namespace rtmini::ao {
+
+bool parse_ao_options(int argc, char** argv, AoOptions& o) {
+  CLI::App app{"bake --mode ao: ambient-occlusion baking onto mesh vertices"};
+  std::string mode = "ao";
+  std::vector<double> ground;
+  bool no_ground = false, no_lsq = false;
+  app.add_option("input,-f,--file", o.input,
+                 "mesh (.obj, .bs: flattened) or scene (.toml: instances, blockers)")
+      ->required();
+  app.add_option("-o,--outfile,--output", o.output,
+                 "per-vertex AO: .bin (sample layout), .ply, .obj, .glb");
+  app.add_option("--mode", mode, "must be ao")->check(CLI::IsMember({"ao"}));
+  app.add_option("-i,--instances", o.instances,
+                 "copies of every mesh (procedural transforms, for testing)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("-r,--rays", o.rays, "rays per sample point")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("-s,--samples", o.samples,
+                 "total sample points (0: samples_per_face per face; extra by area)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("-t,--samples_per_face,--samples-per-face", o.min_samples_per_face,
+                 "minimum sample points per face")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("-d,--ray_distance_scale,--ray-distance-scale", o.ray_distance_scale,
+                 "ray origin offset = max scene extent * s")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("-m,--hit_distance_scale,--hit-distance-scale", o.hit_distance_scale,
+                 "max hit distance = max scene extent * s")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("-g,--ground_setup,--ground-setup", ground,
+                 "ground plane: axis (0..5 = +x +y +z -x -y -z) scale offset [1 100 0.03]")
+      ->expected(3);
+  app.add_flag("--no_ground_plane,--no-ground-plane", no_ground,
+               "disable the virtual ground plane");
+  app.add_option("-w,--regularization_weight,--regularization", o.regularization,
+                 "least-squares regularization weight")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("--no_least_squares,--no-least-squares", no_lsq,
+               "area/barycentric weighted average instead");
+  app.add_option("--passes", o.passes, "kernel launches per batch (rays are split among them)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--batch", o.batch, "sample points per batch on the device")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--seed", o.seed, "random seed")->capture_default_str();
+  app.add_option("--bvh", o.bvh, "BVH build: lbvh or sah")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"lbvh", "sah"}));
+  app.add_flag("--ply-ascii", o.ply_ascii, "ASCII PLY instead of binary little endian");
+  app.add_option("--summary", o.summary, "write the run summary JSON here");
+  app.add_flag("--no_viewer,--no-viewer", "accepted for compatibility (there is no viewer)");
+  app.set_version_flag("--version", std::string(version_string()) + " (git " + git_hash() + ")");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    app.exit(e);
+    return false;
+  } catch (const CLI::CallForVersion& e) {
+    app.exit(e);
+    return false;
+  } catch (const CLI::ParseError& e) {
+    throw InputError(std::string("bad usage: ") + e.what() + " (see --help)");
+  }
+  o.ground_plane = !no_ground;
+  o.least_squares = !no_lsq;
+  if (!ground.empty()) {
+    const double axis = ground[0];
+    if (axis != static_cast<int>(axis) || axis < 0 || axis > 5)
+      throw InputError("bad usage: --ground_setup axis must be an integer 0..5");
+    if (!(ground[1] > 0) || !(ground[2] >= 0))
+      throw InputError("bad usage: --ground_setup needs scale > 0 and offset >= 0");
+    o.ground_axis = static_cast<int>(axis);
+    o.ground_scale = ground[1];
+    o.ground_offset = ground[2];
+  }
+  if (o.rays > 65535) throw InputError("bad usage: --rays must be at most 65535");
+  if (o.passes > o.rays) throw InputError("bad usage: --passes must not exceed --rays");
+  return true;
+}
+
+}  // namespace rtmini::ao

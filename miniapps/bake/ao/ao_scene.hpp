@@ -1,0 +1,56 @@
+#pragma once
+// The AO scene on the host: meshes stored once, instances (mesh + transform)
+// that either receive samples or only block rays (the sample's "blockers").
+#include <array>
+#include <string>
+#include <vector>
+
+#include "affine.hpp"
+#include "rtmini/scene/mesh.hpp"
+
+namespace rtmini::ao {
+
+struct AoMesh {
+  std::string name;
+  std::vector<Vec3d> positions;          // object space
+  std::vector<std::array<int, 3>> tris;  // triangulated faces (scene/mesh.hpp order)
+};
+
+struct AoInstance {
+  int mesh = 0;
+  AffineD xform;  // object -> world
+  bool blocker = false;
+};
+
+struct Bounds {
+  Vec3d lo{1e300}, hi{-1e300};
+  void expand(const Vec3d& p) {
+    lo = vmin(lo, p);
+    hi = vmax(hi, p);
+  }
+  bool empty() const { return !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z); }
+  double max_extent() const { return max_component(hi - lo); }
+};
+
+struct AoScene {
+  std::vector<AoMesh> meshes;
+  std::vector<AoInstance> instances;
+
+  std::vector<int> receivers() const;  // instance ids that receive samples, in order
+  Bounds receiver_bounds() const;      // world bounds of the receivers (sets the scene scale)
+  Bounds instance_bounds(int instance) const;
+};
+
+AoMesh make_ao_mesh(const Mesh& mesh, const std::string& name);
+
+// .obj/.bs: one mesh, one identity instance (the sample's OBJ loader flattens).
+// .toml: io/scene_file.hpp layout; [[meshes]] naming the same file share one
+// stored mesh; [settings] blockers = [i, ...] marks [[meshes]] entries (0-based)
+// as blockers; [[spheres]] become icosphere receivers. InputError on bad input.
+AoScene load_ao_scene(const std::string& path);
+
+// The sample's --instances n: every instance gets n-1 extra copies laid out on a
+// grid across the two axes perpendicular to up_axis (0..2), 1.25 x the scene extent apart.
+void replicate_instances(AoScene& scene, int copies, int up_axis);
+
+}  // namespace rtmini::ao

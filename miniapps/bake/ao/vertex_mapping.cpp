@@ -1,0 +1,259 @@
+#include "vertex_mapping.hpp"
+
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <chrono>
+#include <map>
+
+namespace rtmini::ao {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// Calls fn(b0, b1, b2, a) for every sample of global triangle g: barycentric
+// weights of its three vertices and the sample's visibility.
+template <class Fn>
+void for_each_sample(const SampleValues& sv, std::int64_t g, Fn&& fn) {
+  const SamplePlan& plan = *sv.plan;
+  for (std::int64_t s = plan.offsets[g]; s < plan.offsets[g + 1]; ++s) {
+    Real u, v;
+    sample_barycentrics(sv.seed, s, u, v);
+    const double du = u, dv = v;
+    fn(1.0 - du - dv, du, dv, sv.visibility[s]);
+  }
+}
+
+// Unique undirected edges (i < j) of a mesh, sorted.
+std::vector<std::pair<int, int>> mesh_edges(const AoMesh& mesh) {
+  std::vector<std::pair<int, int>> edges;
+  edges.reserve(mesh.tris.size() * 3);
+  for (const auto& t : mesh.tris) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      if (a != b) edges.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  return edges;
+}
+
+}  // namespace
+
+SampleValues make_sample_values(const SamplePlan& plan, std::uint64_t seed,
+                                const std::vector<std::uint16_t>& occluded, int rays) {
+  SampleValues sv;
+  sv.plan = &plan;
+  sv.seed = seed;
+  sv.visibility.resize(occluded.size());
+  for (std::size_t i = 0; i < occluded.size(); ++i)
+    sv.visibility[i] = 1.0 - static_cast<double>(occluded[i]) / rays;
+  return sv;
+}
+
+std::vector<float> map_weighted_average(const AoScene& scene, const SampleValues& sv) {
+  const SamplePlan& plan = *sv.plan;
+  std::vector<double> sum(plan.total_vertices(), 0.0), weight(plan.total_vertices(), 0.0);
+  for (std::size_t r = 0; r < plan.receivers.size(); ++r) {
+    const AoMesh& mesh = scene.meshes[scene.instances[plan.receivers[r]].mesh];
+    const std::int64_t vbase = plan.vertex_base[r];
+    for (std::int64_t g = plan.tri_base[r]; g < plan.tri_base[r + 1]; ++g) {
+      const std::int64_t count = plan.offsets[g + 1] - plan.offsets[g];
+      if (count == 0) continue;
+      const double da = plan.areas[g] / static_cast<double>(count);
+      const auto& tri = mesh.tris[g - plan.tri_base[r]];
+      for_each_sample(sv, g, [&](double b0, double b1, double b2, double a) {
+        const double b[3] = {b0, b1, b2};
+        for (int k = 0; k < 3; ++k) {
+          sum[vbase + tri[k]] += b[k] * da * a;
+          weight[vbase + tri[k]] += b[k] * da;
+        }
+      });
+    }
+  }
+  std::vector<float> out(sum.size());
+  for (std::size_t i = 0; i < sum.size(); ++i)
+    out[i] = weight[i] > 0.0 ? static_cast<float>(sum[i] / weight[i]) : 1.0f;
+  return out;
+}
+
+namespace {
+
+// Sparsity pattern shared by every instance of a stored mesh: the diagonal plus
+// both directions of every edge, compressed column storage (symmetric), with
+// the unweighted graph Laplacian as values and, per triangle, the 9 value slots
+// of its 3x3 block, so assembly is a scatter instead of a triplet sort.
+struct MeshPattern {
+  Eigen::SparseMatrix<double> laplacian;
+  std::vector<int> slots;  // 9 per triangle, row-major (i, j)
+};
+
+MeshPattern make_pattern(const AoMesh& mesh) {
+  using Triplet = Eigen::Triplet<double>;
+  const int nv = static_cast<int>(mesh.positions.size());
+  const auto edges = mesh_edges(mesh);
+  std::vector<Triplet> trip;
+  trip.reserve(static_cast<std::size_t>(nv) + 4 * edges.size());
+  for (int v = 0; v < nv; ++v) trip.emplace_back(v, v, 0.0);
+  for (const auto& e : edges) {
+    trip.emplace_back(e.first, e.first, 1.0);
+    trip.emplace_back(e.second, e.second, 1.0);
+    trip.emplace_back(e.first, e.second, -1.0);
+    trip.emplace_back(e.second, e.first, -1.0);
+  }
+  MeshPattern p;
+  p.laplacian.resize(nv, nv);
+  p.laplacian.setFromTriplets(trip.begin(), trip.end());
+  p.laplacian.makeCompressed();
+  const int* outer = p.laplacian.outerIndexPtr();
+  const int* inner = p.laplacian.innerIndexPtr();
+  p.slots.resize(mesh.tris.size() * 9);
+  for (std::size_t t = 0; t < mesh.tris.size(); ++t) {
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        const int row = mesh.tris[t][i], col = mesh.tris[t][j];
+        const int* at = std::lower_bound(inner + outer[col], inner + outer[col + 1], row);
+        p.slots[t * 9 + i * 3 + j] = static_cast<int>(at - inner);
+      }
+    }
+  }
+  return p;
+}
+
+// Per triangle: the symmetric block sum_s w_s b b^T (6 values) and sum_s w_s a_s b (3).
+struct TriangleBlock {
+  double m[6];  // 00 01 02 11 12 22
+  double f[3];
+};
+
+}  // namespace
+
+std::vector<float> map_least_squares(const AoScene& scene, const SampleValues& sv, double weight,
+                                     LeastSquaresStats* stats) {
+  using Clock = std::chrono::steady_clock;
+  using HostSpace = Kokkos::DefaultHostExecutionSpace;
+  const SamplePlan& plan = *sv.plan;
+  LeastSquaresStats local;
+  LeastSquaresStats& st = stats ? *stats : local;
+  const std::size_t nr = plan.receivers.size();
+  std::vector<float> out(plan.total_vertices(), 1.0f);
+
+  // Data term, one independent block per triangle (any thread count gives the same sums).
+  auto t0 = Clock::now();
+  std::vector<double> mean_area(nr, 1.0);
+  for (std::size_t r = 0; r < nr; ++r) {
+    double a = 0.0;
+    for (std::int64_t g = plan.tri_base[r]; g < plan.tri_base[r + 1]; ++g) a += plan.areas[g];
+    const std::int64_t n = plan.tri_base[r + 1] - plan.tri_base[r];
+    if (n > 0 && a > 0.0) mean_area[r] = a / static_cast<double>(n);
+  }
+  std::vector<TriangleBlock> blocks(static_cast<std::size_t>(plan.total_triangles()));
+  std::vector<int> owner(blocks.size());
+  for (std::size_t r = 0; r < nr; ++r)
+    std::fill(owner.begin() + plan.tri_base[r], owner.begin() + plan.tri_base[r + 1],
+              static_cast<int>(r));
+  Kokkos::parallel_for(
+      "rtmini::bake::ao::lsq_blocks", Kokkos::RangePolicy<HostSpace>(0, plan.total_triangles()),
+      [&](std::int64_t g) {
+        TriangleBlock& b = blocks[g];
+        for (double& x : b.m) x = 0.0;
+        for (double& x : b.f) x = 0.0;
+        const std::int64_t count = plan.offsets[g + 1] - plan.offsets[g];
+        if (count == 0 || plan.areas[g] <= 0.0) return;
+        const double w = plan.areas[g] / static_cast<double>(count) / mean_area[owner[g]];
+        for_each_sample(sv, g, [&](double b0, double b1, double b2, double a) {
+          b.m[0] += w * b0 * b0;
+          b.m[1] += w * b0 * b1;
+          b.m[2] += w * b0 * b2;
+          b.m[3] += w * b1 * b1;
+          b.m[4] += w * b1 * b2;
+          b.m[5] += w * b2 * b2;
+          b.f[0] += w * a * b0;
+          b.f[1] += w * a * b1;
+          b.f[2] += w * a * b2;
+        });
+      });
+  st.assemble_s += seconds_since(t0);
+
+  // Patterns once per stored mesh.
+  t0 = Clock::now();
+  std::map<int, MeshPattern> patterns;
+  for (std::size_t r = 0; r < nr; ++r) {
+    const int mesh_id = scene.instances[plan.receivers[r]].mesh;
+    if (!patterns.count(mesh_id)) patterns.emplace(mesh_id, make_pattern(scene.meshes[mesh_id]));
+  }
+  st.regularize_s += seconds_since(t0);
+
+  // One sparse Cholesky per receiver instance, instances in parallel (as the sample does per mesh).
+  t0 = Clock::now();
+  std::vector<char> failed(nr, 0);
+  std::vector<double> factor_s(nr, 0.0), solve_s(nr, 0.0);
+  Kokkos::parallel_for("rtmini::bake::ao::lsq_solve",
+                       Kokkos::RangePolicy<HostSpace, Kokkos::Schedule<Kokkos::Dynamic>>(
+                           0, static_cast<std::int64_t>(nr)),
+                       [&](std::int64_t r) {
+                         const int mesh_id = scene.instances[plan.receivers[r]].mesh;
+                         const AoMesh& mesh = scene.meshes[mesh_id];
+                         const MeshPattern& pat = patterns.at(mesh_id);
+                         const int nv = static_cast<int>(mesh.positions.size());
+                         if (nv == 0) return;
+                         Eigen::SparseMatrix<double> a = pat.laplacian * weight;
+                         double* val = a.valuePtr();
+                         Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nv);
+                         std::vector<char> touched(nv, 0);
+                         const std::int64_t g0 = plan.tri_base[r];
+                         static constexpr int kSym[9] = {0, 1, 2, 1, 3, 4, 2, 4, 5};
+                         for (std::size_t t = 0; t < mesh.tris.size(); ++t) {
+                           const TriangleBlock& b = blocks[g0 + static_cast<std::int64_t>(t)];
+                           if (b.m[0] + b.m[3] + b.m[5] <= 0.0) continue;
+                           const int* slot = &pat.slots[t * 9];
+                           for (int k = 0; k < 9; ++k) val[slot[k]] += b.m[kSym[k]];
+                           for (int i = 0; i < 3; ++i) {
+                             rhs[mesh.tris[t][i]] += b.f[i];
+                             touched[mesh.tris[t][i]] = 1;
+                           }
+                         }
+                         // Vertices without data are pulled weakly towards open (1).
+                         for (int v = 0; v < nv; ++v) {
+                           if (touched[v]) continue;
+                           a.coeffRef(v, v) += 1.0;
+                           rhs[v] += 1.0;
+                         }
+                         auto c0 = Clock::now();
+                         Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
+                         solver.compute(a);
+                         factor_s[r] = seconds_since(c0);
+                         c0 = Clock::now();
+                         bool ok = solver.info() == Eigen::Success;
+                         Eigen::VectorXd x;
+                         if (ok) {
+                           x = solver.solve(rhs);
+                           ok = solver.info() == Eigen::Success && x.allFinite();
+                         }
+                         solve_s[r] = seconds_since(c0);
+                         if (!ok) {
+                           failed[r] = 1;
+                           return;
+                         }
+                         for (int v = 0; v < nv; ++v)
+                           out[plan.vertex_base[r] + v] = static_cast<float>(x[v]);
+                       });
+  for (std::size_t r = 0; r < nr; ++r) {
+    st.factor_s += factor_s[r];
+    st.solve_s += solve_s[r];
+  }
+  std::vector<float> fallback;  // weighted average where a system was singular
+  for (std::size_t r = 0; r < nr; ++r) {
+    if (!failed[r]) continue;
+    ++st.fallbacks;
+    if (fallback.empty()) fallback = map_weighted_average(scene, sv);
+    std::copy(fallback.begin() + plan.vertex_base[r], fallback.begin() + plan.vertex_base[r + 1],
+              out.begin() + plan.vertex_base[r]);
+  }
+  return out;
+}
+
+}  // namespace rtmini::ao

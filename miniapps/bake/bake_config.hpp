@@ -1,0 +1,40 @@
+#pragma once
+// Everything a bake run is told on the command line, as plain data (filled by main.cpp).
+#include <cstdint>
+#include <string>
+
+#include "rtmini/geometry/vec.hpp"
+
+namespace rtmini::bake {
+
+enum class Lookup { kKdTree, kSphericalFibonacci };
+enum class Balance { kStatic, kCost };
+
+struct BakeConfig {
+  std::string input;
+  std::string output;
+  int viewpoints = 100;
+  int iterations = 1;
+  int shadow_samples = 16;
+  int gather_rays = 0;
+  std::uint64_t seed = 1;
+  std::string summary, timings, checkpoint, restart;
+  Lookup lookup = Lookup::kKdTree;
+  Balance balance = Balance::kCost;
+  std::int64_t batch_size = 0;  // 0 = vertices / ranks, rounded up
+  std::int64_t max_memory = 0;  // bytes per rank; 0 = no limit
+  double time_limit_minutes = 0;
+  Vec3f background{0.f, 0.f, 0.f};
+  bool sah = false;
+  bool cache_hits = true;
+  bool progress = false;
+  int stop_after_iteration = -1;  // hidden test hook: checkpoint, then exit 4
+};
+
+inline const char* to_string(Lookup l) { return l == Lookup::kKdTree ? "kdtree" : "sf"; }
+inline const char* to_string(Balance b) { return b == Balance::kStatic ? "static" : "cost"; }
+
+// Exit code of a run stopped early with a valid checkpoint (time limit, SIGTERM/SIGUSR1).
+inline constexpr int kExitCheckpointed = 4;
+
+}  // namespace rtmini::bake

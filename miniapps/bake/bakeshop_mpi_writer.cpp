@@ -1,0 +1,147 @@
+#include "bakeshop_mpi_writer.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+
+#include "rtmini/io/atomic_file.hpp"
+#include "rtmini/io/bakeshop.hpp"
+#include "rtmini/io/error.hpp"
+
+namespace rtmini::bake {
+namespace {
+
+constexpr std::int64_t kVerticesPerTask = 256;
+constexpr std::int64_t kMaxPiece = std::int64_t(1) << 30;  // MPI counts are int
+
+std::string tail_text(const Mesh& mesh) {
+  return "\n" + format_bakeshop_materials(mesh) + "\n" + format_bakeshop_faces(mesh) + "!\n";
+}
+
+struct Piece {
+  std::int64_t offset;
+  const char* data;
+  std::int64_t size;
+};
+
+}  // namespace
+
+std::string format_vertex_range(const BakedMap& map, VertexRange range) {
+  const auto& off = *map.color_offset;
+  const auto& colors = *map.colors;
+  const auto& dirs = *map.directions;
+  const std::size_t n = dirs.size();
+  const std::int64_t count = range.end - range.begin;
+  const std::int64_t tasks = (count + kVerticesPerTask - 1) / kVerticesPerTask;
+  std::vector<std::string> parts(static_cast<std::size_t>(tasks));
+  Kokkos::parallel_for(
+      "rtmini::bake::format_vertices",
+      Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace, Kokkos::Schedule<Kokkos::Dynamic>>(
+          0, tasks),
+      [&](std::int64_t t) {
+        std::string& out = parts[t];
+        const std::int64_t b = range.begin + t * kVerticesPerTask;
+        const std::int64_t e = std::min(range.end, b + kVerticesPerTask);
+        for (std::int64_t v = b; v < e; ++v) {
+          const Vec3d& p = map.mesh->positions[v];
+          if (off[v + 1] - off[v] == 1)
+            out += format_bakeshop_vertex_uniform(p, dirs.data(), n, colors[off[v]]);
+          else
+            out += format_bakeshop_vertex(p, dirs.data(), colors.data() + off[v], n);
+        }
+      });
+  std::size_t total = 0;
+  for (const auto& s : parts) total += s.size();
+  std::string out;
+  out.reserve(total);
+  for (auto& s : parts) {
+    out += s;
+    std::string().swap(s);
+  }
+  return out;
+}
+
+WriteStats write_baked_map(const Communicator& comm, const std::string& path, const BakedMap& map,
+                           const std::vector<VertexRange>& mine) {
+  const auto t0 = std::chrono::steady_clock::now();
+  WriteStats stats;
+  std::vector<std::string> texts;
+  texts.reserve(mine.size());
+  for (const VertexRange& r : mine) texts.push_back(format_vertex_range(map, r));
+  const std::string tail = comm.is_root() ? tail_text(*map.mesh) : std::string();
+
+  // Exclusive prefix sum of the block sizes, in vertex order, over every rank's blocks.
+  std::vector<std::int64_t> my_blocks;  // (begin, size) pairs
+  for (std::size_t i = 0; i < mine.size(); ++i) {
+    my_blocks.push_back(mine[i].begin);
+    my_blocks.push_back(static_cast<std::int64_t>(texts[i].size()));
+  }
+  std::vector<std::int64_t> all = comm.allgatherv(my_blocks);
+  std::vector<std::pair<std::int64_t, std::int64_t>> blocks;
+  for (std::size_t i = 0; i + 1 < all.size(); i += 2) blocks.emplace_back(all[i], all[i + 1]);
+  std::sort(blocks.begin(), blocks.end());
+  std::vector<Piece> pieces;
+  std::int64_t offset = 0;
+  for (const auto& b : blocks) {
+    for (std::size_t i = 0; i < mine.size(); ++i) {
+      if (mine[i].begin != b.first) continue;
+      for (std::int64_t o = 0; o < b.second; o += kMaxPiece)
+        pieces.push_back({offset + o, texts[i].data() + o, std::min(kMaxPiece, b.second - o)});
+    }
+    offset += b.second;
+  }
+  if (comm.is_root() && !tail.empty())
+    pieces.push_back({offset, tail.data(), static_cast<std::int64_t>(tail.size())});
+  stats.file_bytes = offset + static_cast<std::int64_t>(comm.max(double(tail.size())));
+  for (const Piece& p : pieces) stats.bytes_written += p.size;
+
+#ifdef RTMINI_HAVE_MPI
+  std::vector<std::int64_t> pid{comm.is_root() ? static_cast<std::int64_t>(::getpid()) : 0};
+  comm.broadcast(pid);
+  const std::string tmp = path + ".tmp." + std::to_string(pid[0]);
+  MPI_File fh;
+  int rc = MPI_File_open(comm.native(), tmp.c_str(), MPI_MODE_CREATE | MPI_MODE_WRONLY,
+                         MPI_INFO_NULL, &fh);
+  if (rc != MPI_SUCCESS) throw IoError(path + ": cannot create file (MPI_File_open failed)");
+  rc = MPI_File_set_size(fh, 0);
+  const int rounds = static_cast<int>(comm.max(static_cast<double>(pieces.size())));
+  for (int i = 0; i < rounds && rc == MPI_SUCCESS; ++i) {
+    const bool have = i < static_cast<int>(pieces.size());
+    const Piece p = have ? pieces[i] : Piece{0, nullptr, 0};
+    MPI_Status status;
+    rc = MPI_File_write_at_all(fh, static_cast<MPI_Offset>(p.offset), p.data,
+                               static_cast<int>(p.size), MPI_BYTE, &status);
+  }
+  const int close_rc = MPI_File_close(&fh);
+  const bool ok = comm.min(rc == MPI_SUCCESS && close_rc == MPI_SUCCESS ? 1.0 : 0.0) > 0.5;
+  if (!ok) {
+    if (comm.is_root()) std::remove(tmp.c_str());
+    throw IoError(path + ": collective write failed");
+  }
+  if (comm.is_root() && std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const int err = errno;
+    std::remove(tmp.c_str());
+    throw IoError(path + ": cannot rename temporary file into place: " + std::strerror(err));
+  }
+  comm.barrier();
+#else
+  write_file_atomic(path, [&](const std::string& tmp) {
+    std::FILE* f = std::fopen(tmp.c_str(), "wb");
+    if (!f) throw IoError(path + ": cannot create file: " + std::strerror(errno));
+    bool wrote = true;
+    for (const Piece& p : pieces)
+      wrote = wrote && std::fwrite(p.data, 1, static_cast<std::size_t>(p.size), f) ==
+                           static_cast<std::size_t>(p.size);
+    const bool closed = std::fclose(f) == 0;
+    if (!wrote || !closed) throw IoError(path + ": write failed: " + std::strerror(errno));
+  });
+#endif
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return stats;
+}
+
+}  // namespace rtmini::bake

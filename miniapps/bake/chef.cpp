@@ -1,0 +1,277 @@
+#include "chef.hpp"
+
+#include "map_reader.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "rtmini/bvh/traverse.hpp"
+#include "rtmini/geometry/offset.hpp"
+#include "rtmini/sampling/rng.hpp"
+#include "rtmini/sampling/sampling.hpp"
+
+namespace rtmini::bake {
+namespace {
+
+using Exec = Kokkos::DefaultExecutionSpace;
+using Bvh = bvh::Bvh<MemSpace>;
+
+// Rng sample-index streams: shadow samples use [0, S); gather rays start here.
+constexpr std::uint32_t kGatherStream = 1u << 24;
+
+struct DirectLight {
+  Bvh accel;
+  Kokkos::View<Vec3*, MemSpace> positions, normal, diffuse, emissive, base;
+  Kokkos::View<Triangle*, MemSpace> tris;
+  Kokkos::View<AreaLight*, MemSpace> lights;
+  std::int64_t begin;
+  int samples;
+  std::uint64_t seed;
+
+  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t v, std::int64_t& rays) const {
+    Vec3 c = emissive(v);
+    const Vec3 n = normal(v), kd = diffuse(v);
+    if (max_component(kd) > Real(0) && length_squared(n) > Real(0)) {
+      const Vec3 p = positions(v);
+      const Vec3 org = offset_ray_origin(p, n);
+      const int grid = static_cast<int>(math::sqrt(Real(samples)) + Real(1e-3));
+      Vec3 irradiance(Real(0));
+      for (int l = 0; l < static_cast<int>(lights.extent(0)); ++l) {
+        const AreaLight light = lights(l);
+        Vec3 sum(Real(0));
+        for (int s = 0; s < samples; ++s) {
+          float u1, u2;
+          Rng(seed, static_cast<std::uint64_t>(v), static_cast<std::uint32_t>(s))
+              .uniform2(static_cast<std::uint32_t>(l), u1, u2);
+          Real x = u1, y = u2;
+          // Jittered strata for the first grid^2 samples, plain uniform for the rest.
+          if (s < grid * grid) stratified_2d(s, grid, Real(u1), Real(u2), x, y);
+          int t = light.tri[0];
+          if (x < light.first_fraction) {
+            x = x / light.first_fraction;
+          } else {
+            x = (x - light.first_fraction) / (Real(1) - light.first_fraction);
+            t = light.tri[1];
+          }
+          x = math::fmin(x, Real(1) - Real(1e-7));
+          Real bu, bv;
+          uniform_triangle(x, y, bu, bv);
+          const Triangle tri = tris(t);
+          const Vec3 q = barycentric_point(tri.a, tri.b, tri.c, bu, bv);
+          const Vec3 to = q - p;
+          const Real d2 = length_squared(to);
+          if (!(d2 > Real(0))) continue;
+          const Vec3 wi = to * (Real(1) / math::sqrt(d2));
+          const Real cos_p = dot(n, wi), cos_l = -dot(light.normal, wi);
+          if (cos_p <= Real(0) || cos_l <= Real(0)) continue;
+          const Vec3 target = offset_ray_origin(q, light.normal);
+          const Vec3 seg = target - org;
+          const Real len = length(seg);
+          Ray ray;
+          ray.org = org;
+          ray.dir = seg * (Real(1) / len);
+          ray.tmin = Real(0);
+          ray.tmax = len;
+          ++rays;
+          if (!bvh::any_hit(accel, ray)) sum += light.emission * (cos_p * cos_l / d2);
+        }
+        irradiance += sum * (light.area / Real(samples));
+      }
+      c += kd * irradiance * Real(1.0 / math::kPi);
+    }
+    base(v) = c;
+  }
+};
+
+template <class LookupT>
+struct DiffuseGather {
+  Bvh accel;
+  MapReader<LookupT> reader;
+  Kokkos::View<Vec3*, MemSpace> positions, normal, diffuse, gather;
+  int rays_per_vertex, iteration;
+  std::uint64_t seed;
+
+  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t v, std::int64_t& rays) const {
+    const Vec3 n = normal(v);
+    Vec3 sum(Real(0));
+    if (max_component(diffuse(v)) > Real(0) && length_squared(n) > Real(0)) {
+      const Frame frame(n);
+      Ray ray;
+      ray.org = offset_ray_origin(positions(v), n);
+      for (int j = 0; j < rays_per_vertex; ++j) {
+        const std::uint32_t sample = kGatherStream + static_cast<std::uint32_t>(
+                                                         (iteration - 1) * rays_per_vertex + j);
+        float u1, u2;
+        Rng(seed, static_cast<std::uint64_t>(v), sample).uniform2(0u, u1, u2);
+        ray.dir = normalize(frame.to_world(cosine_hemisphere(Real(u1), Real(u2))));
+        const Hit hit = bvh::closest_hit(accel, ray);
+        ++rays;
+        sum += reader.read(hit.prim, hit.u, hit.v, ray.dir, true);
+      }
+      // Cosine-weighted sampling: (1/M) sum L estimates the irradiance / pi.
+      sum = sum * (Real(1) / Real(rays_per_vertex));
+    }
+    gather(v) = sum;
+  }
+};
+
+template <class LookupT>
+struct MirrorIteration {
+  Bvh accel;
+  MapReader<LookupT> reader;
+  Kokkos::View<Vec3*, MemSpace> positions, normal, diffuse, reflective, base, gather, views;
+  Kokkos::View<int*, MemSpace> order;
+  Kokkos::View<std::int64_t*, MemSpace> color_offset;
+  Kokkos::View<CachedHit*, MemSpace> cache;
+  Kokkos::View<Vec3f*, MemSpace> next;
+  std::int64_t vbegin, vend, item_begin, cache_offset;
+  int iteration;
+  bool with_gather;
+  HitCacheMode cache_mode;
+
+  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t item, std::int64_t& rays) const {
+    std::int64_t lo = vbegin, hi = vend - 1;  // last vertex whose first item <= item
+    while (lo < hi) {
+      const std::int64_t mid = (lo + hi + 1) / 2;
+      if (color_offset(mid) <= item) lo = mid; else hi = mid - 1;
+    }
+    const std::int64_t v = lo;
+    const std::int64_t first = color_offset(v);
+    Vec3 c = base(v);
+    if (with_gather) c += diffuse(v) * gather(v);
+    std::int64_t out = item;
+    if (iteration > 0 && color_offset(v + 1) - first > 1) {
+      // Neighbouring work items take neighbouring directions: coherent traversal and lookups.
+      const int view = order(item - first);
+      out = first + view;
+      const Vec3 n = normal(v), d = views(view);
+      const Vec3 r = mirror_direction(d, n);
+      const std::int64_t slot = cache_offset + (item - item_begin);
+      Hit hit;
+      if (cache_mode == HitCacheMode::kUse) {
+        const CachedHit h = cache(slot);
+        hit.prim = h.prim;
+        hit.u = Real(h.u);
+        hit.v = Real(h.v);
+      } else {
+        Ray ray;
+        ray.org = offset_ray_origin(positions(v), n);
+        ray.dir = r;
+        hit = bvh::closest_hit(accel, ray);
+        ++rays;
+        if (cache_mode == HitCacheMode::kFill) {
+          CachedHit h;
+          h.prim = hit.prim;
+          h.u = static_cast<float>(hit.u);
+          h.v = static_cast<float>(hit.v);
+          cache(slot) = h;
+        }
+      }
+      c += reflective(v) * reader.read(hit.prim, hit.u, hit.v, r);
+    }
+    next(out) = Vec3f(c);
+  }
+};
+
+// Viewpoints sorted into about sqrt(N) latitude bands, each walked in longitude, alternating
+// direction (a serpentine), so consecutive directions are close on the sphere.
+Kokkos::View<int*, MemSpace> coherent_order(int n) {
+  const int bands = std::max(1, static_cast<int>(std::lround(std::sqrt(n / 2.0))));
+  std::vector<std::pair<double, int>> key(n);
+  for (int i = 0; i < n; ++i) {
+    const Vec3 p = fibonacci_point(i, n);
+    const int band = std::min(bands - 1, static_cast<int>((1.0 - p.z) * 0.5 * bands));
+    const double phi = std::atan2(double(p.y), double(p.x));
+    key[i] = {band * 10.0 + (band % 2 == 0 ? phi : -phi) / 4.0, i};
+  }
+  std::sort(key.begin(), key.end());
+  std::vector<int> order(n);
+  for (int i = 0; i < n; ++i) order[i] = key[i].second;
+  Kokkos::View<int*, MemSpace> d("rtmini::bake::view_order", n);
+  Kokkos::deep_copy(d, Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
+                           order.data(), order.size()));
+  return d;
+}
+
+}  // namespace
+
+Chef::Chef(const BakeSceneDevice& scene, const BakeConfig& config, std::int64_t local_items)
+    : scene_(scene), config_(config) {
+  const std::size_t nv = scene.normal.extent(0);
+  base_ = Kokkos::View<Vec3*, MemSpace>("rtmini::bake::base", nv);
+  if (config.gather_rays > 0) gather_ = Kokkos::View<Vec3*, MemSpace>("rtmini::bake::gather", nv);
+  if (config.cache_hits && config.iterations > 1)
+    cache_ = Kokkos::View<CachedHit*, MemSpace>("rtmini::bake::hit_cache", local_items);
+  order_ = coherent_order(config.viewpoints);
+  if (config.lookup == Lookup::kKdTree)
+    kdtree_ = build_fibonacci_kdtree<MemSpace>(config.viewpoints);
+  else
+    inverse_ = build_fibonacci_inverse<MemSpace>(config.viewpoints);
+}
+
+std::int64_t Chef::bake_base(std::int64_t begin, std::int64_t end) {
+  DirectLight k{scene_.mesh.accel, scene_.mesh.positions, scene_.normal,   scene_.diffuse,
+                scene_.emissive,   base_,                 scene_.mesh.tris, scene_.lights,
+                begin,             config_.shadow_samples, config_.seed};
+  std::int64_t rays = 0;
+  Kokkos::parallel_reduce("rtmini::bake::direct_light",
+                          Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(begin, end), k,
+                          rays);
+  return rays;
+}
+
+namespace {
+template <class LookupT>
+std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, const LookupT& lookup,
+                           Kokkos::View<Vec3*, MemSpace> base, Kokkos::View<Vec3*, MemSpace> gather,
+                           Kokkos::View<CachedHit*, MemSpace> cache,
+                           Kokkos::View<int*, MemSpace> order, int it, std::int64_t begin,
+                           std::int64_t end, std::int64_t cache_offset, HitCacheMode mode,
+                           Kokkos::View<const Vec3f*, MemSpace> prev,
+                           Kokkos::View<Vec3f*, MemSpace> next) {
+  const Vec3f bg = cfg.background;
+  MapReader<LookupT> reader{s.mesh.tri_vertices, s.color_offset, prev, s.emissive, lookup,
+                            fibonacci_radius(cfg.viewpoints), Vec3(bg)};
+  std::int64_t rays = 0;
+  const bool with_gather = cfg.gather_rays > 0 && it > 0;
+  if (with_gather) {
+    DiffuseGather<LookupT> g{s.mesh.accel, reader, s.mesh.positions, s.normal, s.diffuse, gather,
+                             cfg.gather_rays, it, cfg.seed};
+    std::int64_t r = 0;
+    Kokkos::parallel_reduce("rtmini::bake::diffuse_gather",
+                            Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(begin, end),
+                            g, r);
+    rays += r;
+  }
+  std::int64_t item_begin = 0, item_end = 0;
+  Kokkos::deep_copy(item_begin, Kokkos::subview(s.color_offset, begin));
+  Kokkos::deep_copy(item_end, Kokkos::subview(s.color_offset, end));
+  MirrorIteration<LookupT> m{s.mesh.accel, reader,       s.mesh.positions, s.normal,
+                             s.diffuse,    s.reflective, base,             gather,
+                             s.viewpoints, order,          s.color_offset, cache, next,
+                             begin,        end,          item_begin,       cache_offset,
+                             it,           with_gather,  mode};
+  std::int64_t r = 0;
+  Kokkos::parallel_reduce(
+      "rtmini::bake::shade",
+      Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>, Kokkos::Schedule<Kokkos::Dynamic>>(
+          item_begin, item_end),
+      m, r);
+  return rays + r;
+}
+}  // namespace
+
+std::int64_t Chef::bake_iteration(int it, std::int64_t begin, std::int64_t end,
+                                  std::int64_t cache_offset, HitCacheMode cache,
+                                  Kokkos::View<const Vec3f*, MemSpace> prev,
+                                  Kokkos::View<Vec3f*, MemSpace> next) {
+  if (cache != HitCacheMode::kOff && cache_.extent(0) == 0) cache = HitCacheMode::kOff;
+  if (config_.lookup == Lookup::kKdTree)
+    return run_iteration(scene_, config_, kdtree_, base_, gather_, cache_, order_, it, begin, end,
+                         cache_offset, cache, prev, next);
+  return run_iteration(scene_, config_, inverse_, base_, gather_, cache_, order_, it, begin, end,
+                       cache_offset, cache, prev, next);
+}
+
+}  // namespace rtmini::bake

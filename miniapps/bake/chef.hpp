@@ -1,0 +1,57 @@
+#pragma once
+// The Chef (the seed's per-rank baker): runs one vertex batch on the device. Iteration 0 is the
+// base map (emission + direct diffuse light from every area light through S stratified shadow
+// samples); iteration k adds reflective x the previous map seen along each viewpoint's mirror
+// ray (and, with --gather-rays, diffuse x the previous map over the cosine hemisphere).
+#include <cstdint>
+
+#include "bake_config.hpp"
+#include "bake_scene.hpp"
+#include "rtmini/sampling/fibonacci_lookup.hpp"
+
+namespace rtmini::bake {
+
+// A traced mirror ray, kept after its first trace: geometry is static, so iterations >= 2
+// only re-read the map at the same hit (a gather instead of a trace).
+struct CachedHit {
+  int prim = -1;
+  float u = 0.f, v = 0.f;
+};
+
+enum class HitCacheMode { kOff, kFill, kUse };
+
+class Chef {
+ public:
+  // local_items: colour entries over all of this rank's batches (sizes the hit cache).
+  Chef(const BakeSceneDevice& scene, const BakeConfig& config, std::int64_t local_items);
+
+  // Base colours (emission + direct diffuse) of vertices [begin, end); returns shadow rays.
+  std::int64_t bake_base(std::int64_t begin, std::int64_t end);
+
+  // Colours of iteration `it` for vertices [begin, end) into next (global item order), from
+  // prev (the full map of iteration it - 1). cache_offset: the batch's first slot in the
+  // rank's hit cache. Returns rays traced.
+  std::int64_t bake_iteration(int it, std::int64_t begin, std::int64_t end,
+                              std::int64_t cache_offset, HitCacheMode cache,
+                              Kokkos::View<const Vec3f*, MemSpace> prev,
+                              Kokkos::View<Vec3f*, MemSpace> next);
+
+  // Per-vertex base colours (emission + direct light; filled for baked batches only).
+  Kokkos::View<Vec3*, MemSpace> base() const { return base_; }
+
+  static std::int64_t hit_cache_bytes(std::int64_t items) {
+    return items * static_cast<std::int64_t>(sizeof(CachedHit));
+  }
+
+ private:
+  BakeSceneDevice scene_;
+  BakeConfig config_;
+  Kokkos::View<Vec3*, MemSpace> base_;    // per vertex (only this rank's are filled)
+  Kokkos::View<Vec3*, MemSpace> gather_;  // per vertex, current iteration's diffuse gather
+  Kokkos::View<CachedHit*, MemSpace> cache_;
+  Kokkos::View<int*, MemSpace> order_;  // viewpoints in a direction-coherent order
+  FibonacciKdTree<MemSpace> kdtree_;
+  FibonacciInverse<MemSpace> inverse_;
+};
+
+}  // namespace rtmini::bake

@@ -1,0 +1,28 @@
+#pragma once
+// The Kitchen (all ranks): reads and prepares the scene, splits the vertices into batches of
+// any size over the ranks, runs each iteration's batches through this rank's Chef, shares the
+// colours with an all-gather, checkpoints, and writes the baked map collectively.
+#include <cstdint>
+#include <vector>
+
+#include "bake_config.hpp"
+#include "bake_scene.hpp"
+#include "rtmini/parallel/communicator.hpp"
+
+namespace rtmini::bake {
+
+struct Batch {
+  std::int64_t begin = 0, end = 0;  // vertices
+  int rank = 0;
+};
+
+// Contiguous vertex batches assigned round-robin to ranks. kStatic: batch_size vertices each
+// (default vertices / ranks, rounded up); kCost: the same number of batches, cut so each holds
+// about the same cost (N per reflective vertex, 1 per other vertex).
+std::vector<Batch> make_batches(const BakeSceneHost& scene, int ranks, Balance balance,
+                                std::int64_t batch_size);
+
+// Runs the whole bake; returns the process exit code.
+int run_bake(Communicator& comm, const BakeConfig& config);
+
+}  // namespace rtmini::bake

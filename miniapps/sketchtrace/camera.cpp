@@ -1,0 +1,31 @@
+#include "camera.hpp"
+
+#include <cmath>
+
+namespace rtmini::sketch {
+
+DeviceCamera make_camera(const CameraDesc& desc, int width, int height) {
+  DeviceCamera c;
+  const Vec3d fwd = normalize(desc.look_at - desc.position);
+  Vec3d right = normalize(cross(fwd, desc.up));
+  if (length(right) == 0.0) right = normalize(cross(fwd, Vec3d(0.0, 0.0, 1.0)));
+  const Vec3d up = cross(right, fwd);
+  const double half_h = std::tan(0.5 * desc.fov_deg * math::kPi / 180.0);
+  const double half_w = half_h * static_cast<double>(width) / static_cast<double>(height);
+  c.position = Vec3(desc.position);
+  c.forward = Vec3(fwd);
+  c.right = Vec3(right * half_w);
+  c.up = Vec3(up * half_h);
+  c.velocity = Vec3(desc.velocity);
+  c.lens_radius = static_cast<Real>(0.5 * desc.aperture);
+  const double focus =
+      desc.focus_distance > 0.0 ? desc.focus_distance : length(desc.look_at - desc.position);
+  c.focus_distance = static_cast<Real>(focus > 0.0 ? focus : 1.0);
+  c.shutter_open = static_cast<Real>(desc.shutter_open);
+  c.shutter_close = static_cast<Real>(desc.shutter_close);
+  c.width = width;
+  c.height = height;
+  return c;
+}
+
+}  // namespace rtmini::sketch

@@ -1,0 +1,26 @@
+#pragma once
+// Checkpoint/restart of a render (ARCHITECTURE §6): rank 0 keeps the rows finished
+// so far and writes them, atomically, to an HDF5 file; a restart skips those rows.
+// Pixels depend only on (scene, parameters, seed, pixel), so a resumed render is
+// bit-identical to an uninterrupted one. The file carries a signature of the
+// parameters and refuses a restart with different ones.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "trace_kernel.hpp"
+
+namespace rtmini::sketch {
+
+struct Checkpoint {
+  int width = 0, height = 0;
+  std::string signature;            // parameters + scene, as JSON text
+  std::vector<std::uint8_t> row_done;  // [height]
+  std::vector<PixelResult> pixels;     // [width * height], valid on done rows
+};
+
+void write_checkpoint(const std::string& path, const Checkpoint& c);
+// InputError when the file is unreadable or not a sketchtrace checkpoint.
+Checkpoint read_checkpoint(const std::string& path);
+
+}  // namespace rtmini::sketch

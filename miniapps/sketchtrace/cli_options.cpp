@@ -1,0 +1,154 @@
+#include "cli_options.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "rtmini/io/error.hpp"
+
+namespace rtmini::sketch {
+namespace {
+
+std::vector<double> numbers(const std::string& flag, const std::string& text, std::size_t count) {
+  std::vector<double> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    try {
+      std::size_t used = 0;
+      const double v = std::stod(item, &used);
+      if (used != item.size() || !std::isfinite(v)) throw std::invalid_argument(item);
+      out.push_back(v);
+    } catch (const std::exception&) {
+      throw InputError(flag + ": '" + text + "' is not a list of " + std::to_string(count) + " numbers");
+    }
+  }
+  if (out.size() != count)
+    throw InputError(flag + ": '" + text + "' is not a list of " + std::to_string(count) + " numbers");
+  return out;
+}
+
+Vec3d vec3(const std::string& flag, const std::string& text) {
+  const auto v = numbers(flag, text, 3);
+  return {v[0], v[1], v[2]};
+}
+
+bool on_off(const std::string& flag, const std::string& text) {
+  if (text == "on" || text == "true" || text == "1") return true;
+  if (text == "off" || text == "false" || text == "0") return false;
+  throw InputError(flag + ": expected on or off, got '" + text + "'");
+}
+
+}  // namespace
+
+void CliOverrides::add_to(CLI::App& app, RunOptions& run) {
+  app_ = &app;
+  app.add_option("input", run.input, "Scene (.toml) or mesh (.obj, .bs)")->required();
+  app.add_option("-o,--output", run.output, "Image: .ppm, .png (8-bit sRGB) or .exr (linear + AOVs)");
+  app.add_option("--width", width_, "Image width in pixels");
+  app.add_option("--height", height_, "Image height in pixels");
+  app.add_option("--spp", spp_, "Anti-aliasing samples per pixel (stratified, jittered)");
+  app.add_option("--soft-shadows", soft_shadows_, "on|off: area lights sampled over their area");
+  app.add_option("--shadow-samples", shadow_samples_, "Shadow rays per area light at the first hit");
+  app.add_option("--bounces", bounces_, "Secondary rays (reflection/refraction) after the camera ray");
+  app.add_option("--glossy-samples", glossy_, "Glossy branches at the first hit");
+  app.add_option("--indirect", indirect_, "on|off: diffuse interreflection");
+  app.add_option("--edge-thickness", edge_thickness_, "Stencil ring radius h in pixels");
+  app.add_option("--crease-angle", crease_angle_, "Crease line threshold in degrees");
+  app.add_option("--depth-threshold", depth_threshold_, "Relative depth jump of a self-occluding silhouette");
+  app.add_option("--stencil-samples", stencil_samples_, "Stencil evaluations per pixel");
+  app.add_option("--sphere-subdivisions", sphere_subdivisions_, "Icosphere level of [[spheres]]");
+  app.add_option("--smooth", smooth_, "on|off: interpolated vertex normals");
+  app.add_option("--ambient", ambient_, "Ambient light r,g,b");
+  app.add_option("--background", background_, "Background radiance r,g,b");
+  app.add_option("--camera-pos", camera_pos_, "Camera position x,y,z");
+  app.add_option("--look-at", look_at_, "Camera target x,y,z");
+  app.add_option("--up", up_, "Camera up vector x,y,z");
+  app.add_option("--fov", fov_, "Vertical field of view in degrees");
+  app.add_option("--aperture", aperture_, "Lens diameter (0 = pinhole)");
+  app.add_option("--focus-distance", focus_distance_, "Focal plane distance (0 = distance to look-at)");
+  app.add_option("--shutter", shutter_, "Shutter interval open,close");
+  app.add_option("--camera-velocity", velocity_, "Camera velocity x,y,z per unit time");
+  app.add_option("--seed", seed_, "Random seed");
+  app.add_option("--bvh", bvh_, "lbvh|sah");
+  app.add_option("--aov", aov_, "Comma list of depth,normal,object,cost,edge");
+  app.add_option("--style", style_, "Hand-drawn post-process: sketch|color-pencil|none");
+  app.add_option("--band-rows", band_rows_, "Rows per render batch");
+  app.add_flag("--stats", stats_, "Count ray-triangle tests per ray (vs brute force)");
+  app.add_option("--summary", run.summary, "Write the run summary JSON");
+  app.add_option("--timings", run.timings, "Write per-rank timings (HDF5)");
+  app.add_option("--checkpoint", run.checkpoint, "Write progress to this HDF5 file");
+  app.add_option("--checkpoint-interval", run.checkpoint_interval, "Seconds between checkpoints");
+  app.add_option("--restart", run.restart, "Resume from this checkpoint");
+  app.add_option("--stop-after-bands", run.stop_after_bands,
+                 "Testing: stop as if killed after this many bands (needs --checkpoint)");
+  app.add_flag("--progress", run.progress, "Progress on stderr");
+  app.add_option("--reference", run.reference, "Reference image: report the linear RGB RMSE");
+  app.add_option("--max-rmse", run.max_rmse, "With --reference: exit 1 when the RMSE is larger");
+}
+
+bool CliOverrides::given(const char* name) const { return app_ && app_->count(name) > 0; }
+
+void CliOverrides::apply(RenderSettings& s) const {
+  if (given("--width")) s.width = width_;
+  if (given("--height")) s.height = height_;
+  if (given("--spp")) s.spp = spp_;
+  if (given("--soft-shadows")) s.soft_shadows = on_off("--soft-shadows", soft_shadows_);
+  if (given("--shadow-samples")) s.shadow_samples = shadow_samples_;
+  if (given("--bounces")) s.bounces = bounces_;
+  if (given("--glossy-samples")) s.glossy_samples = glossy_;
+  if (given("--indirect")) s.indirect = on_off("--indirect", indirect_);
+  if (given("--edge-thickness")) s.edge_thickness = edge_thickness_;
+  if (given("--crease-angle")) s.crease_angle_deg = crease_angle_;
+  if (given("--depth-threshold")) s.depth_threshold = depth_threshold_;
+  if (given("--stencil-samples")) s.stencil_samples = stencil_samples_;
+  if (given("--sphere-subdivisions")) s.sphere_subdivisions = sphere_subdivisions_;
+  if (given("--smooth")) s.smooth = on_off("--smooth", smooth_);
+  if (given("--band-rows")) s.band_rows = band_rows_;
+  if (given("--ambient")) {
+    const Vec3d a = vec3("--ambient", ambient_);
+    if (a.x < 0 || a.y < 0 || a.z < 0) throw InputError("--ambient: must be non-negative");
+    s.ambient = Vec3f(a);
+  }
+  if (given("--background")) {
+    const Vec3d b = vec3("--background", background_);
+    if (b.x < 0 || b.y < 0 || b.z < 0) throw InputError("--background: must be non-negative");
+    s.background = Vec3f(b);
+  }
+  if (given("--seed")) s.seed = seed_;
+  if (given("--bvh")) {
+    if (bvh_ != "lbvh" && bvh_ != "sah") throw InputError("--bvh: expected lbvh or sah, got '" + bvh_ + "'");
+    s.bvh = bvh_ == "lbvh" ? bvh::BuildQuality::kLbvh : bvh::BuildQuality::kSah;
+  }
+  if (given("--aov")) {
+    s.aov.clear();
+    std::stringstream ss(aov_);
+    std::string item;
+    while (std::getline(ss, item, ','))
+      if (!item.empty()) s.aov.push_back(item);
+  }
+  if (given("--style")) {
+    s.style = style_;
+    std::replace(s.style.begin(), s.style.end(), '-', '_');
+  }
+  if (stats_) s.stats = true;
+}
+
+void CliOverrides::apply_camera(RenderSettings& s) const {
+  if (given("--camera-pos")) s.camera.position = vec3("--camera-pos", camera_pos_);
+  if (given("--look-at")) s.camera.look_at = vec3("--look-at", look_at_);
+  if (given("--up")) s.camera.up = vec3("--up", up_);
+  if (given("--fov")) s.camera.fov_deg = fov_;
+  if (given("--aperture")) s.camera.aperture = aperture_;
+  if (given("--focus-distance")) s.camera.focus_distance = focus_distance_;
+  if (given("--shutter")) {
+    const auto v = numbers("--shutter", shutter_, 2);
+    s.camera.shutter_open = v[0];
+    s.camera.shutter_close = v[1];
+  }
+  if (given("--camera-velocity")) s.camera.velocity = vec3("--camera-velocity", velocity_);
+  if (length(s.camera.look_at - s.camera.position) == 0.0)
+    throw InputError("camera: position and look_at coincide");
+}
+
+}  // namespace rtmini::sketch

@@ -1,0 +1,85 @@
+#include "device_scene.hpp"
+
+#include <map>
+#include <vector>
+
+namespace rtmini::sketch {
+namespace {
+
+template <class T>
+Kokkos::View<T*, MemSpace> to_device(const char* label, const std::vector<T>& host) {
+  Kokkos::View<T*, MemSpace> view(std::string(label), host.size());
+  auto mirror = Kokkos::create_mirror_view(view);
+  for (std::size_t i = 0; i < host.size(); ++i) mirror(i) = host[i];
+  Kokkos::deep_copy(view, mirror);
+  return view;
+}
+
+}  // namespace
+
+DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality) {
+  DeviceScene d;
+  d.mesh = upload_mesh(scene.mesh, quality);
+  const TriangleList tl = triangulate(scene.mesh);
+  d.triangles = tl.vertices.size();
+
+  // Area-weighted vertex normals: the sum of unnormalised face normals (cross products).
+  std::vector<Vec3d> acc(scene.mesh.positions.size(), Vec3d(0.0));
+  for (const auto& v : tl.vertices) {
+    const Vec3d& a = scene.mesh.positions[v[0]];
+    const Vec3d n = cross(scene.mesh.positions[v[1]] - a, scene.mesh.positions[v[2]] - a);
+    for (int k = 0; k < 3; ++k) acc[v[k]] += n;
+  }
+  std::vector<Vec3> normals(acc.size());
+  for (std::size_t i = 0; i < acc.size(); ++i) normals[i] = Vec3(normalize(acc[i]));
+  d.vertex_normals = to_device("rtmini::sketch::vertex_normals", normals);
+  d.objects = to_device("rtmini::sketch::objects", scene.objects);
+  d.quads = to_device("rtmini::sketch::quad_lights", scene.quads);
+  d.points = to_device("rtmini::sketch::point_lights", scene.points);
+
+  // Emissive triangles grouped by object (one mesh light per object), quad lights excluded.
+  std::map<int, std::vector<int>> by_object;
+  for (std::size_t t = 0; t < tl.vertices.size(); ++t) {
+    const Face& f = scene.mesh.faces[tl.face[t]];
+    if (f.material < 0 || !scene.mesh.materials[f.material].is_emissive()) continue;
+    if (scene.object_is_quad_light[f.object]) continue;
+    by_object[f.object].push_back(static_cast<int>(t));
+  }
+  std::vector<MeshLight> lights;
+  std::vector<int> tris;
+  std::vector<Real> cdf;
+  for (const auto& [object, ids] : by_object) {
+    (void)object;
+    std::vector<double> areas;
+    double total = 0;
+    for (int t : ids) {
+      const auto& v = tl.vertices[t];
+      const Vec3d& a = scene.mesh.positions[v[0]];
+      areas.push_back(0.5 * length(cross(scene.mesh.positions[v[1]] - a, scene.mesh.positions[v[2]] - a)));
+      total += areas.back();
+    }
+    if (!(total > 0)) continue;
+    MeshLight l{static_cast<int>(tris.size()), static_cast<int>(ids.size()), Real(total)};
+    double run = 0;
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      run += areas[i];
+      tris.push_back(ids[i]);
+      cdf.push_back(i + 1 == ids.size() ? Real(1) : Real(run / total));
+    }
+    lights.push_back(l);
+  }
+  d.mesh_lights = to_device("rtmini::sketch::mesh_lights", lights);
+  d.emissive_tris = to_device("rtmini::sketch::emissive_tris", tris);
+  d.emissive_cdf = to_device("rtmini::sketch::emissive_cdf", cdf);
+  d.num_quads = static_cast<int>(scene.quads.size());
+  d.num_points = static_cast<int>(scene.points.size());
+  d.num_mesh_lights = static_cast<int>(lights.size());
+  for (const Material& m : scene.mesh.materials)
+    if (m.is_reflective() || m.opacity < 1.f) d.any_secondary = true;
+  const std::size_t nt = d.triangles, nv = scene.mesh.positions.size();
+  d.bytes = nv * 2 * sizeof(Vec3) + nt * (sizeof(Triangle) * 2 + 6 * sizeof(int)) +
+            d.mesh.accel.nodes.extent(0) * sizeof(bvh::BvhNode) + tris.size() * (sizeof(int) + sizeof(Real));
+  return d;
+}
+
+}  // namespace rtmini::sketch

@@ -1,0 +1,30 @@
+#pragma once
+// The scene as the render kernels see it: the shared DeviceMesh (triangles, BVH,
+// materials) plus sketchtrace's shading tables (vertex normals, analytic-sphere
+// objects) and light lists, all Views in the default memory space.
+#include "render_scene.hpp"
+#include "rtmini/scene/device_mesh.hpp"
+
+namespace rtmini::sketch {
+
+using MemSpace = Kokkos::DefaultExecutionSpace::memory_space;
+
+struct DeviceScene {
+  DeviceMesh<MemSpace> mesh;
+  Kokkos::View<Vec3*, MemSpace> vertex_normals;  // area-weighted, unit length
+  Kokkos::View<ObjectShading*, MemSpace> objects;
+  Kokkos::View<QuadLight*, MemSpace> quads;
+  Kokkos::View<PointLight*, MemSpace> points;
+  Kokkos::View<MeshLight*, MemSpace> mesh_lights;
+  Kokkos::View<int*, MemSpace> emissive_tris;   // triangle ids grouped by light
+  Kokkos::View<Real*, MemSpace> emissive_cdf;   // cumulative area within each light, in (0, 1]
+  int num_quads = 0, num_points = 0, num_mesh_lights = 0;
+  bool any_secondary = false;  // some material reflects or transmits
+  std::size_t triangles = 0;
+  std::size_t bytes = 0;  // device memory estimate
+};
+
+// Uploads the mesh (building the BVH with `quality`) and the light tables.
+DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality);
+
+}  // namespace rtmini::sketch

@@ -1,0 +1,146 @@
+#pragma once
+// Direct illumination with shadow rays: quad area lights and emissive meshes with
+// stratified jittered samples (the hand-drawn seed's soft shadows; the
+// distribution seed's jittered light sub-sections), and point lights.
+#include "shading.hpp"
+#include "stratify.hpp"
+#include "rtmini/bvh/traverse.hpp"
+#include "rtmini/sampling/rng.hpp"
+
+namespace rtmini::sketch {
+
+// Rays traced and (with stats) ray-triangle tests, per pixel.
+struct TraceCounter {
+  std::uint32_t rays = 0;
+  std::uint64_t tests = 0;
+  bool stats = false;
+};
+
+template <class Accel>
+KOKKOS_INLINE_FUNCTION Hit trace_closest(const Accel& accel, const Ray& ray, TraceCounter& c) {
+  ++c.rays;
+  if (c.stats) {
+    bvh::TraversalStats st;
+    const Hit h = bvh::closest_hit(accel, ray, st);
+    c.tests += st.tests;
+    return h;
+  }
+  return bvh::closest_hit(accel, ray);
+}
+
+template <class Accel>
+KOKKOS_INLINE_FUNCTION bool trace_occluded(const Accel& accel, const Ray& ray, TraceCounter& c) {
+  ++c.rays;
+  if (c.stats) {
+    bvh::TraversalStats st;
+    const bool h = bvh::any_hit(accel, ray, st);
+    c.tests += st.tests;
+    return h;
+  }
+  return bvh::any_hit(accel, ray);
+}
+
+// How a shading point samples area lights: `samples` shadow rays per light using
+// strata [first, first + samples) of `strata` strata over the light, random pair
+// numbers from `pair_base`.
+struct ShadowPlan {
+  int samples = 1;
+  int first = 0;
+  int strata = 1;
+  std::uint32_t pair_base = 0;
+  std::uint32_t key = 0;  // per-pixel stratum permutation key
+  bool soft = true;
+};
+
+// Unoccluded shadow-ray test from the surface towards point q (light geometry at q is not a blocker).
+template <class Scene>
+KOKKOS_INLINE_FUNCTION bool visible(const Scene& scene, const Surface& s, const Vec3& q, TraceCounter& c) {
+  Ray r;
+  r.org = offset_ray_origin(s.p, s.ng);
+  const Vec3 d = q - r.org;
+  const Real dist = length(d);
+  if (!(dist > Real(0))) return false;
+  r.dir = d / dist;
+  r.tmin = Real(0);
+  r.tmax = dist * Real(1 - 1e-4);
+  return !trace_occluded(scene.mesh.accel, r, c);
+}
+
+// Irradiance-like sum over lights of L_e cos_s cos_l A / r^2 (area lights, two-sided)
+// and I cos_s / r^2 (point lights); the caller multiplies by Kd / pi.
+template <class Scene>
+KOKKOS_INLINE_FUNCTION Vec3 direct_irradiance(const Scene& scene, const Surface& s, const Rng& rng,
+                                              const ShadowPlan& plan, TraceCounter& c) {
+  Vec3 sum(Real(0));
+  const int samples = plan.soft ? plan.samples : 1;
+  const Real inv_samples = Real(1) / Real(samples);
+  int light = 0;
+  auto area_sample = [&](const Vec3& q, const Vec3& nl, const Vec3& le, Real area) {
+    const Vec3 w = q - s.p;
+    const Real d2 = dot(w, w);
+    if (!(d2 > Real(0))) return;
+    const Vec3 wi = w / math::sqrt(d2);
+    const Real cos_s = dot(s.ns, wi);
+    const Real cos_l = math::fabs(dot(nl, wi));
+    if (cos_s <= Real(0) || dot(s.ng, wi) <= Real(0) || cos_l <= Real(0)) return;
+    if (!visible(scene, s, q, c)) return;
+    sum += le * (cos_s * cos_l * area / d2 * inv_samples);
+  };
+  for (int l = 0; l < scene.num_quads; ++l, ++light) {
+    const QuadLight ql = scene.quads(l);
+    if (!plan.soft) {
+      area_sample(ql.corner + ql.u * Real(0.5) + ql.v * Real(0.5), ql.normal, ql.emission, ql.area);
+      continue;
+    }
+    for (int j = 0; j < samples; ++j) {
+      float a, b;
+      rng.uniform2(plan.pair_base + static_cast<std::uint32_t>(light * samples + j), a, b);
+      Real x, y;
+      stratum_2d(plan.first + j, plan.strata, plan.key ^ static_cast<std::uint32_t>(light), Real(a),
+                 Real(b), x, y);
+      area_sample(ql.corner + ql.u * x + ql.v * y, ql.normal, ql.emission, ql.area);
+    }
+  }
+  for (int l = 0; l < scene.num_mesh_lights; ++l, ++light) {
+    const MeshLight ml = scene.mesh_lights(l);
+    for (int j = 0; j < samples; ++j) {
+      float a, b;
+      rng.uniform2(plan.pair_base + static_cast<std::uint32_t>(light * samples + j), a, b);
+      Real x = a, y = b;
+      if (plan.soft)
+        stratum_2d(plan.first + j, plan.strata, plan.key ^ static_cast<std::uint32_t>(light), Real(a),
+                   Real(b), x, y);
+      // Pick a triangle by area with x (binary search of the CDF), reuse x's
+      // position inside that triangle's CDF interval as the first barycentric number.
+      int lo = ml.first, hi = ml.first + ml.count - 1;
+      while (lo < hi) {
+        const int mid = (lo + hi) / 2;
+        if (scene.emissive_cdf(mid) > x) hi = mid; else lo = mid + 1;
+      }
+      const Real c0 = lo == ml.first ? Real(0) : scene.emissive_cdf(lo - 1);
+      const Real c1 = scene.emissive_cdf(lo);
+      const Real r1 = below_one(c1 > c0 ? (x - c0) / (c1 - c0) : Real(0.5));
+      const int tri = scene.emissive_tris(lo);
+      const Triangle& t = scene.mesh.tris(tri);
+      Real bu, bv;
+      uniform_triangle(r1, y, bu, bv);
+      const Vec3 q = barycentric_point(t.a, t.b, t.c, bu, bv);
+      const Vec3 le = scene.mesh.materials(scene.mesh.tri_material(tri)).emissive;
+      area_sample(q, triangle_normal(t.a, t.b, t.c), le, ml.area);
+    }
+  }
+  for (int l = 0; l < scene.num_points; ++l) {
+    const PointLight pl = scene.points(l);
+    const Vec3 w = pl.position - s.p;
+    const Real d2 = dot(w, w);
+    if (!(d2 > Real(0))) continue;
+    const Vec3 wi = w / math::sqrt(d2);
+    const Real cos_s = dot(s.ns, wi);
+    if (cos_s <= Real(0) || dot(s.ng, wi) <= Real(0)) continue;
+    if (!visible(scene, s, pl.position, c)) continue;
+    sum += pl.intensity * (cos_s / d2);
+  }
+  return sum;
+}
+
+}  // namespace rtmini::sketch

@@ -1,0 +1,134 @@
+#include "render_scene.hpp"
+
+#include <cmath>
+
+#include "rtmini/io/error.hpp"
+#include "rtmini/io/obj_reader.hpp"
+#include "rtmini/scene/primitives.hpp"
+
+namespace rtmini::sketch {
+namespace {
+
+int add_object(HostScene& s, const std::string& name, ObjectShading shading, bool quad_light) {
+  s.mesh.objects.push_back(name);
+  s.objects.push_back(shading);
+  s.object_is_quad_light.push_back(quad_light ? 1 : 0);
+  return static_cast<int>(s.mesh.objects.size()) - 1;
+}
+
+int add_material(Mesh& mesh, const Material& m) {
+  mesh.materials.push_back(m);
+  return static_cast<int>(mesh.materials.size()) - 1;
+}
+
+void bounds_of(const Mesh& mesh, Vec3d& lo, Vec3d& hi) {
+  lo = Vec3d(1e300);
+  hi = Vec3d(-1e300);
+  for (const Vec3d& p : mesh.positions) {
+    lo = vmin(lo, p);
+    hi = vmax(hi, p);
+  }
+  if (mesh.positions.empty()) lo = hi = Vec3d(0.0);
+}
+
+// Looks at the bounds' centre from the front-right-above (y up), far enough
+// that the bounding sphere fills the vertical field of view with 10 % margin.
+CameraDesc frame_bounds(const Vec3d& lo, const Vec3d& hi, double fov_deg) {
+  CameraDesc c;
+  c.fov_deg = fov_deg;
+  const Vec3d center = (lo + hi) * 0.5;
+  const double radius = std::max(0.5 * length(hi - lo), 1e-6);
+  const double dist = 1.1 * radius / std::sin(0.5 * fov_deg * math::kPi / 180.0);
+  c.look_at = center;
+  c.position = center + normalize(Vec3d(0.35, 0.45, 1.0)) * dist;
+  c.up = Vec3d(0.0, 1.0, 0.0);
+  return c;
+}
+
+}  // namespace
+
+void add_quad_light(HostScene& s, const Vec3d& corner, const Vec3d& u, const Vec3d& v,
+                    const Vec3f& emission) {
+  Material m;
+  m.name = "light";
+  m.diffuse = Vec3f(0.f);
+  m.emissive = emission;
+  const int mat = add_material(s.mesh, m);
+  const int obj = add_object(s, "quad_light" + std::to_string(s.quads.size()), {Vec3(0), Real(0)}, true);
+  append_quad(s.mesh, corner, u, v, mat, obj);
+  const Vec3d n = cross(u, v);
+  s.quads.push_back({Vec3(corner), Vec3(u), Vec3(v), Vec3(normalize(n)), Real(length(n)), Vec3(emission)});
+}
+
+int add_sphere(HostScene& s, const Vec3d& center, double radius, int level, const Material& material,
+               const std::string& name) {
+  const int mat = add_material(s.mesh, material);
+  const int obj = add_object(s, name, {Vec3(center), Real(radius)}, false);
+  append_icosphere(s.mesh, center, radius, level, mat, obj);
+  return obj;
+}
+
+int add_mesh_object(HostScene& s, const std::string& name) {
+  return add_object(s, name, {Vec3(0), Real(0)}, false);
+}
+
+int add_scene_material(HostScene& s, const Material& material) { return add_material(s.mesh, material); }
+
+HostScene build_scene(const std::string& input, const SceneDescription* desc, RenderSettings& settings) {
+  HostScene s;
+  s.name = input;
+  s.mesh = desc ? load_scene_meshes(*desc) : read_mesh(input);
+  if (s.mesh.objects.empty()) s.mesh.objects.push_back("default");
+  for (const Face& f : s.mesh.faces)
+    while (f.object >= static_cast<int>(s.mesh.objects.size()))
+      s.mesh.objects.push_back("object" + std::to_string(s.mesh.objects.size()));
+  s.objects.assign(s.mesh.objects.size(), ObjectShading{Vec3(0), Real(0)});
+  s.object_is_quad_light.assign(s.mesh.objects.size(), 0);
+  // Faces without a material get the default grey Lambertian.
+  int fallback = -1;
+  for (Face& f : s.mesh.faces) {
+    if (f.material >= 0) continue;
+    if (fallback < 0) fallback = add_material(s.mesh, Material{});
+    f.material = fallback;
+  }
+  const int level = settings.sphere_subdivisions;
+  if (desc) {
+    for (std::size_t i = 0; i < desc->spheres.size(); ++i) {
+      const SphereDesc& sp = desc->spheres[i];
+      add_sphere(s, sp.center, sp.radius, level, sp.material, "sphere" + std::to_string(i));
+    }
+    for (const LightDesc& l : desc->lights) {
+      if (l.type == LightType::kQuad) {
+        add_quad_light(s, l.corner, l.edge_u, l.edge_v, l.emission);
+      } else if (l.type == LightType::kPoint) {
+        s.points.push_back({Vec3(l.position), Vec3(l.intensity)});
+      } else {
+        Material m;
+        m.name = "sphere_light";
+        m.diffuse = Vec3f(0.f);
+        m.emissive = l.emission;
+        add_sphere(s, l.center, l.radius, level, m, "sphere_light");
+      }
+    }
+  }
+  Vec3d lo, hi;
+  bounds_of(s.mesh, lo, hi);
+  if (!desc) {
+    // A bare mesh: a square light of the bounds' size one radius above the top,
+    // bright enough that the irradiance at the centre is about pi (white shades to ~Kd).
+    const double r = std::max(0.5 * length(hi - lo), 1e-6);
+    const Vec3d c = (lo + hi) * 0.5;
+    const double height = hi.y + r;
+    const double d = height - c.y;
+    const double emission = math::kPi * d * d / (r * r);
+    add_quad_light(s, Vec3d(c.x - 0.5 * r, height, c.z + 0.5 * r), Vec3d(r, 0, 0), Vec3d(0, 0, -r),
+                   Vec3f(static_cast<float>(emission)));
+    if (settings.ambient.x == 0.f && settings.ambient.y == 0.f && settings.ambient.z == 0.f)
+      settings.ambient = Vec3f(0.05f);
+  }
+  if (!settings.has_camera) settings.camera = frame_bounds(lo, hi, settings.camera.fov_deg);
+  if (s.mesh.faces.empty()) throw InputError(input, 0, "the scene has no geometry");
+  return s;
+}
+
+}  // namespace rtmini::sketch

@@ -1,0 +1,64 @@
+#pragma once
+// The host-side scene sketchtrace renders: one triangle/quad mesh holding meshes,
+// tessellated spheres and the visible geometry of area lights, plus the light
+// lists and the per-object table that gives tessellated spheres their analytic
+// normal. Built from a TOML scene or from a bare OBJ/.bs mesh (default camera
+// framing its bounds, default quad light above it).
+#include <string>
+#include <vector>
+
+#include "render_settings.hpp"
+#include "rtmini/scene/mesh.hpp"
+
+namespace rtmini::sketch {
+
+// A parallelogram emitter corner + s u + t v, emitting `emission` (radiance) from
+// both sides; its geometry is also in the mesh so it is seen directly.
+struct QuadLight {
+  Vec3 corner, u, v, normal;
+  Real area;
+  Vec3 emission;
+};
+
+struct PointLight {
+  Vec3 position;
+  Vec3 intensity;  // radiant intensity: irradiance = intensity cos / r^2
+};
+
+// Emissive triangles of one object (emissive mesh faces, sphere lights), sampled
+// by area: triangles [first, first + count) of the emissive-triangle table.
+struct MeshLight {
+  int first, count;
+  Real area;
+};
+
+// radius > 0: the object is a tessellated sphere shaded with the analytic normal.
+struct ObjectShading {
+  Vec3 center;
+  Real radius;
+};
+
+struct HostScene {
+  std::string name;
+  Mesh mesh;
+  std::vector<QuadLight> quads;
+  std::vector<PointLight> points;
+  std::vector<ObjectShading> objects;   // one per mesh object
+  std::vector<char> object_is_quad_light;  // excluded from the mesh-light list
+};
+
+// Building blocks for generators and tests (build_scene uses them too). Each adds
+// a new object; the quad light is also visible geometry.
+void add_quad_light(HostScene& s, const Vec3d& corner, const Vec3d& u, const Vec3d& v, const Vec3f& emission);
+int add_sphere(HostScene& s, const Vec3d& center, double radius, int level, const Material& material,
+               const std::string& name);
+int add_mesh_object(HostScene& s, const std::string& name);
+int add_scene_material(HostScene& s, const Material& material);
+
+// Builds the scene from a parsed TOML description, or (desc == nullptr) from the
+// mesh file `input` alone. Spheres use settings.sphere_subdivisions. Without a
+// [camera], settings.camera becomes a default framing of the scene bounds; a bare
+// mesh also gets a default quad light above it and a small ambient term.
+HostScene build_scene(const std::string& input, const SceneDescription* desc, RenderSettings& settings);
+
+}  // namespace rtmini::sketch

@@ -1,0 +1,136 @@
+#include "renderer.hpp"
+
+#include <cmath>
+#include <string>
+
+namespace rtmini::sketch {
+namespace {
+
+// One pixel: the radiance samples, then (when AOVs or edges are wanted) the
+// pinhole centre ray for depth/normal/object and the edge stencil.
+template <unsigned kFeatures>
+struct PixelKernel {
+  RadianceEstimator<kFeatures> est;
+  StencilParams stencil;
+  bool aov;
+  Kokkos::View<const std::int64_t*, MemSpace> pixels;
+  Kokkos::View<PixelResult*, MemSpace> out;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const std::int64_t k) const {
+    const std::int64_t index = pixels(k);
+    const int x = static_cast<int>(index % est.p.width), y = static_cast<int>(index / est.p.width);
+    TraceCounter c;
+    c.stats = est.p.stats;
+    PixelResult r;
+    est.pixel(x, y, r, c);
+    if (aov) {
+      const StencilHit centre = stencil_hit(est.scene, est.camera, Real(x) + Real(0.5), Real(y) + Real(0.5),
+                                            stencil, c);
+      r.object = centre.object;
+      r.depth = static_cast<float>(centre.depth);
+      r.nx = static_cast<float>(centre.normal.x);
+      r.ny = static_cast<float>(centre.normal.y);
+      r.nz = static_cast<float>(centre.normal.z);
+      if (stencil.edges && stencil.radius > Real(0)) {
+        Real sum = 0;
+        for (int j = 0; j < stencil.samples; ++j) {
+          const Rng rng(est.p.seed, static_cast<std::uint64_t>(index), 0x80000000u + static_cast<std::uint32_t>(j));
+          float a, b;
+          rng.uniform2(0, a, b);
+          Real sx, sy;
+          stratum_2d(j, stencil.samples, pixel_key(est.p.seed, static_cast<std::uint64_t>(index), 5), Real(a),
+                     Real(b), sx, sy);
+          sum += stencil_fraction(est.scene, est.camera, Real(x) + sx, Real(y) + sy, stencil, c);
+        }
+        r.edge = static_cast<float>(sum / Real(stencil.samples));
+      }
+    }
+    r.rays = c.rays;
+    r.tests = c.tests;
+    out(k) = r;
+  }
+};
+
+}  // namespace
+
+std::string feature_names(unsigned f) {
+  std::string s;
+  auto add = [&](unsigned bit, const char* name) {
+    if (f & bit) s += (s.empty() ? "" : "+") + std::string(name);
+  };
+  add(kSecondary, "secondary");
+  add(kLights, "lights");
+  add(kCameraSampling, "camera-sampling");
+  return s.empty() ? "primary-only" : s;
+}
+
+Renderer::Renderer(const HostScene& scene, const RenderSettings& s) {
+  scene_ = upload_scene(scene, s.bvh);
+  camera_ = make_camera(s.camera, s.width, s.height);
+  params_.width = s.width;
+  params_.height = s.height;
+  params_.spp = s.spp;
+  params_.shadow_samples = s.shadow_samples;
+  params_.bounces = s.bounces;
+  params_.glossy_samples = s.glossy_samples;
+  params_.soft_shadows = s.soft_shadows;
+  params_.indirect = s.indirect;
+  params_.smooth = s.smooth;
+  params_.stats = s.stats;
+  params_.cos_crease = static_cast<Real>(std::cos(s.crease_angle_deg * math::kPi / 180.0));
+  params_.background = Vec3(s.background);
+  params_.ambient = Vec3(s.ambient);
+  params_.seed = s.seed;
+  params_.lens = s.camera.aperture > 0.0;
+  params_.motion = s.camera.shutter_close > s.camera.shutter_open && length(s.camera.velocity) > 0.0;
+  stencil_.radius = static_cast<Real>(s.edge_thickness);
+  stencil_.cos_crease = params_.cos_crease;
+  stencil_.depth_threshold = static_cast<Real>(s.depth_threshold);
+  stencil_.samples = s.stencil_samples;
+  stencil_.edges = s.needs_edges();
+  stencil_.smooth = s.smooth;
+  aov_ = s.needs_aov_pass();
+  if ((scene_.any_secondary || s.indirect) && s.bounces > 0) features_ |= kSecondary;
+  if (scene_.num_quads + scene_.num_mesh_lights + scene_.num_points > 0) features_ |= kLights;
+  if (params_.lens || params_.motion) features_ |= kCameraSampling;
+}
+
+template <unsigned kFeatures>
+void Renderer::launch(const Kokkos::View<std::int64_t*, MemSpace>& pixels,
+                      const Kokkos::View<PixelResult*, MemSpace>& out) const {
+  PixelKernel<kFeatures> kernel{{scene_, camera_, params_}, stencil_, aov_, pixels, out};
+  using Policy = Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace, Kokkos::Schedule<Kokkos::Dynamic>,
+                                     Kokkos::IndexType<std::int64_t>>;
+  Kokkos::parallel_for("rtmini::sketch::render", Policy(0, static_cast<std::int64_t>(pixels.extent(0))),
+                       kernel);
+}
+
+void Renderer::render(const std::vector<PixelChunk>& chunks, std::vector<PixelResult>& out) const {
+  std::size_t n = 0;
+  for (const PixelChunk& c : chunks) n += c.pixels();
+  out.assign(n, PixelResult{});
+  if (n == 0) return;
+  Kokkos::View<std::int64_t*, MemSpace> pixels("rtmini::sketch::pixel_list", n);
+  Kokkos::View<PixelResult*, MemSpace> results("rtmini::sketch::pixel_results", n);
+  auto hp = Kokkos::create_mirror_view(pixels);
+  std::size_t k = 0;
+  for (const PixelChunk& c : chunks)
+    for (int y = c.y0; y < c.y0 + c.h; ++y)
+      for (int x = c.x0; x < c.x0 + c.w; ++x)
+        hp(k++) = static_cast<std::int64_t>(y) * params_.width + x;
+  Kokkos::deep_copy(pixels, hp);
+  switch (features_) {
+    case 0: launch<0>(pixels, results); break;
+    case 1: launch<1>(pixels, results); break;
+    case 2: launch<2>(pixels, results); break;
+    case 3: launch<3>(pixels, results); break;
+    case 4: launch<4>(pixels, results); break;
+    case 5: launch<5>(pixels, results); break;
+    case 6: launch<6>(pixels, results); break;
+    default: launch<7>(pixels, results); break;
+  }
+  auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), results);
+  for (std::size_t i = 0; i < n; ++i) out[i] = hr(i);
+}
+
+}  // namespace rtmini::sketch

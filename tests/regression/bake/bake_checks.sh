@@ -1,0 +1,171 @@
+#!/bin/bash
+# Regression checks of the bake app, one case per ctest (tests/regression/bake/CMakeLists.txt).
+# Environment: BAKE, GEN (rtmini-gen-inputs), RUN1/RUN2/RUN4 style launchers are built from
+# MPIEXEC and NPFLAG; INPUTS (inputs/), REF (tests/reference/bake), BAD (tests/data/bad).
+# Usage: bake_checks.sh CASE WORKDIR [RANKS]
+set -u
+case_name=$1
+work=$2
+ranks=${3:-1}
+mkdir -p "$work"
+cd "$work" || exit 1
+rm -f ./*.bs ./*.h5 ./*.txt ./*.json
+
+run() {  # run N ARGS...: bake on N ranks
+  local n=$1
+  shift
+  if [ -n "${MPIEXEC:-}" ]; then
+    "$MPIEXEC" "$NPFLAG" "$n" --oversubscribe "$BAKE" "$@"
+  else
+    "$BAKE" "$@"
+  fi
+}
+
+fail() {
+  echo "FAIL: $*" >&2
+  exit 1
+}
+
+# Every viewpoint colour equals `expected` within relative tolerance `tol`.
+check_all_colours() {
+  awk -v e="$2" -v tol="$3" '/^\|/ { for (i = 5; i <= 7; i++) { d = ($i - e) / e; if (d < 0) d = -d;
+      if (d > max) max = d } n++ }
+    END { printf "%d viewpoint lines, max relative error %.3g (tolerance %g)\n", n, max, tol;
+      exit (n == 0 || max > tol) }' "$1"
+}
+
+case $case_name in
+  regenerate)
+    # The committed generated inputs equal a fresh generation.
+    "$GEN" cube -o cube.bs >/dev/null || fail "generator failed"
+    cmp cube.bs "$INPUTS/cube/cube.bs" || fail "cube.bs differs"
+    "$GEN" cornell_big -o big.bs >/dev/null || fail "generator failed"
+    cmp big.bs "$INPUTS/cornell_big/cornell_big_raw.bs" || fail "cornell_big_raw.bs differs"
+    [ "$(grep -c '^[-0-9]' big.bs)" -gt 0 ] || fail "empty cornell_big"
+    "$GEN" cornell --scene "$INPUTS/cornell/CornellBox-Original.obj" -o cb.bs >/dev/null ||
+      fail "generator failed"
+    cmp cb.bs "$INPUTS/cornell/cornell_box.bs" || fail "cornell_box.bs differs"
+    echo "generated inputs match the committed ones"
+    ;;
+  furnace)
+    # E = 1, rho = 0.5, K = 3: every colour 1 * (1 - 0.5^4) / (1 - 0.5) = 1.875.
+    for cells in 0 3; do
+      "$GEN" furnace --rho 0.5 --emission 1 --cells $cells -o furnace.bs >/dev/null || fail gen
+      run "$ranks" furnace.bs -o out.bs --viewpoints 60 --iterations 3 >log.txt 2>&1 ||
+        { cat log.txt; fail "bake failed"; }
+      check_all_colours out.bs 1.875 1e-5 || fail "furnace (cells $cells) off the analytic value"
+    done
+    ;;
+  reference)
+    # Cornell box (shared scene, .bs copy): file hash against the committed reference.
+    run "$ranks" "$INPUTS/cornell/cornell_box.bs" -o out.bs --viewpoints 40 --iterations 3 \
+      --shadow-samples 16 --seed 7 >log.txt 2>&1 || { cat log.txt; fail "bake failed"; }
+    got=$(sha256sum out.bs | cut -d' ' -f1)
+    want=$(cut -d' ' -f1 "$REF/cornell_box_n40_k3.sha256")
+    [ "$got" = "$want" ] || fail "cornell_box output sha256 $got, reference $want"
+    tail -n 1 log.txt
+    echo "sha256 matches the reference ($ranks ranks)"
+    ;;
+  decomposition)
+    # Any batch size, balance and lookup on $ranks ranks gives the bytes of a 1-rank run.
+    args=("$INPUTS/cornell_big/cornell_big_raw.bs" --viewpoints 100 --iterations 4 --gather-rays 4)
+    run 1 "${args[@]}" -o one.bs >log1.txt 2>&1 || { cat log1.txt; fail "1-rank bake failed"; }
+    run "$ranks" "${args[@]}" -o many.bs --batch-size 157 --balance cost --lookup sf \
+      >log2.txt 2>&1 || { cat log2.txt; fail "$ranks-rank bake failed"; }
+    cmp one.bs many.bs || fail "outputs differ between 1 and $ranks ranks"
+    [ "$(tail -n 1 log1.txt | awk '{print $NF}')" = "$(tail -n 1 log2.txt | awk '{print $NF}')" ] ||
+      fail "verification hashes differ"
+    echo "byte-identical for 1 and $ranks ranks (batch 157, cost balance, sf lookup)"
+    ;;
+  restart)
+    # Stop after iteration 1 (exit 4, checkpoint), restart, compare with an uninterrupted run.
+    args=("$INPUTS/cornell_big/cornell_big_raw.bs" --viewpoints 60 --iterations 4)
+    run "$ranks" "${args[@]}" -o full.bs >log1.txt 2>&1 || fail "full run failed"
+    run "$ranks" "${args[@]}" -o part.bs --checkpoint cp.h5 --stop-after-iteration 1 >log2.txt 2>&1
+    rc=$?
+    [ $rc -eq 4 ] || fail "stopped run exited $rc, expected 4"
+    [ ! -e part.bs ] || fail "stopped run left an output file"
+    run "$ranks" "${args[@]}" -o part.bs --checkpoint cp.h5 --restart cp.h5 >log3.txt 2>&1 ||
+      { cat log3.txt; fail "restart failed"; }
+    cmp full.bs part.bs || fail "restarted output differs"
+    # A checkpoint for other parameters is refused with exit 2.
+    run "$ranks" "$INPUTS/cornell_big/cornell_big_raw.bs" --viewpoints 61 --iterations 4 \
+      -o other.bs --restart cp.h5 >log4.txt 2>err.txt
+    rc=$?
+    [ $rc -eq 2 ] || fail "mismatched restart exited $rc, expected 2"
+    echo "restart reproduces the uninterrupted output ($ranks ranks)"
+    ;;
+  kill)
+    # SIGKILL once the first checkpoint exists, restart, compare.
+    args=("$INPUTS/cornell_big/cornell_big_raw.bs" --viewpoints 1500 --iterations 6 --no-hit-cache)
+    "$BAKE" "${args[@]}" -o full.bs >log1.txt 2>&1 || fail "full run failed"
+    "$BAKE" "${args[@]}" -o part.bs --checkpoint cp.h5 >log2.txt 2>&1 &
+    pid=$!
+    for _ in $(seq 1 600); do
+      [ -e cp.h5 ] && break
+      sleep 0.05
+    done
+    kill -9 $pid 2>/dev/null
+    wait $pid 2>/dev/null
+    [ -e cp.h5 ] || fail "no checkpoint appeared"
+    [ ! -e part.bs ] || echo "note: the run finished before the kill"
+    "$BAKE" "${args[@]}" -o part.bs --checkpoint cp.h5 --restart cp.h5 >log3.txt 2>&1 ||
+      { cat log3.txt; fail "restart failed"; }
+    grep "restart:" log3.txt
+    cmp full.bs part.bs || fail "output after SIGKILL + restart differs"
+    if ls ./*.tmp.* 2>/dev/null; then fail "temporary files left behind"; fi
+    echo "SIGKILL + restart reproduces the uninterrupted output"
+    ;;
+  timings)
+    run "$ranks" "$INPUTS/cornell_big/cornell_big_raw.bs" -o out.bs --viewpoints 50 --iterations 2 \
+      --batch-size 300 --timings t.h5 --summary s.json >log.txt 2>&1 || fail "bake failed"
+    /usr/bin/python3 - "$ranks" <<'PY' || fail "timings layout"
+import json, sys
+import h5py
+r = int(sys.argv[1])
+f = h5py.File("t.h5", "r")
+assert f.attrs["ranks"] == r, f.attrs["ranks"]
+assert f["iterations/trace_time"].shape == (r, 3), f["iterations/trace_time"].shape
+assert f["iterations/allgather_bytes"].shape == (r, 3)
+assert f["phases/start"].shape == (r, 5)
+assert len(f["chunks/rank"]) == 7 * 3, len(f["chunks/rank"])  # 1924 / 300 -> 7 batches
+assert sorted(set(f["chunks/rank"][:])) == list(range(r))
+s = json.load(open("s.json"))
+assert s["app"] == "bake" and s["ranks"] == r and len(s["verification_hash"]) == 16
+print("timings and summary layout ok")
+PY
+    ;;
+  bad)
+    # $3 is the kind of bad input; exit 2, exactly one line on stderr, no output file.
+    case $ranks in
+      malformed) args=("$BAD/bs_nan.bs") ;;
+      missing_bang) args=("$BAD/bs_missing_bang.bs") ;;
+      zero_viewpoints) args=("$INPUTS/cube/cube.bs" --viewpoints 0) ;;
+      negative_iterations) args=("$INPUTS/cube/cube.bs" --iterations -1) ;;
+      zero_shadow_samples) args=("$INPUTS/cube/cube.bs" --shadow-samples 0) ;;
+      bad_lookup) args=("$INPUTS/cube/cube.bs" --lookup octree) ;;
+      *) fail "unknown bad-input kind $ranks" ;;
+    esac
+    "$BAKE" "${args[@]}" -o out.bs >out.txt 2>err.txt
+    rc=$?
+    cat err.txt
+    [ $rc -eq 2 ] || fail "exit $rc, expected 2"
+    [ "$(wc -l <err.txt)" -eq 1 ] || fail "expected exactly one line on stderr"
+    grep -q '^bake: ' err.txt || fail "message does not start with 'bake: '"
+    [ ! -e out.bs ] || fail "output file left behind"
+    if ls out.bs.tmp.* 2>/dev/null; then fail "temporary file left behind"; fi
+    echo "exit 2, one line, no output file"
+    ;;
+  max_memory)
+    "$BAKE" "$INPUTS/cornell_big/cornell_big_raw.bs" -o out.bs --viewpoints 1000 --max-memory 1M \
+      >out.txt 2>err.txt
+    rc=$?
+    cat err.txt
+    [ $rc -eq 3 ] || fail "exit $rc, expected 3"
+    grep -q "exceeds --max-memory" err.txt || fail "no clear message"
+    [ ! -e out.bs ] || fail "output file left behind"
+    ;;
+  *)
+    fail "unknown case $case_name"
+    ;;
+esac

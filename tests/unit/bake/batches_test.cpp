@@ -1,0 +1,53 @@
+// The Kitchen's vertex batches: any batch size, every vertex in exactly one batch, and cost
+// balance giving batches of about equal work.
+#include <gtest/gtest.h>
+
+#include "kitchen.hpp"
+
+namespace rtmini::bake {
+namespace {
+
+BakeSceneHost scene_with(int vertices, int reflective_from, int n) {
+  BakeSceneHost s;
+  s.normal.assign(vertices, Vec3(0, 0, 1));
+  s.color_offset.assign(vertices + 1, 0);
+  for (int v = 0; v < vertices; ++v)
+    s.color_offset[v + 1] = s.color_offset[v] + (v >= reflective_from ? n : 1);
+  return s;
+}
+
+void expect_tiling(const std::vector<Batch>& b, std::int64_t vertices, int ranks) {
+  ASSERT_FALSE(b.empty());
+  EXPECT_EQ(b.front().begin, 0);
+  EXPECT_EQ(b.back().end, vertices);
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    EXPECT_LT(b[i].begin, b[i].end);
+    EXPECT_GE(b[i].rank, 0);
+    EXPECT_LT(b[i].rank, ranks);
+    if (i > 0) EXPECT_EQ(b[i].begin, b[i - 1].end);
+  }
+}
+
+TEST(BakeBatches, AnyBatchSizeTilesTheVertices) {
+  const BakeSceneHost s = scene_with(1924, 1454, 100);
+  for (int ranks : {1, 2, 3, 4, 7})
+    for (std::int64_t size : {0, 1, 157, 1000, 5000})
+      for (Balance bal : {Balance::kStatic, Balance::kCost})
+        expect_tiling(make_batches(s, ranks, bal, size), 1924, ranks);
+}
+
+TEST(BakeBatches, CostBalanceEqualisesWork) {
+  const BakeSceneHost s = scene_with(1924, 1454, 1000);  // reflective vertices at the end
+  const auto b = make_batches(s, 4, Balance::kCost, 0);
+  ASSERT_EQ(b.size(), 4u);
+  const double total = static_cast<double>(s.colors());
+  for (const Batch& x : b) {
+    const double cost = static_cast<double>(s.color_offset[x.end] - s.color_offset[x.begin]);
+    EXPECT_NEAR(cost / total, 0.25, 0.01);
+  }
+  const auto st = make_batches(s, 4, Balance::kStatic, 0);
+  EXPECT_EQ(st[0].end - st[0].begin, 481);  // 1924 / 4
+}
+
+}  // namespace
+}  // namespace rtmini::bake
