@@ -8,8 +8,8 @@
 #   RTMINI_BIN        dir holding the `bake`/`sketchtrace` binaries; overrides
 #                     $RTMINI_BUILD/miniapps/<app>/<app>
 #   RTMINI_APP        sketchtrace | bake (default: sketchtrace)
-#   RTMINI_INPUT      scene/mesh (default: inputs/cornell/cornell_box.toml for
-#                     sketchtrace, inputs/cornell/cornell_box.obj for bake)
+#   RTMINI_INPUT      scene/mesh (default: inputs/two_spheres/two_spheres.toml for
+#                     sketchtrace, inputs/cornell/cornell_box.bs for bake)
 #   RTMINI_OUTDIR     where outputs go (default: $PWD/rtmini-out)
 #   RTMINI_TAG        file-name stem for this run (default: <app>)
 #   sketchtrace:      RTMINI_WIDTH RTMINI_HEIGHT RTMINI_SPP RTMINI_SHADOW_SAMPLES
@@ -50,9 +50,9 @@ rtmini_binary() {
 # rtmini_default_input APP: the bundled input used when RTMINI_INPUT is unset.
 rtmini_default_input() {
   if [ "$1" = bake ]; then
-    printf '%s\n' "$RTMINI_ROOT/inputs/cornell/cornell_box.obj"
+    printf '%s\n' "$RTMINI_ROOT/inputs/cornell/cornell_box.bs"
   else
-    printf '%s\n' "$RTMINI_ROOT/inputs/cornell/cornell_box.toml"
+    printf '%s\n' "$RTMINI_ROOT/inputs/two_spheres/two_spheres.toml"
   fi
 }
 

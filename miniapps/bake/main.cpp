@@ -7,14 +7,12 @@
 #include <sstream>
 #include <string>
 
+#include "ao_mode.hpp"
 #include "bake_config.hpp"
 #include "kitchen.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/report/app_main.hpp"
 #include "rtmini/report/version.hpp"
-#ifdef RTMINI_BAKE_HAVE_AO
-#include "ao/ao_mode.hpp"
-#endif
 #ifdef RTMINI_BAKE_HAVE_RENDER
 #include "render/render_mode.hpp"
 #endif
@@ -32,10 +30,14 @@ std::int64_t parse_size(const std::string& text) {
   }
   const std::string suffix = text.substr(used);
   double scale = 1;
-  if (suffix == "K" || suffix == "k" || suffix == "KiB") scale = 1024.0;
-  else if (suffix == "M" || suffix == "MiB") scale = 1024.0 * 1024.0;
-  else if (suffix == "G" || suffix == "GiB") scale = 1024.0 * 1024.0 * 1024.0;
-  else if (suffix == "T" || suffix == "TiB") scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
+  if (suffix == "K" || suffix == "k" || suffix == "KiB")
+    scale = 1024.0;
+  else if (suffix == "M" || suffix == "MiB")
+    scale = 1024.0 * 1024.0;
+  else if (suffix == "G" || suffix == "GiB")
+    scale = 1024.0 * 1024.0 * 1024.0;
+  else if (suffix == "T" || suffix == "TiB")
+    scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
   else if (!suffix.empty() && suffix != "B")
     throw InputError("--max-memory: unknown unit '" + suffix + "' (use K, M, G or T)");
   if (!(value >= 0) || !std::isfinite(value))
@@ -69,8 +71,9 @@ std::string default_output(const std::string& input) {
 
 // Returns -1 to go on baking, or an exit code (--help, --version).
 int parse(int argc, char** argv, BakeConfig& c, bool root) {
-  CLI::App app{"bake: view-dependent ray-trace maps of semi-reflective scenes (.bs/.obj in, .bs out)",
-               "bake"};
+  CLI::App app{
+      "bake: view-dependent ray-trace maps of semi-reflective scenes (.bs/.obj in, .bs out)",
+      "bake"};
   std::string lookup = "kdtree", balance = "cost", bvh_kind = "lbvh", mode = "map";
   std::string max_memory, background;
   bool version = false;
@@ -88,7 +91,8 @@ int parse(int argc, char** argv, BakeConfig& c, bool root) {
   app.add_option("--checkpoint", c.checkpoint, "HDF5 checkpoint written after each iteration");
   app.add_option("--restart", c.restart, "resume from this checkpoint");
   app.add_option("--lookup", lookup, "viewpoint lookup: kdtree or sf (spherical Fibonacci)");
-  app.add_option("--balance", balance, "batch cuts: cost (default: equal work) or static (equal vertex counts)");
+  app.add_option("--balance", balance,
+                 "batch cuts: cost (default: equal work) or static (equal vertex counts)");
   app.add_option("--batch-size", c.batch_size, "vertices per batch (default vertices/ranks)");
   app.add_option("--max-memory", max_memory, "refuse runs estimated above this (e.g. 2G)");
   app.add_option("--time-limit", c.time_limit_minutes,
@@ -114,12 +118,18 @@ int parse(int argc, char** argv, BakeConfig& c, bool root) {
     throw InputError(e.what());
   }
   if (mode != "map") throw InputError("--mode must be map or ao (got '" + mode + "')");
-  if (lookup == "kdtree") c.lookup = Lookup::kKdTree;
-  else if (lookup == "sf") c.lookup = Lookup::kSphericalFibonacci;
-  else throw InputError("--lookup must be kdtree or sf (got '" + lookup + "')");
-  if (balance == "static") c.balance = Balance::kStatic;
-  else if (balance == "cost") c.balance = Balance::kCost;
-  else throw InputError("--balance must be static or cost (got '" + balance + "')");
+  if (lookup == "kdtree")
+    c.lookup = Lookup::kKdTree;
+  else if (lookup == "sf")
+    c.lookup = Lookup::kSphericalFibonacci;
+  else
+    throw InputError("--lookup must be kdtree or sf (got '" + lookup + "')");
+  if (balance == "static")
+    c.balance = Balance::kStatic;
+  else if (balance == "cost")
+    c.balance = Balance::kCost;
+  else
+    throw InputError("--balance must be static or cost (got '" + balance + "')");
   if (bvh_kind != "lbvh" && bvh_kind != "sah")
     throw InputError("--bvh must be lbvh or sah (got '" + bvh_kind + "')");
   c.sah = bvh_kind == "sah";
@@ -167,11 +177,7 @@ int main(int argc, char** argv) {
 #endif
     }
     if (bake::wants_mode(ac, av, "ao")) {
-#ifdef RTMINI_BAKE_HAVE_AO
       return run_ao_mode(comm, ac, av);
-#else
-      throw InputError("--mode ao is not part of this build (miniapps/bake/ao missing)");
-#endif
     }
     bake::BakeConfig config;
     const int early = bake::parse(ac, av, config, comm.is_root());

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/scene_settings.hpp"
 
 namespace rtmini::sketch {
 namespace {
@@ -81,14 +82,16 @@ std::string range_problem(const RenderSettings& s, std::string& key) {
   };
   std::string r;
   for (const std::string& p :
-       {check(s.width >= 1, "width", "must be >= 1"), check(s.height >= 1, "height", "must be >= 1"),
+       {check(s.width >= 1, "width", "must be >= 1"),
+        check(s.height >= 1, "height", "must be >= 1"),
         check(s.width <= 65536 && s.height <= 65536, "width", "must be <= 65536"),
         check(s.spp >= 1, "spp", "must be >= 1"),
         check(s.shadow_samples >= 1, "shadow_samples", "must be >= 1"),
         check(s.bounces >= 0 && s.bounces <= 64, "bounces", "must be in [0, 64]"),
         check(s.glossy_samples >= 1, "glossy_samples", "must be >= 1"),
         check(s.edge_thickness >= 0, "edge_thickness", "must be >= 0"),
-        check(s.crease_angle_deg > 0 && s.crease_angle_deg <= 180, "crease_angle", "must be in (0, 180]"),
+        check(s.crease_angle_deg > 0 && s.crease_angle_deg <= 180, "crease_angle",
+              "must be in (0, 180]"),
         check(s.depth_threshold > 0, "depth_threshold", "must be > 0"),
         check(s.stencil_samples >= 1, "stencil_samples", "must be >= 1"),
         check(s.sphere_subdivisions >= 0 && s.sphere_subdivisions <= 8, "sphere_subdivisions",
@@ -103,7 +106,8 @@ std::string range_problem(const RenderSettings& s, std::string& key) {
     if (r.empty() && !p.empty()) r = p;
   }
   for (const std::string& a : s.aov) {
-    if (std::find(std::begin(kAovNames), std::end(kAovNames), a) == std::end(kAovNames) && r.empty()) {
+    if (std::find(std::begin(kAovNames), std::end(kAovNames), a) == std::end(kAovNames) &&
+        r.empty()) {
       key = "aov";
       r = "names an unknown AOV '" + a + "' (depth, normal, object, cost, edge)";
     }
@@ -118,13 +122,29 @@ bool RenderSettings::wants_aov(const std::string& name) const {
 }
 
 void apply_scene_settings(const SceneDescription& scene, RenderSettings& s) {
-  check_known_keys(scene.settings,
-                   {"width", "height", "spp", "soft_shadows", "shadow_samples", "bounces",
-                    "glossy_samples", "indirect", "edge_thickness", "crease_angle", "depth_threshold",
-                    "stencil_samples", "sphere_subdivisions", "smooth", "background", "seed", "bvh",
-                    "aov", "style", "band_rows"},
+  check_known_keys(scene.settings->table,
+                   {"width",
+                    "height",
+                    "spp",
+                    "soft_shadows",
+                    "shadow_samples",
+                    "bounces",
+                    "glossy_samples",
+                    "indirect",
+                    "edge_thickness",
+                    "crease_angle",
+                    "depth_threshold",
+                    "stencil_samples",
+                    "sphere_subdivisions",
+                    "smooth",
+                    "background",
+                    "seed",
+                    "bvh",
+                    "aov",
+                    "style",
+                    "band_rows"},
                    scene.path, "[settings]");
-  const SettingsReader r(scene.settings, scene.path);
+  const SettingsReader r(scene.settings->table, scene.path);
   r.integer("width", s.width);
   r.integer("height", s.height);
   r.integer("spp", s.spp);
@@ -142,7 +162,8 @@ void apply_scene_settings(const SceneDescription& scene, RenderSettings& s) {
   r.integer("band_rows", s.band_rows);
   r.color("background", s.background);
   if (const toml::node* n = r.get("seed")) {
-    if (!n->is_integer() || *n->value<std::int64_t>() < 0) r.fail("seed", "must be a non-negative integer");
+    if (!n->is_integer() || *n->value<std::int64_t>() < 0)
+      r.fail("seed", "must be a non-negative integer");
     s.seed = static_cast<std::uint64_t>(*n->value<std::int64_t>());
   }
   std::string bvh = s.bvh == bvh::BuildQuality::kLbvh ? "lbvh" : "sah";

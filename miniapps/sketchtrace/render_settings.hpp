@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "rtmini/bvh/bvh.hpp"
+#include "rtmini/bvh/build_quality.hpp"
 #include "rtmini/io/scene_file.hpp"
 
 namespace rtmini::sketch {

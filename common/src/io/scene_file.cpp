@@ -6,6 +6,7 @@
 #include <set>
 
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/scene_settings.hpp"
 
 namespace rtmini {
 namespace {
@@ -294,8 +295,10 @@ SceneDescription read_scene_file(const std::string& path) {
   for_each_table(root, "spheres", path, [&](const toml::table& t) {
     scene.spheres.push_back(read_sphere(TableReader(t, path, "[[spheres]]")));
   });
-  if (const toml::node* settings = root.get("settings"))
-    scene.settings = as_table(*settings, path, "[settings]");
+  auto settings = std::make_shared<SceneSettings>();
+  if (const toml::node* node = root.get("settings"))
+    settings->table = as_table(*node, path, "[settings]");
+  scene.settings = std::move(settings);
   return scene;
 }
 

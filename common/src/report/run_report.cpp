@@ -1,5 +1,6 @@
 #include "rtmini/report/run_report.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -42,7 +43,23 @@ RunSummary RunReport::finish(const Communicator& comm, const std::string& summar
     if (!totals.count(p.first)) order.push_back(p.first);
     totals[p.first] += p.second.second - p.second.first;
   }
-  for (const auto& name : order) s.phases.emplace_back(name, comm.max(totals[name]));
+  // Ranks may time different phases (rank 0 alone writes checkpoints): reduce over the
+  // union of all ranks' names, in first-seen order, so every rank makes the same calls.
+  std::vector<char> packed;
+  for (const auto& name : order)
+    packed.insert(packed.end(), name.c_str(), name.c_str() + name.size() + 1);
+  const std::vector<char> all = comm.allgatherv(packed);
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < all.size();) {
+    std::string name(all.data() + i);
+    i += name.size() + 1;
+    if (std::find(names.begin(), names.end(), name) == names.end())
+      names.push_back(std::move(name));
+  }
+  for (const auto& name : names) {
+    const auto it = totals.find(name);
+    s.phases.emplace_back(name, comm.max(it == totals.end() ? 0.0 : it->second));
+  }
   s.phases.emplace_back("total", comm.max(timer.now()));
   s.fom_name = fom_name;
   s.fom_unit = fom_unit;

@@ -7,6 +7,7 @@
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/obj_reader.hpp"
 #include "rtmini/io/scene_file.hpp"
+#include "rtmini/io/scene_settings.hpp"
 #include "rtmini/scene/primitives.hpp"
 
 namespace rtmini::ao {
@@ -33,9 +34,9 @@ long blockers_line(const std::string& path) {
 }
 
 std::set<std::size_t> read_blockers(const SceneDescription& desc) {
-  check_known_keys(desc.settings, {"blockers"}, desc.path, "settings");
+  check_known_keys(desc.settings->table, {"blockers"}, desc.path, "settings");
   std::set<std::size_t> out;
-  const toml::node* node = desc.settings.get("blockers");
+  const toml::node* node = desc.settings->table.get("blockers");
   if (node == nullptr) return out;
   const long line = blockers_line(desc.path);
   const toml::array* list = node->as_array();

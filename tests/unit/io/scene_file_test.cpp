@@ -6,6 +6,7 @@
 
 #include "io_test_util.hpp"
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/scene_settings.hpp"
 
 namespace rtmini {
 namespace {
@@ -118,10 +119,10 @@ TEST(SceneFile, ParsesEverySection) {
   EXPECT_FLOAT_EQ(s.spheres[0].material.shininess, 50.f);
   EXPECT_FLOAT_EQ(s.spheres[0].material.ior, 1.f);  // default kept
 
-  EXPECT_EQ(s.settings["spp"].value<int>(), 16);
-  EXPECT_NO_THROW(check_known_keys(s.settings, {"spp", "edges"}, s.path, "[settings]"));
+  EXPECT_EQ(s.settings->table["spp"].value<int>(), 16);
+  EXPECT_NO_THROW(check_known_keys(s.settings->table, {"spp", "edges"}, s.path, "[settings]"));
   try {
-    check_known_keys(s.settings, {"spp"}, s.path, "[settings]");
+    check_known_keys(s.settings->table, {"spp"}, s.path, "[settings]");
     FAIL() << "expected an unknown-key error";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), s.path + ":57: unknown key 'edges' in [settings]");
@@ -161,7 +162,8 @@ TEST(SceneFile, MinimalSceneUsesDefaults) {
   const SceneDescription s = read_scene_file(dir.file("empty.toml"));
   EXPECT_FALSE(s.has_camera);
   EXPECT_TRUE(s.lights.empty() && s.meshes.empty() && s.spheres.empty());
-  EXPECT_TRUE(s.settings.empty());
+  ASSERT_NE(s.settings, nullptr);
+  EXPECT_TRUE(s.settings->table.empty());
 }
 
 }  // namespace

@@ -40,6 +40,4 @@ Bvh<MemorySpace> build(const ExecSpace& space, Kokkos::View<const Triangle*, Mem
   return out;
 }
 
-inline const char* to_string(BuildQuality q) { return q == BuildQuality::kLbvh ? "lbvh" : "sah"; }
-
 }  // namespace rtmini::bvh

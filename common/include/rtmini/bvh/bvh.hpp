@@ -5,6 +5,7 @@
 // (Karras 2012, on any Kokkos backend) or build_sah.hpp (binned SAH, host).
 #include <cstdint>
 
+#include "rtmini/bvh/build_quality.hpp"
 #include "rtmini/geometry/aabb.hpp"
 #include "rtmini/geometry/triangle.hpp"
 
@@ -43,7 +44,6 @@ struct alignas(16) BvhNode {
   }
 };
 
-enum class BuildQuality { kLbvh, kSah };
 
 // Device-resident BVH. tris and prim are in leaf order; prim maps a leaf slot
 // back to the caller's triangle index, which is what queries report.

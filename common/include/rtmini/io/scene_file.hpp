@@ -16,12 +16,12 @@
 //
 // Unknown keys, wrong types, bad values and missing mesh files are InputErrors
 // "file:line: reason" pointing at the offending TOML line.
-#include <toml++/toml.h>
-
-#include <initializer_list>
+//
+// This header does not include toml++ (nvcc cannot parse it), so device code may include
+// it; the [settings] table is reached through io/scene_settings.hpp in host-only files.
+#include <memory>
 #include <optional>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include "rtmini/geometry/vec.hpp"
@@ -78,6 +78,9 @@ struct SphereDesc {
   long line = 0;
 };
 
+// The raw [settings] table (defined in io/scene_settings.hpp).
+struct SceneSettings;
+
 struct SceneDescription {
   std::string path;  // the TOML file, for error messages
   bool has_camera = false;
@@ -87,16 +90,11 @@ struct SceneDescription {
   std::vector<MeshDesc> meshes;
   std::vector<SphereDesc> spheres;
   Vec3f ambient{0.f, 0.f, 0.f};
-  toml::table settings;
+  std::shared_ptr<const SceneSettings> settings;  // never null after read_scene_file
 };
 
 // Parses and validates a scene file; InputError "file:line: reason" on any problem.
 SceneDescription read_scene_file(const std::string& path);
-
-// Every key of `table` must be in `known`, else InputError
-// "file:line: unknown key 'foo' in [where]".
-void check_known_keys(const toml::table& table, std::initializer_list<std::string_view> known,
-                      const std::string& file, const std::string& where);
 
 // Material{} defaults with the override's fields applied.
 Material make_material(const MaterialOverride& fields);
