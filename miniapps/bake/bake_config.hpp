@@ -34,7 +34,4 @@ struct BakeConfig {
 inline const char* to_string(Lookup l) { return l == Lookup::kKdTree ? "kdtree" : "sf"; }
 inline const char* to_string(Balance b) { return b == Balance::kStatic ? "static" : "cost"; }
 
-// Exit code of a run stopped early with a valid checkpoint (time limit, SIGTERM/SIGUSR1).
-inline constexpr int kExitCheckpointed = 4;
-
 }  // namespace rtmini::bake

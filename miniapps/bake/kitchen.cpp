@@ -18,14 +18,11 @@
 #include "rtmini/io/timings.hpp"
 #include "rtmini/report/hash.hpp"
 #include "rtmini/report/run_report.hpp"
+#include "rtmini/report/stop_request.hpp"
 #include "rtmini/report/version.hpp"
 
 namespace rtmini::bake {
 namespace {
-
-// Set by SIGTERM/SIGUSR1 (a batch system's warning), read between iterations.
-volatile std::sig_atomic_t g_stop_requested = 0;
-extern "C" void request_stop(int) { g_stop_requested = 1; }
 
 using Exec = Kokkos::DefaultExecutionSpace;
 
@@ -95,8 +92,8 @@ std::uint64_t map_hash(const BakeSceneDevice& s, Kokkos::View<const Vec3f*, MemS
                 hash_term(hash_term(static_cast<std::uint64_t>(quantise(c.x)),
                                     static_cast<std::uint64_t>(quantise(c.y))),
                           static_cast<std::uint64_t>(quantise(c.z)));
-            acc += hash_term(static_cast<std::uint64_t>(v) * static_cast<std::uint64_t>(n) + i,
-                             value);
+            acc +=
+                hash_term(static_cast<std::uint64_t>(v) * static_cast<std::uint64_t>(n) + i, value);
           }
         },
         h);
@@ -233,8 +230,7 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
   PhaseTimer& timer = report.timer;
   const bool root = comm.is_root();
   const bool progress = c.progress || ::isatty(2);
-  std::signal(SIGTERM, request_stop);
-  std::signal(SIGUSR1, request_stop);
+  install_stop_handlers();
 
   timer.start("read");
   const Mesh mesh = read_mesh(c.input);
@@ -257,7 +253,8 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
     my_cache_offset.push_back(my_items);
     my_items += host.color_offset[b.end] - host.color_offset[b.begin];
   }
-  const MemoryEstimate mem = estimate_memory(mesh, host, my_items, my_vertices, iterations, c, root);
+  const MemoryEstimate mem =
+      estimate_memory(mesh, host, my_items, my_vertices, iterations, c, root);
   const double max_mem = comm.max(static_cast<double>(mem.total()));
 
   nlohmann::json params = {{"input", c.input},
@@ -279,12 +276,10 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
                            {"checkpoint", c.checkpoint},
                            {"restart", c.restart}};
   report.parameters = params;
-  report.scene = {{"vertices", host.vertices()},
-                  {"faces", mesh.faces.size()},
-                  {"triangles", mesh.triangle_count()},
-                  {"reflective_vertices", host.reflective_vertices},
-                  {"emissive_faces", host.lights.size()},
-                  {"colors", host.colors()}};
+  report.scene = {
+      {"vertices", host.vertices()},          {"faces", mesh.faces.size()},
+      {"triangles", mesh.triangle_count()},   {"reflective_vertices", host.reflective_vertices},
+      {"emissive_faces", host.lights.size()}, {"colors", host.colors()}};
   if (root) {
     std::printf("%s\n", build_banner().c_str());
     std::printf("bake: view-dependent ray-trace map (Robinson & Jacoby-Cooper), %d rank(s)\n",
@@ -301,10 +296,11 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
       std::printf("  note: no reflective vertex and no gather rays: iterations 1..%d skipped\n",
                   c.iterations);
     if (host.lights.empty()) std::printf("  note: no emissive faces: no shadow rays\n");
-    std::printf("  memory estimate (max over ranks): %s (scene %s, maps %s, hit cache %s, host %s)\n",
-                human_bytes(max_mem).c_str(), human_bytes(double(mem.scene)).c_str(),
-                human_bytes(double(mem.maps)).c_str(), human_bytes(double(mem.hit_cache)).c_str(),
-                human_bytes(double(mem.host)).c_str());
+    std::printf(
+        "  memory estimate (max over ranks): %s (scene %s, maps %s, hit cache %s, host %s)\n",
+        human_bytes(max_mem).c_str(), human_bytes(double(mem.scene)).c_str(),
+        human_bytes(double(mem.maps)).c_str(), human_bytes(double(mem.hit_cache)).c_str(),
+        human_bytes(double(mem.host)).c_str());
     std::fflush(stdout);
   }
   if (c.max_memory > 0 && max_mem > static_cast<double>(c.max_memory)) {
@@ -340,9 +336,10 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
   if (!c.restart.empty()) {
     map = std::move(restart_cp.colors);
     first = restart_cp.iteration + 1;
-    Kokkos::deep_copy(prev, Kokkos::View<const Vec3f*, Kokkos::HostSpace,
-                                         Kokkos::MemoryTraits<Kokkos::Unmanaged>>(map.data(),
-                                                                                  map.size()));
+    Kokkos::deep_copy(
+        prev,
+        Kokkos::View<const Vec3f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
+            map.data(), map.size()));
     if (root)
       std::printf("  restart: iteration %d of %s done, resuming at %d\n", restart_cp.iteration,
                   c.restart.c_str(), first);
@@ -351,8 +348,9 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
   std::vector<IterationRecord> iter_records;
   std::vector<ChunkRecord> chunks;
   std::vector<Vec3f> pack(static_cast<std::size_t>(my_items));
-  const bool contiguous_in_rank_order = std::is_sorted(
-      batches.begin(), batches.end(), [](const Batch& a, const Batch& b) { return a.rank < b.rank; });
+  const bool contiguous_in_rank_order =
+      std::is_sorted(batches.begin(), batches.end(),
+                     [](const Batch& a, const Batch& b) { return a.rank < b.rank; });
   bool cache_filled = false;
   double idle = 0, completion = 0;
   int exit_code = kExitOk;
@@ -360,25 +358,25 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
   for (int it = first; it <= iterations; ++it) {
     IterationRecord rec;
     const double t0 = timer.now();
-    const HitCacheMode mode = it == 0 ? HitCacheMode::kOff
-                              : cache_filled ? HitCacheMode::kUse
+    const HitCacheMode mode = it == 0           ? HitCacheMode::kOff
+                              : cache_filled    ? HitCacheMode::kUse
                               : it < iterations ? HitCacheMode::kFill
                                                 : HitCacheMode::kOff;
     std::size_t packed = 0;
     for (std::size_t k = 0; k < my_ranges.size(); ++k) {
       const VertexRange r = my_ranges[k];
       const double cs = timer.now();
-      const std::int64_t crays = chef.bake_iteration(it, r.begin, r.end, my_cache_offset[k], mode,
-                                                     prev, next);
+      const std::int64_t crays =
+          chef.bake_iteration(it, r.begin, r.end, my_cache_offset[k], mode, prev, next);
       Kokkos::fence();
       const std::int64_t ib = host.color_offset[r.begin], ie = host.color_offset[r.end];
       chunks.push_back({comm.rank(), it, ie - ib, crays, cs, timer.now()});
       rays += crays;
       work += ie - ib;
-      Kokkos::deep_copy(Kokkos::View<Vec3f*, Kokkos::HostSpace,
-                                     Kokkos::MemoryTraits<Kokkos::Unmanaged>>(pack.data() + packed,
-                                                                              ie - ib),
-                        Kokkos::subview(next, std::make_pair(ib, ie)));
+      Kokkos::deep_copy(
+          Kokkos::View<Vec3f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
+              pack.data() + packed, ie - ib),
+          Kokkos::subview(next, std::make_pair(ib, ie)));
       packed += static_cast<std::size_t>(ie - ib);
     }
     if (mode == HitCacheMode::kFill) cache_filled = true;
@@ -402,13 +400,15 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
       for (const Batch& b : batches) {
         const std::int64_t ib = host.color_offset[b.begin], ie = host.color_offset[b.end];
         std::copy(gathered.begin() + rank_start[b.rank] + pos[b.rank],
-                  gathered.begin() + rank_start[b.rank] + pos[b.rank] + (ie - ib), map.begin() + ib);
+                  gathered.begin() + rank_start[b.rank] + pos[b.rank] + (ie - ib),
+                  map.begin() + ib);
         pos[b.rank] += static_cast<std::size_t>(ie - ib);
       }
     }
-    Kokkos::deep_copy(prev, Kokkos::View<const Vec3f*, Kokkos::HostSpace,
-                                         Kokkos::MemoryTraits<Kokkos::Unmanaged>>(map.data(),
-                                                                                  map.size()));
+    Kokkos::deep_copy(
+        prev,
+        Kokkos::View<const Vec3f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
+            map.data(), map.size()));
     const double t2 = timer.now();
     rec.allgather = t2 - t_wait;
     rec.allgather_bytes = comm.bytes_sent() - bytes_before;
@@ -433,11 +433,9 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
     // Stop early with a valid checkpoint: test hook, signal, or a time limit the next
     // iteration (estimated from this one) would overrun. All ranks decide together.
     const double elapsed = timer.now(), last = elapsed - t0;
-    const bool over_time =
-        c.time_limit_minutes > 0 && elapsed + last > c.time_limit_minutes * 60.0;
-    const bool stop = comm.max((c.stop_after_iteration == it || g_stop_requested || over_time)
-                                   ? 1.0
-                                   : 0.0) > 0.5;
+    const bool over_time = c.time_limit_minutes > 0 && elapsed + last > c.time_limit_minutes * 60.0;
+    const bool stop =
+        comm.max((c.stop_after_iteration == it || stop_requested() || over_time) ? 1.0 : 0.0) > 0.5;
     if (stop) {
       if (root)
         std::fprintf(stderr, "bake: stopping after iteration %d (%s); %s\n", it,
@@ -473,14 +471,14 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
   report.scene["rays_per_second"] = bake_time > 0 ? total_rays / bake_time : 0.0;
   report.scene["output_bytes"] = ws.file_bytes;
   if (!c.timings.empty())
-    write_timings_file(comm, c, timer,
-                       {"read", "setup", "base", "iterate", "write"}, iter_records, chunks,
-                       completion, idle, rays, work, params.dump());
+    write_timings_file(comm, c, timer, {"read", "setup", "base", "iterate", "write"}, iter_records,
+                       chunks, completion, idle, rays, work, params.dump());
   if (root) {
-    std::printf("  bake time %.4f s (base + iterations), %.4g rays (%.4g Mrays/s), write %.4f s, "
-                "%s written\n",
-                bake_time, total_rays, bake_time > 0 ? total_rays / bake_time * 1e-6 : 0.0,
-                ws.seconds, human_bytes(double(ws.file_bytes)).c_str());
+    std::printf(
+        "  bake time %.4f s (base + iterations), %.4g rays (%.4g Mrays/s), write %.4f s, "
+        "%s written\n",
+        bake_time, total_rays, bake_time > 0 ? total_rays / bake_time * 1e-6 : 0.0, ws.seconds,
+        human_bytes(double(ws.file_bytes)).c_str());
   }
   report.finish(comm, c.summary);
   return kExitOk;

@@ -14,7 +14,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
   f.set_attribute("/", "width", static_cast<std::int64_t>(c.width));
   f.set_attribute("/", "height", static_cast<std::int64_t>(c.height));
   f.set_attribute("/", "pixel_bytes", static_cast<std::int64_t>(sizeof(PixelResult)));
-  f.write("/rows/done", c.row_done);
+  f.write("/pixels/done", c.done);
   std::vector<std::uint8_t> bytes(c.pixels.size() * sizeof(PixelResult));
   if (!bytes.empty()) std::memcpy(bytes.data(), c.pixels.data(), bytes.size());
   f.write("/pixels/raw", bytes);
@@ -31,9 +31,9 @@ Checkpoint read_checkpoint(const std::string& path) {
     c.signature = f.string_attribute("/", "signature");
     c.width = static_cast<int>(f.int_attribute("/", "width"));
     c.height = static_cast<int>(f.int_attribute("/", "height"));
-    c.row_done = f.read<std::uint8_t>("/rows/done");
+    c.done = f.read<std::uint8_t>("/pixels/done");
     const std::vector<std::uint8_t> bytes = f.read<std::uint8_t>("/pixels/raw");
-    if (c.row_done.size() != static_cast<std::size_t>(c.height) ||
+    if (c.done.size() != static_cast<std::size_t>(c.width) * c.height ||
         bytes.size() != static_cast<std::size_t>(c.width) * c.height * sizeof(PixelResult))
       throw InputError(path + ": checkpoint datasets have the wrong size");
     c.pixels.resize(bytes.size() / sizeof(PixelResult));

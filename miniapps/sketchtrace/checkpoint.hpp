@@ -1,6 +1,6 @@
 #pragma once
-// Checkpoint/restart of a render (ARCHITECTURE §6): rank 0 keeps the rows finished
-// so far and writes them, atomically, to an HDF5 file; a restart skips those rows.
+// Checkpoint/restart of a render (ARCHITECTURE §6): rank 0 keeps the pixels finished
+// so far and writes them, atomically, to an HDF5 file; a restart renders only the others.
 // Pixels depend only on (scene, parameters, seed, pixel), so a resumed render is
 // bit-identical to an uninterrupted one. The file carries a signature of the
 // parameters and refuses a restart with different ones.
@@ -15,8 +15,8 @@ namespace rtmini::sketch {
 struct Checkpoint {
   int width = 0, height = 0;
   std::string signature;            // parameters + scene, as JSON text
-  std::vector<std::uint8_t> row_done;  // [height]
-  std::vector<PixelResult> pixels;     // [width * height], valid on done rows
+  std::vector<std::uint8_t> done;    // [width * height], 1 = finished
+  std::vector<PixelResult> pixels;   // [width * height], valid where done
 };
 
 void write_checkpoint(const std::string& path, const Checkpoint& c);

@@ -73,15 +73,19 @@ void CliOverrides::add_to(CLI::App& app, RunOptions& run) {
   app.add_option("--bvh", bvh_, "lbvh|sah");
   app.add_option("--aov", aov_, "Comma list of depth,normal,object,cost,edge");
   app.add_option("--style", style_, "Hand-drawn post-process: sketch|color-pencil|none");
-  app.add_option("--band-rows", band_rows_, "Rows per render batch");
+  app.add_option("--chunk-pixels", chunk_pixels_, "Pixels per render dispatch (0 = auto)");
   app.add_flag("--stats", stats_, "Count ray-triangle tests per ray (vs brute force)");
   app.add_option("--summary", run.summary, "Write the run summary JSON");
   app.add_option("--timings", run.timings, "Write per-rank timings (HDF5)");
   app.add_option("--checkpoint", run.checkpoint, "Write progress to this HDF5 file");
   app.add_option("--checkpoint-interval", run.checkpoint_interval, "Seconds between checkpoints");
   app.add_option("--restart", run.restart, "Resume from this checkpoint");
-  app.add_option("--stop-after-bands", run.stop_after_bands,
-                 "Testing: stop as if killed after this many bands (needs --checkpoint)");
+  app.add_option("--stop-after-chunks", run.stop_after_chunks,
+                 "Testing: stop as on SIGTERM after this many dispatches per rank (checkpoint, exit 4)");
+  app.add_option("--time-limit", run.time_limit_minutes,
+                 "Wall-clock minutes: stop in time to checkpoint and exit 4 (0 = none)");
+  app.add_option("--balance", run.balance, "static|metric|chunks|bargain|queue|steal");
+  app.add_option("--cost-map", run.cost_map, "Keep the probed cost map in this HDF5 file and reuse it");
   app.add_flag("--progress", run.progress, "Progress on stderr");
   app.add_option("--reference", run.reference, "Reference image: report the linear RGB RMSE");
   app.add_option("--max-rmse", run.max_rmse, "With --reference: exit 1 when the RMSE is larger");
@@ -104,7 +108,7 @@ void CliOverrides::apply(RenderSettings& s) const {
   if (given("--stencil-samples")) s.stencil_samples = stencil_samples_;
   if (given("--sphere-subdivisions")) s.sphere_subdivisions = sphere_subdivisions_;
   if (given("--smooth")) s.smooth = on_off("--smooth", smooth_);
-  if (given("--band-rows")) s.band_rows = band_rows_;
+  if (given("--chunk-pixels")) s.chunk_pixels = chunk_pixels_;
   if (given("--ambient")) {
     const Vec3d a = vec3("--ambient", ambient_);
     if (a.x < 0 || a.y < 0 || a.z < 0) throw InputError("--ambient: must be non-negative");

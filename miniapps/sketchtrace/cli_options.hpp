@@ -14,7 +14,10 @@ struct RunOptions {
   std::string output;
   std::string summary, timings, checkpoint, restart;
   double checkpoint_interval = 60.0;  // seconds between checkpoint writes
-  int stop_after_bands = -1;          // testing: leave as if killed after this many bands
+  int stop_after_chunks = -1;         // testing: stop as on SIGTERM after this many dispatches
+  double time_limit_minutes = 0;      // stop in time to checkpoint (0 = no limit)
+  std::string balance = "static";     // load-balancing strategy (schedule.hpp)
+  std::string cost_map;               // keep/reuse the probed cost map here
   bool progress = false;
   std::string reference;   // compare the colour image with this image (linear RMSE)
   double max_rmse = -1.0;  // exit 1 when the RMSE exceeds this (when >= 0)
@@ -32,7 +35,7 @@ class CliOverrides {
  private:
   CLI::App* app_ = nullptr;
   int width_ = 0, height_ = 0, spp_ = 0, shadow_samples_ = 0, bounces_ = 0, glossy_ = 0;
-  int stencil_samples_ = 0, sphere_subdivisions_ = 0, band_rows_ = 0;
+  int stencil_samples_ = 0, sphere_subdivisions_ = 0, chunk_pixels_ = 0;
   std::string soft_shadows_, indirect_, smooth_, bvh_, aov_, style_;
   double edge_thickness_ = 0, crease_angle_ = 0, depth_threshold_ = 0;
   std::string ambient_, background_, camera_pos_, look_at_, up_, shutter_, velocity_;

@@ -1,7 +1,9 @@
 // sketchtrace: the hand-drawn seed's ray tracer with the distribution seed's
-// effects, as a Kokkos + MPI mini-app. Rank r renders rows [r H / P, (r+1) H / P)
-// (the seed's naive split, §3.2) through the chunk interface that load balancers
-// reuse; rank 0 gathers the pixels and writes the image, AOVs and post-process.
+// effects, as a Kokkos + MPI mini-app. A scheduler (--balance, schedule.hpp) hands
+// each rank ranges of pixels; finished pixels flow to rank 0 in batches
+// (result_sink.hpp), which checkpoints them and writes the image, AOVs and
+// post-process. --time-limit, SIGTERM and SIGUSR1 stop the run cleanly: checkpoint,
+// exit 4; --restart renders only the missing pixels.
 #include <unistd.h>
 
 #include <algorithm>
@@ -14,15 +16,19 @@
 
 #include "checkpoint.hpp"
 #include "cli_options.hpp"
+#include "cost_map.hpp"
 #include "frame_output.hpp"
 #include "render_scene.hpp"
 #include "renderer.hpp"
+#include "result_sink.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/timings.hpp"
 #include "rtmini/report/app_main.hpp"
 #include "rtmini/report/hash.hpp"
 #include "rtmini/report/run_report.hpp"
+#include "rtmini/report/stop_request.hpp"
 #include "rtmini/report/version.hpp"
+#include "schedule.hpp"
 
 namespace rtmini::sketch {
 namespace {
@@ -52,9 +58,12 @@ nlohmann::json parameters_json(const RenderSettings& s) {
   p["smooth"] = s.smooth;
   p["background"] = vec_json(s.background);
   p["ambient"] = vec_json(s.ambient);
-  p["camera"] = {{"position", vec_json(s.camera.position)},  {"look_at", vec_json(s.camera.look_at)},
-                 {"up", vec_json(s.camera.up)},              {"fov_deg", s.camera.fov_deg},
-                 {"aperture", s.camera.aperture},            {"focus_distance", s.camera.focus_distance},
+  p["camera"] = {{"position", vec_json(s.camera.position)},
+                 {"look_at", vec_json(s.camera.look_at)},
+                 {"up", vec_json(s.camera.up)},
+                 {"fov_deg", s.camera.fov_deg},
+                 {"aperture", s.camera.aperture},
+                 {"focus_distance", s.camera.focus_distance},
                  {"shutter", {s.camera.shutter_open, s.camera.shutter_close}},
                  {"velocity", vec_json(s.camera.velocity)}};
   p["seed"] = s.seed;
@@ -72,23 +81,24 @@ std::string extension(const std::string& path) {
   return e;
 }
 
-// Rows [begin, end) of this rank not already done, cut into bands of at most band_rows.
-std::vector<PixelChunk> my_bands(int rank, int ranks, const RenderSettings& s, const std::vector<std::uint8_t>& done) {
-  const int begin = static_cast<int>(static_cast<long long>(rank) * s.height / ranks);
-  const int end = static_cast<int>(static_cast<long long>(rank + 1) * s.height / ranks);
-  std::vector<PixelChunk> bands;
-  int y = begin;
-  while (y < end) {
-    if (!done.empty() && done[y]) {
-      ++y;
-      continue;
-    }
-    int h = 0;
-    while (y + h < end && h < s.band_rows && (done.empty() || !done[y + h])) ++h;
-    bands.push_back({0, y, s.width, h});
-    y += h;
-  }
-  return bands;
+// Pixels per dispatch: about 1/64 of a rank's share, whole tiles, 256..65536.
+std::int64_t dispatch_pixels(const RenderSettings& s, std::int64_t pixels, int ranks) {
+  if (s.chunk_pixels > 0) return s.chunk_pixels;
+  const std::int64_t share = pixels / (64 * static_cast<std::int64_t>(ranks));
+  return std::clamp<std::int64_t>(share / (kTile * kTile) * (kTile * kTile), 256, 65536);
+}
+
+// "[######......]  42.0%  1.3 Mpx/s  ETA 0:00:12" on stderr, at most twice a second.
+void show_progress(double fraction, double rate, double now, double& last, bool final) {
+  if (!final && now - last < 0.5) return;
+  last = now;
+  const int width = 30, filled = static_cast<int>(fraction * width + 0.5);
+  const double eta = rate > 0 ? (1.0 - fraction) / rate : 0.0;
+  const long e = static_cast<long>(eta + 0.5);
+  std::fprintf(stderr, "\rsketchtrace: [%s%s] %5.1f%%  ETA %ld:%02ld:%02ld%s",
+               std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(),
+               100.0 * fraction, e / 3600, e / 60 % 60, e % 60, final ? "\n" : "");
+  std::fflush(stderr);
 }
 
 struct BandRecord {
@@ -98,8 +108,9 @@ struct BandRecord {
 };
 
 void write_timings_file(const std::string& path, const Communicator& comm, const RunReport& report,
-                        const std::vector<BandRecord>& bands, double completion, double render_end,
-                        std::int64_t rays, std::int64_t pixels, const std::string& scene_name) {
+                        const std::vector<BandRecord>& bands, double completion, double idle,
+                        std::int64_t rays, std::int64_t pixels, const std::string& scene_name,
+                        const std::string& strategy) {
   std::vector<std::string> names;
   std::map<std::string, std::pair<double, double>> span;
   for (const auto& ph : report.timer.phases()) {
@@ -118,7 +129,7 @@ void write_timings_file(const std::string& path, const Communicator& comm, const
   const auto all_bands = comm.gatherv(bands);
   std::vector<std::int64_t> band_rank(bands.size(), comm.rank());
   const auto all_band_rank = comm.gatherv(band_rank);
-  const std::vector<double> mine_d = {completion, render_end - completion};
+  const std::vector<double> mine_d = {completion, idle};
   const std::vector<std::int64_t> mine_i = {comm.messages_sent(), comm.bytes_sent(), rays, pixels};
   const auto all_d = comm.gatherv(mine_d);
   const auto all_i = comm.gatherv(mine_i);
@@ -128,7 +139,7 @@ void write_timings_file(const std::string& path, const Communicator& comm, const
   t.version = version_string();
   t.git_hash = git_hash();
   t.backend = compat::backend_name();
-  t.strategy = "static";
+  t.strategy = strategy;
   t.scene = scene_name;
   t.parameters = report.parameters.dump();
   t.ranks = comm.size();
@@ -186,17 +197,20 @@ int run(Communicator& comm, int argc, char** argv) {
   validate_settings(s, "command line");
   if (!opt.output.empty()) check_output_path(opt.output);
 #ifndef RTMINI_SKETCH_HAVE_NPR
-  if (s.style != "none") throw InputError("--style " + s.style + ": this build has no hand-drawn passes");
+  if (s.style != "none")
+    throw InputError("--style " + s.style + ": this build has no hand-drawn passes");
 #endif
-  if (opt.stop_after_bands >= 0 && opt.checkpoint.empty())
-    throw InputError("--stop-after-bands needs --checkpoint");
+  const Balance balance = parse_balance(opt.balance);
+  if (!(opt.time_limit_minutes >= 0))
+    throw InputError("--time-limit must be >= 0 minutes (got " +
+                     std::to_string(opt.time_limit_minutes) + ")");
+  if (!(opt.checkpoint_interval > 0)) throw InputError("--checkpoint-interval must be > 0 seconds");
   const HostScene scene = build_scene(opt.input, desc.get(), s);
   cli.apply_camera(s);
   validate_settings(s, "command line");
   report.timer.stop();
 
   report.parameters = parameters_json(s);
-  report.parameters["band_rows"] = s.band_rows;
   const std::size_t pixels_total = static_cast<std::size_t>(s.width) * s.height;
 
   report.timer.start("upload");
@@ -212,111 +226,154 @@ int run(Communicator& comm, int argc, char** argv) {
                   {"mesh_lights", ds.num_mesh_lights},
                   {"point_lights", ds.num_points}};
   if (comm.is_root()) {
-    const double frame_bytes = static_cast<double>(pixels_total) * (sizeof(PixelResult) + 11 * sizeof(float));
+    const double frame_bytes =
+        static_cast<double>(pixels_total) * (sizeof(PixelResult) + 11 * sizeof(float));
     std::printf("%s\n", build_banner().c_str());
     std::printf("sketchtrace: input %s, output %s\n", opt.input.c_str(),
                 opt.output.empty() ? "(none)" : opt.output.c_str());
     std::printf("  parameters: %s\n", report.parameters.dump().c_str());
     std::printf("  scene: %s\n", report.scene.dump().c_str());
-    std::printf("  kernel features: %s, ranks %d, threads per rank %d\n", feature_names(renderer.features()).c_str(),
-                comm.size(), compat::concurrency());
+    std::printf("  kernel features: %s, ranks %d, threads per rank %d\n",
+                feature_names(renderer.features()).c_str(), comm.size(), compat::concurrency());
     std::printf("  memory estimate: scene %.1f MiB per rank, frame %.1f MiB on rank 0\n",
                 static_cast<double>(ds.bytes) / 1048576.0, frame_bytes / 1048576.0);
     std::fflush(stdout);
   }
 
-  // Restart: rank 0 reads the finished rows, every rank learns which rows to skip.
+  // Restart: rank 0 reads the finished pixels, every rank learns which to skip.
   std::vector<std::uint8_t> done;
   std::vector<PixelResult> frame_pixels;  // rank 0: the whole image
-  if (comm.is_root()) frame_pixels.assign(pixels_total, PixelResult{});
+  if (comm.is_root()) {
+    frame_pixels.assign(pixels_total, PixelResult{});
+    done.assign(pixels_total, 0);
+  }
   const std::string signature = report.parameters.dump() + "|" + opt.input;
   if (!opt.restart.empty()) {
     if (comm.is_root()) {
       Checkpoint c = read_checkpoint(opt.restart);
       if (c.width != s.width || c.height != s.height || c.signature != signature)
-        throw InputError(opt.restart + ": checkpoint was written with different parameters or scene");
-      done = c.row_done;
+        throw InputError(opt.restart +
+                         ": checkpoint was written with different parameters or scene");
+      done = std::move(c.done);
       frame_pixels = std::move(c.pixels);
     }
     comm.broadcast(done);
   }
+  const PixelOrder order(s.width, s.height, done);
+  if (!comm.is_root()) done.clear();
+  const std::int64_t batch = dispatch_pixels(s, order.size(), comm.size());
 
-  const std::vector<PixelChunk> bands = my_bands(comm.rank(), comm.size(), s, done);
+  CostMap cost;
+  if (needs_cost_map(balance)) {
+    report.timer.start("probe");
+    bool reused = false;
+    cost = make_cost_map(renderer, comm, s.width, s.height, opt.cost_map, signature, reused);
+    report.timer.stop();
+    if (comm.is_root())
+      std::printf("  cost map: %s (%d x %d probes)\n",
+                  reused ? ("reused " + opt.cost_map).c_str() : "probed", cost.grid_w, cost.grid_h);
+  }
+  report.parameters["balance"] = to_string(balance);
+  if (comm.is_root()) {
+    std::printf("  balance: %s, %lld pixels to render, %lld per dispatch\n", to_string(balance),
+                static_cast<long long>(order.size()), static_cast<long long>(batch));
+    std::fflush(stdout);
+  }
+
+  install_stop_handlers();
   const bool checkpointing = !opt.checkpoint.empty();
   const bool progress = opt.progress || isatty(STDERR_FILENO);
-  const int iterations = checkpointing ? static_cast<int>(comm.max(static_cast<double>(bands.size())))
-                                       : static_cast<int>(bands.size());
+  const double limit_s = opt.time_limit_minutes * 60.0;
+  const double reserve = std::min(60.0, 0.05 * limit_s);  // for the final gather and checkpoint
+  ResultSink sink(comm, order, frame_pixels, done,
+                  checkpointing ? opt.checkpoint_interval : (progress ? 1.0 : 0.0));
+  const std::unique_ptr<Scheduler> scheduler =
+      make_scheduler(balance, comm, order, needs_cost_map(balance) ? &cost : nullptr, batch);
   std::vector<BandRecord> records;
-  std::vector<PixelResult> mine, band_out;
-  std::vector<std::int32_t> mine_rows;
+  std::vector<PosRange> ranges;
+  std::vector<std::int64_t> list;
+  std::vector<PixelResult> out;
   std::int64_t rays = 0, tests = 0, rendered = 0;
-  double last_checkpoint = report.timer.now();
-  if (comm.is_root() && done.empty()) done.assign(s.height, 0);
-  int stopped_after = -1;
-  for (int it = 0; it < iterations; ++it) {
-    band_out.clear();
-    std::vector<std::int32_t> rows;
-    if (it < static_cast<int>(bands.size())) {
-      report.timer.start("render");
-      const double t0 = report.timer.now();
-      renderer.render({bands[it]}, band_out);
-      report.timer.stop();
-      std::int64_t band_rays = 0;
-      for (const PixelResult& p : band_out) {
-        band_rays += p.rays;
-        tests += static_cast<std::int64_t>(p.tests);
-      }
-      rays += band_rays;
-      rendered += static_cast<std::int64_t>(band_out.size());
-      records.push_back({t0, report.timer.now(), static_cast<std::int64_t>(band_out.size()), band_rays, it});
-      for (int y = bands[it].y0; y < bands[it].y0 + bands[it].h; ++y) rows.push_back(y);
-      if (progress && comm.is_root())
-        std::fprintf(stderr, "sketchtrace: rank 0 band %d/%zu done\n", it + 1, bands.size());
+  double last_checkpoint = report.timer.now(), last_dispatch = 0.0, last_progress = 0.0;
+  const double render_start = report.timer.now();
+  bool stopping = false;
+  std::string stop_reason;
+  auto should_stop = [&]() {
+    if (stop_requested())
+      stop_reason = "stop signal";
+    else if (limit_s > 0 && report.timer.now() + 2.0 * last_dispatch + reserve > limit_s)
+      stop_reason = "time limit";
+    else if (opt.stop_after_chunks >= 0 &&
+             static_cast<int>(records.size()) >= opt.stop_after_chunks)
+      stop_reason = "--stop-after-chunks";
+    else
+      return false;
+    return true;
+  };
+  report.timer.start("render");
+  for (;;) {
+    if (should_stop()) {
+      stopping = true;
+      break;
     }
-    if (!checkpointing) {
-      mine.insert(mine.end(), band_out.begin(), band_out.end());
-      mine_rows.insert(mine_rows.end(), rows.begin(), rows.end());
-      continue;
+    if (!scheduler->next(ranges, should_stop)) {
+      stopping = !stop_reason.empty();
+      break;
     }
-    report.timer.start("gather");
-    const auto all_rows = comm.gatherv(rows);
-    const auto all_pixels = comm.gatherv(band_out);
-    report.timer.stop();
+    list.clear();
+    for (const PosRange& r : ranges)
+      for (std::int64_t pos = r.begin; pos < r.end; ++pos) list.push_back(order.pixel(pos));
+    const double t0 = report.timer.now();
+    renderer.render_pixels(list, out);
+    const double t1 = report.timer.now();
+    last_dispatch = t1 - t0;
+    std::int64_t chunk_rays = 0;
+    for (const PixelResult& p : out) {
+      chunk_rays += p.rays;
+      tests += static_cast<std::int64_t>(p.tests);
+    }
+    rays += chunk_rays;
+    rendered += static_cast<std::int64_t>(out.size());
+    records.push_back({t0, t1, static_cast<std::int64_t>(out.size()), chunk_rays,
+                       static_cast<std::int64_t>(records.size())});
+    sink.add(ranges, out, t1);
+    sink.poll(t1);
     if (comm.is_root()) {
-      for (std::size_t k = 0; k < all_rows.size(); ++k) {
-        std::copy_n(all_pixels.begin() + static_cast<std::ptrdiff_t>(k * s.width), s.width,
-                    frame_pixels.begin() + static_cast<std::ptrdiff_t>(all_rows[k]) * s.width);
-        done[all_rows[k]] = 1;
-      }
-      const bool stop = opt.stop_after_bands >= 0 && it + 1 >= opt.stop_after_bands;
-      if (stop || it + 1 == iterations || report.timer.now() - last_checkpoint >= opt.checkpoint_interval) {
+      if (checkpointing && t1 - last_checkpoint >= opt.checkpoint_interval) {
         report.timer.start("checkpoint");
         write_checkpoint(opt.checkpoint, {s.width, s.height, signature, done, frame_pixels});
         report.timer.stop();
         last_checkpoint = report.timer.now();
       }
-    }
-    if (opt.stop_after_bands >= 0 && it + 1 >= opt.stop_after_bands) {
-      stopped_after = it + 1;
-      break;
+      if (progress) {
+        const double f = static_cast<double>(sink.merged()) /
+                         std::max<double>(1.0, static_cast<double>(order.size()));
+        show_progress(f, f / std::max(1e-9, t1 - render_start), t1, last_progress, false);
+      }
     }
   }
   const double completion = report.timer.now();
-  if (!checkpointing) {
-    report.timer.start("gather");
-    const auto all_rows = comm.gatherv(mine_rows);
-    const auto all_pixels = comm.gatherv(mine);
-    report.timer.stop();
-    if (comm.is_root())
-      for (std::size_t k = 0; k < all_rows.size(); ++k)
-        std::copy_n(all_pixels.begin() + static_cast<std::ptrdiff_t>(k * s.width), s.width,
-                    frame_pixels.begin() + static_cast<std::ptrdiff_t>(all_rows[k]) * s.width);
-  }
+  report.timer.stop();
+  report.timer.start("gather");
+  scheduler->finish(stopping);
+  sink.finish();
+  report.timer.stop();
   const double render_end = comm.max(completion);
+  const double idle = scheduler->stats().idle + (report.timer.now() - completion);
+  const std::int64_t missing =
+      comm.sum(comm.is_root() ? order.size() - sink.merged() : std::int64_t(0));
+  if (comm.is_root() && progress)
+    show_progress(1.0 - static_cast<double>(missing) / std::max<double>(1.0, double(order.size())),
+                  0.0, report.timer.now(), last_progress, true);
+  if (missing > 0 && comm.is_root() && checkpointing) {
+    report.timer.start("checkpoint");
+    write_checkpoint(opt.checkpoint, {s.width, s.height, signature, done, frame_pixels});
+    report.timer.stop();
+  }
 
   const std::int64_t total_rays = comm.sum(rays);
   const std::int64_t total_tests = comm.sum(tests);
-  const double render_time = comm.max(report.timer.total("render"));
+  const double render_time = render_end - render_start;
   report.fom_name = "ray_rate";
   report.fom_unit = "Mrays/s";
   report.fom_value = render_time > 0 ? static_cast<double>(total_rays) / render_time * 1e-6 : 0.0;
@@ -325,23 +382,32 @@ int run(Communicator& comm, int argc, char** argv) {
                 static_cast<long long>(total_rays), report.fom_value);
     if (s.stats && total_rays > 0) {
       const double per_ray = static_cast<double>(total_tests) / static_cast<double>(total_rays);
-      std::printf("  stats: %.2f ray-triangle tests per ray; brute force %zu (%.5f of brute force, 1/%.0f)\n",
-                  per_ray, ds.triangles, per_ray / static_cast<double>(ds.triangles),
-                  static_cast<double>(ds.triangles) / std::max(per_ray, 1e-9));
+      std::printf(
+          "  stats: %.2f ray-triangle tests per ray; brute force %zu (%.5f of brute force, "
+          "1/%.0f)\n",
+          per_ray, ds.triangles, per_ray / static_cast<double>(ds.triangles),
+          static_cast<double>(ds.triangles) / std::max(per_ray, 1e-9));
     }
   }
   report.scene["rays"] = total_rays;
-  if (s.stats) report.scene["tests_per_ray"] = total_rays > 0 ? double(total_tests) / double(total_rays) : 0.0;
+  if (s.stats)
+    report.scene["tests_per_ray"] = total_rays > 0 ? double(total_tests) / double(total_rays) : 0.0;
 
-  if (stopped_after >= 0) {
+  if (missing > 0) {
     if (comm.is_root())
-      std::fprintf(stderr, "sketchtrace: stopped after %d bands as asked; checkpoint %s\n", stopped_after,
-                   opt.checkpoint.c_str());
-    report.fom_name = "bands_done";
-    report.fom_unit = "bands";
-    report.fom_value = stopped_after;
+      std::fprintf(stderr, "sketchtrace: stopped (%s) with %lld of %zu pixels missing; %s\n",
+                   stop_reason.empty() ? "peer stopped" : stop_reason.c_str(),
+                   static_cast<long long>(missing), pixels_total,
+                   checkpointing ? ("restart with --restart " + opt.checkpoint).c_str()
+                                 : "no --checkpoint given, the work is lost");
+    report.fom_name = "pixels_missing";
+    report.fom_unit = "pixels";
+    report.fom_value = static_cast<double>(missing);
+    if (!opt.timings.empty())
+      write_timings_file(opt.timings, comm, report, records, completion, idle, rays, rendered,
+                         opt.input, to_string(balance));
     report.finish(comm, opt.summary);
-    return kExitOk;
+    return kExitCheckpointed;
   }
 
   int exit_code = kExitOk;
@@ -351,13 +417,14 @@ int run(Communicator& comm, int argc, char** argv) {
     if (!opt.output.empty() || !opt.reference.empty()) {
       const Frame frame = assemble_frame(frame_pixels, s.width, s.height);
       if (!opt.output.empty())
-        for (const std::string& f : write_frame(opt.output, frame, s)) std::printf("  wrote %s\n", f.c_str());
+        for (const std::string& f : write_frame(opt.output, frame, s))
+          std::printf("  wrote %s\n", f.c_str());
       if (!opt.reference.empty()) {
         const double e = rmse(frame.color, read_image(opt.reference), opt.reference);
         report.errors = {{"reference", opt.reference}, {"rmse", e}, {"max_rmse", opt.max_rmse}};
         const bool ok = opt.max_rmse < 0 || e <= opt.max_rmse;
-        std::printf("  reference %s: RMSE %.6g (limit %g) %s\n", opt.reference.c_str(), e, opt.max_rmse,
-                    ok ? "PASS" : "FAIL");
+        std::printf("  reference %s: RMSE %.6g (limit %g) %s\n", opt.reference.c_str(), e,
+                    opt.max_rmse, ok ? "PASS" : "FAIL");
         if (!ok) exit_code = kVerificationFailed;
       }
     }
@@ -367,7 +434,8 @@ int run(Communicator& comm, int argc, char** argv) {
     report.timer.stop();
   }
   if (!opt.timings.empty())
-    write_timings_file(opt.timings, comm, report, records, completion, render_end, rays, rendered, opt.input);
+    write_timings_file(opt.timings, comm, report, records, completion, idle, rays, rendered,
+                       opt.input, to_string(balance));
   report.finish(comm, opt.summary);
   return static_cast<int>(comm.max(static_cast<double>(exit_code)));
 }
@@ -375,4 +443,6 @@ int run(Communicator& comm, int argc, char** argv) {
 }  // namespace
 }  // namespace rtmini::sketch
 
-int main(int argc, char** argv) { return rtmini::app_main("sketchtrace", argc, argv, rtmini::sketch::run); }
+int main(int argc, char** argv) {
+  return rtmini::app_main("sketchtrace", argc, argv, rtmini::sketch::run);
+}

@@ -102,7 +102,7 @@ std::string range_problem(const RenderSettings& s, std::string& key) {
         check(s.camera.shutter_close >= s.camera.shutter_open, "shutter", "close must be >= open"),
         check(s.style == "none" || s.style == "sketch" || s.style == "color_pencil", "style",
               "must be sketch, color_pencil or none"),
-        check(s.band_rows >= 1, "band_rows", "must be >= 1")}) {
+        check(s.chunk_pixels >= 0, "chunk_pixels", "must be >= 0 (0 = auto)")}) {
     if (r.empty() && !p.empty()) r = p;
   }
   for (const std::string& a : s.aov) {
@@ -142,7 +142,7 @@ void apply_scene_settings(const SceneDescription& scene, RenderSettings& s) {
                     "bvh",
                     "aov",
                     "style",
-                    "band_rows"},
+                    "chunk_pixels"},
                    scene.path, "[settings]");
   const SettingsReader r(scene.settings->table, scene.path);
   r.integer("width", s.width);
@@ -159,7 +159,7 @@ void apply_scene_settings(const SceneDescription& scene, RenderSettings& s) {
   r.integer("stencil_samples", s.stencil_samples);
   r.integer("sphere_subdivisions", s.sphere_subdivisions);
   r.boolean("smooth", s.smooth);
-  r.integer("band_rows", s.band_rows);
+  r.integer("chunk_pixels", s.chunk_pixels);
   r.color("background", s.background);
   if (const toml::node* n = r.get("seed")) {
     if (!n->is_integer() || *n->value<std::int64_t>() < 0)

@@ -24,8 +24,8 @@ struct PixelKernel {
     PixelResult r;
     est.pixel(x, y, r, c);
     if (aov) {
-      const StencilHit centre = stencil_hit(est.scene, est.camera, Real(x) + Real(0.5), Real(y) + Real(0.5),
-                                            stencil, c);
+      const StencilHit centre =
+          stencil_hit(est.scene, est.camera, Real(x) + Real(0.5), Real(y) + Real(0.5), stencil, c);
       r.object = centre.object;
       r.depth = static_cast<float>(centre.depth);
       r.nx = static_cast<float>(centre.normal.x);
@@ -34,12 +34,14 @@ struct PixelKernel {
       if (stencil.edges && stencil.radius > Real(0)) {
         Real sum = 0;
         for (int j = 0; j < stencil.samples; ++j) {
-          const Rng rng(est.p.seed, static_cast<std::uint64_t>(index), 0x80000000u + static_cast<std::uint32_t>(j));
+          const Rng rng(est.p.seed, static_cast<std::uint64_t>(index),
+                        0x80000000u + static_cast<std::uint32_t>(j));
           float a, b;
           rng.uniform2(0, a, b);
           Real sx, sy;
-          stratum_2d(j, stencil.samples, pixel_key(est.p.seed, static_cast<std::uint64_t>(index), 5), Real(a),
-                     Real(b), sx, sy);
+          stratum_2d(j, stencil.samples,
+                     pixel_key(est.p.seed, static_cast<std::uint64_t>(index), 5), Real(a), Real(b),
+                     sx, sy);
           sum += stencil_fraction(est.scene, est.camera, Real(x) + sx, Real(y) + sy, stencil, c);
         }
         r.edge = static_cast<float>(sum / Real(stencil.samples));
@@ -82,7 +84,8 @@ Renderer::Renderer(const HostScene& scene, const RenderSettings& s) {
   params_.ambient = Vec3(s.ambient);
   params_.seed = s.seed;
   params_.lens = s.camera.aperture > 0.0;
-  params_.motion = s.camera.shutter_close > s.camera.shutter_open && length(s.camera.velocity) > 0.0;
+  params_.motion =
+      s.camera.shutter_close > s.camera.shutter_open && length(s.camera.velocity) > 0.0;
   stencil_.radius = static_cast<Real>(s.edge_thickness);
   stencil_.cos_crease = params_.cos_crease;
   stencil_.depth_threshold = static_cast<Real>(s.depth_threshold);
@@ -96,41 +99,81 @@ Renderer::Renderer(const HostScene& scene, const RenderSettings& s) {
 }
 
 template <unsigned kFeatures>
-void Renderer::launch(const Kokkos::View<std::int64_t*, MemSpace>& pixels,
+void Renderer::launch(const TraceParams& params, bool aov,
+                      const Kokkos::View<std::int64_t*, MemSpace>& pixels,
                       const Kokkos::View<PixelResult*, MemSpace>& out) const {
-  PixelKernel<kFeatures> kernel{{scene_, camera_, params_}, stencil_, aov_, pixels, out};
-  using Policy = Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace, Kokkos::Schedule<Kokkos::Dynamic>,
-                                     Kokkos::IndexType<std::int64_t>>;
-  Kokkos::parallel_for("rtmini::sketch::render", Policy(0, static_cast<std::int64_t>(pixels.extent(0))),
-                       kernel);
+  PixelKernel<kFeatures> kernel{{scene_, camera_, params}, stencil_, aov, pixels, out};
+  using Policy =
+      Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace, Kokkos::Schedule<Kokkos::Dynamic>,
+                          Kokkos::IndexType<std::int64_t>>;
+  Kokkos::parallel_for("rtmini::sketch::render",
+                       Policy(0, static_cast<std::int64_t>(pixels.extent(0))), kernel);
 }
 
-void Renderer::render(const std::vector<PixelChunk>& chunks, std::vector<PixelResult>& out) const {
-  std::size_t n = 0;
-  for (const PixelChunk& c : chunks) n += c.pixels();
-  out.assign(n, PixelResult{});
+void Renderer::run(const TraceParams& params, bool aov, const std::vector<std::int64_t>& list,
+                   std::vector<PixelResult>& out) const {
+  const std::size_t n = list.size();
+  out.resize(n);
   if (n == 0) return;
   Kokkos::View<std::int64_t*, MemSpace> pixels("rtmini::sketch::pixel_list", n);
   Kokkos::View<PixelResult*, MemSpace> results("rtmini::sketch::pixel_results", n);
   auto hp = Kokkos::create_mirror_view(pixels);
-  std::size_t k = 0;
-  for (const PixelChunk& c : chunks)
-    for (int y = c.y0; y < c.y0 + c.h; ++y)
-      for (int x = c.x0; x < c.x0 + c.w; ++x)
-        hp(k++) = static_cast<std::int64_t>(y) * params_.width + x;
+  for (std::size_t k = 0; k < n; ++k) hp(k) = list[k];
   Kokkos::deep_copy(pixels, hp);
   switch (features_) {
-    case 0: launch<0>(pixels, results); break;
-    case 1: launch<1>(pixels, results); break;
-    case 2: launch<2>(pixels, results); break;
-    case 3: launch<3>(pixels, results); break;
-    case 4: launch<4>(pixels, results); break;
-    case 5: launch<5>(pixels, results); break;
-    case 6: launch<6>(pixels, results); break;
-    default: launch<7>(pixels, results); break;
+    case 0:
+      launch<0>(params, aov, pixels, results);
+      break;
+    case 1:
+      launch<1>(params, aov, pixels, results);
+      break;
+    case 2:
+      launch<2>(params, aov, pixels, results);
+      break;
+    case 3:
+      launch<3>(params, aov, pixels, results);
+      break;
+    case 4:
+      launch<4>(params, aov, pixels, results);
+      break;
+    case 5:
+      launch<5>(params, aov, pixels, results);
+      break;
+    case 6:
+      launch<6>(params, aov, pixels, results);
+      break;
+    default:
+      launch<7>(params, aov, pixels, results);
+      break;
   }
   auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), results);
   for (std::size_t i = 0; i < n; ++i) out[i] = hr(i);
+}
+
+void Renderer::render_pixels(const std::vector<std::int64_t>& pixels,
+                             std::vector<PixelResult>& out) const {
+  run(params_, aov_, pixels, out);
+}
+
+void Renderer::render(const std::vector<PixelChunk>& chunks, std::vector<PixelResult>& out) const {
+  std::vector<std::int64_t> list;
+  for (const PixelChunk& c : chunks)
+    for (int y = c.y0; y < c.y0 + c.h; ++y)
+      for (int x = c.x0; x < c.x0 + c.w; ++x)
+        list.push_back(static_cast<std::int64_t>(y) * params_.width + x);
+  run(params_, aov_, list, out);
+}
+
+void Renderer::probe(const std::vector<std::int64_t>& pixels,
+                     std::vector<std::uint32_t>& out) const {
+  TraceParams p = params_;
+  p.spp = 1;
+  p.glossy_samples = 1;
+  p.stats = false;
+  std::vector<PixelResult> r;
+  run(p, false, pixels, r);
+  out.resize(r.size());
+  for (std::size_t k = 0; k < r.size(); ++k) out[k] = r[k].rays;
 }
 
 }  // namespace rtmini::sketch

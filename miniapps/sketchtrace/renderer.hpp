@@ -23,6 +23,11 @@ class Renderer {
   // Renders exactly the chunks' pixels; out[k] is the k-th pixel in chunk order,
   // each chunk row-major. Results depend only on scene, settings, seed and pixel.
   void render(const std::vector<PixelChunk>& chunks, std::vector<PixelResult>& out) const;
+  // Renders the listed pixels (indices y * width + x); out[k] belongs to pixels[k].
+  void render_pixels(const std::vector<std::int64_t>& pixels, std::vector<PixelResult>& out) const;
+  // Cost probe for load balancing: one camera sample per listed pixel, no AOV or
+  // stencil; out[k] = rays traced, an estimate of pixel k's cost per sample.
+  void probe(const std::vector<std::int64_t>& pixels, std::vector<std::uint32_t>& out) const;
 
   unsigned features() const { return features_; }
   const DeviceScene& scene() const { return scene_; }
@@ -30,8 +35,12 @@ class Renderer {
 
  private:
   template <unsigned kFeatures>
-  void launch(const Kokkos::View<std::int64_t*, MemSpace>& pixels,
+  void launch(const TraceParams& params, bool aov,
+              const Kokkos::View<std::int64_t*, MemSpace>& pixels,
               const Kokkos::View<PixelResult*, MemSpace>& out) const;
+  // Uploads `pixels`, runs the kernel specialised on features_ and copies the results back.
+  void run(const TraceParams& params, bool aov, const std::vector<std::int64_t>& pixels,
+           std::vector<PixelResult>& out) const;
 
   DeviceScene scene_;
   DeviceCamera camera_;

@@ -2,7 +2,9 @@
 # sketchtrace regression checks, one mode per ctest test (CMakeLists.txt here).
 #   reference SCENE NP   render a bundled scene small, compare with tests/reference/sketchtrace
 #   same_hash SCENE      1 rank x 1 and 2 threads, 2 and 4 ranks: identical verification hash
-#   restart NP           stop after 2 bands + --restart == uninterrupted (hash)
+#   restart NP [BALANCE] stop after 2 dispatches (exit 4) + --restart on other ranks == uninterrupted
+#   signal NP            SIGUSR1 mid-run -> checkpoint, exit 4; --time-limit likewise; restart == full
+#   balance NP           every --balance strategy on NP ranks gives the 1-rank static hash
 #   bad FILE             exit 2 and "file:line: reason" on stderr
 #   timings NP           --timings/--summary files have the documented layout
 #   style                --style sketch runs the hand-drawn passes
@@ -36,6 +38,14 @@ launch() {  # launch NP ARGS...: the app on NP ranks (no MPI: NP must be 1)
   fi
 }
 
+descendants() {  # descendants PID: every process below PID
+  local c
+  for c in $(pgrep -P "$1"); do
+    echo "$c"
+    descendants "$c"
+  done
+}
+
 hash_of() {  # the verification hash from a run's last stdout line
   tail -n 1 "$1" | sed -n 's/.*verification \([0-9a-f]*\)$/\1/p'
 }
@@ -52,7 +62,7 @@ case $mode in
   same_hash)
     scene=$1
     # shellcheck disable=SC2046
-    set -- "$INPUTS/$scene/$scene.toml" $(scene_args "$scene") --aov depth,normal,object,cost,edge --band-rows 7
+    set -- "$INPUTS/$scene/$scene.toml" $(scene_args "$scene") --aov depth,normal,object,cost,edge --chunk-pixels 700
     OMP_NUM_THREADS=1 launch 1 "$@" > "$work/t1.txt"
     OMP_NUM_THREADS=2 launch 1 "$@" > "$work/t2.txt"
     ref=$(hash_of "$work/t1.txt")
@@ -68,19 +78,77 @@ case $mode in
     ;;
   restart)
     np=$1
+    balance=${2:-static}
     # shellcheck disable=SC2046
-    set -- "$INPUTS/two_spheres/two_spheres.toml" $(scene_args two_spheres) --band-rows 10
-    launch "$np" "$@" -o "$work/full.png" > "$work/full.txt"
-    launch "$np" "$@" --checkpoint "$work/ck.h5" --stop-after-bands 2 > "$work/stop.txt"
+    set -- "$INPUTS/two_spheres/two_spheres.toml" $(scene_args two_spheres) --chunk-pixels 1000
+    launch 1 "$@" -o "$work/full.png" > "$work/full.txt"
+    rc=0
+    launch "$np" "$@" --balance "$balance" --checkpoint "$work/ck.h5" --stop-after-chunks 2 -o "$work/stop.png" \
+      > "$work/stop.txt" || rc=$?
+    [[ $rc == 4 ]] || { echo "a stopped run gave exit $rc, expected 4" >&2; exit 1; }
     [[ -f $work/ck.h5 ]] || { echo "no checkpoint written" >&2; exit 1; }
-    [[ ! -f $work/resumed.png ]]
-    launch "$np" "$@" --restart "$work/ck.h5" -o "$work/resumed.png" > "$work/resumed.txt"
+    [[ ! -f $work/stop.png ]] || { echo "a stopped run wrote its image" >&2; exit 1; }
+    # Resume on another rank count with another strategy: only the missing pixels are rendered.
+    resume_np=$((np == 1 ? 2 : 1))
+    [[ -n ${MPIEXEC:-} ]] || resume_np=1
+    launch "$resume_np" "$@" --balance metric --restart "$work/ck.h5" -o "$work/resumed.png" > "$work/resumed.txt"
+    missing=$(sed -n 's/.*balance: metric, \([0-9]*\) pixels to render.*/\1/p' "$work/resumed.txt")
+    [[ -n $missing && $missing -gt 0 && $missing -lt 19200 ]] || { echo "restart rendered '$missing' pixels" >&2; exit 1; }
     [[ $(hash_of "$work/resumed.txt") == "$(hash_of "$work/full.txt")" ]] || { echo "restart differs" >&2; exit 1; }
     cmp "$work/full.png" "$work/resumed.png"
     # A checkpoint of other parameters is refused as bad input.
     rc=0
     launch 1 "$@" --spp 2 --restart "$work/ck.h5" > /dev/null 2> "$work/err.txt" || rc=$?
     [[ $rc == 2 ]] || { echo "mismatched restart gave exit $rc" >&2; exit 1; }
+    ;;
+  signal)
+    np=$1
+    # Heavy enough (several seconds) that the signal lands mid-run on any machine we test on.
+    set -- "$INPUTS/two_spheres/two_spheres.toml" --width 320 --height 240 --spp 64 --shadow-samples 16 \
+      --balance steal --chunk-pixels 256
+    launch "$np" "$@" > "$work/full.txt"
+    rc=0
+    launch "$np" "$@" --checkpoint "$work/ck.h5" --checkpoint-interval 0.2 > "$work/sig.txt" 2> "$work/sig.err" &
+    pid=$!
+    for _ in $(seq 200); do [[ -s $work/ck.h5 ]] && break; sleep 0.05; done
+    # Signal only this run's app processes (ctest runs other tests beside this one).
+    for p in $(descendants "$pid"); do
+      [[ $(ps -o comm= -p "$p" 2> /dev/null) == sketchtrace ]] && kill -USR1 "$p"
+    done
+    wait "$pid" || rc=$?
+    cat "$work/sig.err"
+    [[ $rc == 4 ]] || { echo "SIGUSR1 gave exit $rc, expected 4" >&2; exit 1; }
+    grep -q "stop signal" "$work/sig.err" || { echo "no stop message" >&2; exit 1; }
+    launch "$np" "$@" --restart "$work/ck.h5" > "$work/resumed.txt"
+    [[ $(hash_of "$work/resumed.txt") == "$(hash_of "$work/full.txt")" ]] || { echo "signal restart differs" >&2; exit 1; }
+    # --time-limit (minutes) of about 1 s: stops in time, exit 4, restart completes it.
+    rc=0
+    launch "$np" "$@" --checkpoint "$work/ck2.h5" --time-limit 0.02 > /dev/null 2> "$work/tl.err" || rc=$?
+    [[ $rc == 4 ]] || { echo "--time-limit gave exit $rc, expected 4" >&2; exit 1; }
+    grep -q "time limit" "$work/tl.err" || { echo "no time-limit message" >&2; exit 1; }
+    launch "$np" "$@" --restart "$work/ck2.h5" > "$work/resumed2.txt"
+    [[ $(hash_of "$work/resumed2.txt") == "$(hash_of "$work/full.txt")" ]] || { echo "time-limit restart differs" >&2; exit 1; }
+    echo "signal and time-limit stops resume to the uninterrupted hash"
+    ;;
+  balance)
+    np=$1
+    # shellcheck disable=SC2046
+    set -- "$INPUTS/two_spheres/two_spheres.toml" $(scene_args two_spheres) --chunk-pixels 512
+    launch 1 "$@" > "$work/ref.txt"
+    ref=$(hash_of "$work/ref.txt")
+    [[ -n $ref ]] || { echo "no hash in the reference run" >&2; exit 1; }
+    for b in static metric chunks bargain queue steal; do
+      launch "$np" "$@" --balance "$b" --timings "$work/$b.h5" > "$work/$b.txt"
+      [[ $(hash_of "$work/$b.txt") == "$ref" ]] || { echo "--balance $b on $np ranks differs" >&2; exit 1; }
+      "$PY" -c "import h5py,sys; f=h5py.File(sys.argv[1]); s=f.attrs['strategy']; s=s.decode() if isinstance(s,bytes) else s; assert s==sys.argv[2], s; assert f['/chunks/work_units'][:].sum()==160*120" "$work/$b.h5" "$b"
+    done
+    rc=0
+    launch 1 "$@" --balance nonsense > /dev/null 2> "$work/err.txt" || rc=$?
+    if [[ $rc != 2 ]] || ! grep -q "balance" "$work/err.txt"; then
+      echo "--balance nonsense: exit $rc" >&2
+      exit 1
+    fi
+    echo "hash $ref identical for every strategy on $np ranks"
     ;;
   bad)
     file=$1
@@ -94,7 +162,7 @@ case $mode in
   timings)
     np=$1
     # shellcheck disable=SC2046
-    launch "$np" "$INPUTS/two_spheres/two_spheres.toml" $(scene_args two_spheres) --band-rows 16 \
+    launch "$np" "$INPUTS/two_spheres/two_spheres.toml" $(scene_args two_spheres) --chunk-pixels 512 \
       --timings "$work/t.h5" --summary "$work/s.json" > "$work/out.txt"
     "$PY" - "$work/t.h5" "$work/s.json" "$np" <<'PYEOF'
 import json, sys

@@ -36,7 +36,7 @@ TEST(SketchSettings, ReadsEveryKey) {
                                       "indirect = true\nedge_thickness = 2.5\ncrease_angle = 45\n"
                                       "depth_threshold = 0.2\nstencil_samples = 8\nsphere_subdivisions = 2\n"
                                       "smooth = false\nbackground = [0.5, 0.5, 1]\nseed = 42\nbvh = \"lbvh\"\n"
-                                      "aov = [\"depth\", \"edge\"]\nstyle = \"color-pencil\"\nband_rows = 7\n");
+                                      "aov = [\"depth\", \"edge\"]\nstyle = \"color-pencil\"\nchunk_pixels = 7\n");
   RenderSettings s;
   apply_scene_settings(read_scene_file(path), s);
   EXPECT_EQ(s.width, 33);
@@ -58,7 +58,7 @@ TEST(SketchSettings, ReadsEveryKey) {
   EXPECT_EQ(s.bvh, bvh::BuildQuality::kLbvh);
   EXPECT_EQ(s.aov.size(), 2u);
   EXPECT_EQ(s.style, "color_pencil");
-  EXPECT_EQ(s.band_rows, 7);
+  EXPECT_EQ(s.chunk_pixels, 7);
   EXPECT_FLOAT_EQ(s.ambient.y, 0.2f);
 }
 

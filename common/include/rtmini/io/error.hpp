@@ -9,6 +9,8 @@ namespace rtmini {
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitBadInput = 2;
 inline constexpr int kExitResource = 3;
+// Stopped early (time limit, SIGTERM/SIGUSR1) with a valid checkpoint: resubmit with --restart.
+inline constexpr int kExitCheckpointed = 4;
 
 // Malformed input. what() is "file:line: reason" (or "file: reason" when no line).
 class InputError : public std::runtime_error {

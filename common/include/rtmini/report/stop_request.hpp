@@ -1,0 +1,21 @@
+#pragma once
+// Clean early stop on a batch system's warning: SIGTERM (Slurm at the time limit,
+// scancel) and SIGUSR1 (sbatch --signal=USR1@T) set a flag that the apps read between
+// units of work; they then checkpoint and exit with kExitCheckpointed (4).
+#include <csignal>
+
+namespace rtmini {
+
+namespace detail {
+inline volatile std::sig_atomic_t g_stop_requested = 0;
+extern "C" inline void rtmini_request_stop(int) { g_stop_requested = 1; }
+}  // namespace detail
+
+inline void install_stop_handlers() {
+  std::signal(SIGTERM, detail::rtmini_request_stop);
+  std::signal(SIGUSR1, detail::rtmini_request_stop);
+}
+
+inline bool stop_requested() { return detail::g_stop_requested != 0; }
+
+}  // namespace rtmini

@@ -1,0 +1,76 @@
+#include "cost_map.hpp"
+
+#include <fstream>
+
+#include "rtmini/io/error.hpp"
+#include "rtmini/io/hdf5_file.hpp"
+
+namespace rtmini::sketch {
+namespace {
+
+bool read_map(const std::string& path, const std::string& signature, CostMap& m) {
+  if (path.empty() || !std::ifstream(path)) return false;
+  try {
+    Hdf5File f = Hdf5File::open(path);
+    if (f.string_attribute("/", "app") != "sketchtrace-cost-map" ||
+        f.string_attribute("/", "signature") != signature ||
+        f.int_attribute("/", "width") != m.width || f.int_attribute("/", "height") != m.height ||
+        f.int_attribute("/", "stride") != m.stride)
+      return false;
+    std::vector<float> cost = f.read<float>("/cost");
+    if (cost.size() != m.cost.size()) return false;
+    m.cost = std::move(cost);
+    return true;
+  } catch (const std::exception&) {
+    return false;  // unreadable or another kind of file: probe again and replace it
+  }
+}
+
+}  // namespace
+
+CostMap make_cost_map(const Renderer& renderer, const Communicator& comm, int width, int height,
+                      const std::string& path, const std::string& signature, bool& reused) {
+  CostMap m;
+  m.width = width;
+  m.height = height;
+  m.stride = 4;
+  m.grid_w = (width + m.stride - 1) / m.stride;
+  m.grid_h = (height + m.stride - 1) / m.stride;
+  const std::int64_t probes = static_cast<std::int64_t>(m.grid_w) * m.grid_h;
+  m.cost.assign(static_cast<std::size_t>(probes), 0.f);
+  std::vector<std::uint8_t> ok{0};
+  if (comm.is_root()) ok[0] = read_map(path, signature, m) ? 1 : 0;
+  comm.broadcast(ok);
+  reused = ok[0] != 0;
+  if (reused) {
+    comm.broadcast(m.cost);
+    return m;
+  }
+  // Rank r probes blocks [r G / P, (r + 1) G / P), at each block's centre pixel.
+  const std::int64_t b0 = probes * comm.rank() / comm.size(),
+                     b1 = probes * (comm.rank() + 1) / comm.size();
+  std::vector<std::int64_t> pixels;
+  for (std::int64_t b = b0; b < b1; ++b) {
+    const int gx = static_cast<int>(b % m.grid_w), gy = static_cast<int>(b / m.grid_w);
+    const int x = std::min(width - 1, gx * m.stride + m.stride / 2);
+    const int y = std::min(height - 1, gy * m.stride + m.stride / 2);
+    pixels.push_back(static_cast<std::int64_t>(y) * width + x);
+  }
+  std::vector<std::uint32_t> rays;
+  renderer.probe(pixels, rays);
+  std::vector<float> mine(rays.begin(), rays.end());
+  m.cost = comm.allgatherv(mine);
+  if (comm.is_root() && !path.empty()) {
+    Hdf5File f = Hdf5File::create(path);
+    f.set_attribute("/", "app", "sketchtrace-cost-map");
+    f.set_attribute("/", "signature", signature);
+    f.set_attribute("/", "width", static_cast<std::int64_t>(width));
+    f.set_attribute("/", "height", static_cast<std::int64_t>(height));
+    f.set_attribute("/", "stride", static_cast<std::int64_t>(m.stride));
+    f.write("/cost", m.cost);
+    f.commit();
+  }
+  return m;
+}
+
+}  // namespace rtmini::sketch
