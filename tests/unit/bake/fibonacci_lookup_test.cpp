@@ -1,6 +1,8 @@
 // Both viewpoint lookups (heap KD-tree, inverse spherical Fibonacci) against exhaustive search.
 #include <gtest/gtest.h>
 
+#include <utility>
+
 #include "rtmini/sampling/fibonacci_lookup.hpp"
 #include "rtmini/sampling/rng.hpp"
 #include "rtmini/sampling/sampling.hpp"
@@ -43,8 +45,8 @@ KOKKOS_INLINE_FUNCTION int exact_nearest(const Kokkos::View<Vec3*, Mem>& pts, co
 
 class FibonacciLookup : public ::testing::TestWithParam<int> {};
 
-TEST_P(FibonacciLookup, NearestMatchesExhaustiveSearch) {
-  const int n = GetParam();
+// Queries whose nearest viewpoint differs from exhaustive search (KD-tree, inverse mapping).
+std::pair<int, int> nearest_mismatches(int n) {
   const auto pts = fibonacci_points<Mem>(n);
   const auto kd = build_fibonacci_kdtree<Mem>(n);
   const auto sf = build_fibonacci_inverse<Mem>(n);
@@ -58,44 +60,58 @@ TEST_P(FibonacciLookup, NearestMatchesExhaustiveSearch) {
         sw += sf.nearest(q) != ref ? 1 : 0;
       },
       kd_wrong, sf_wrong);
-  EXPECT_EQ(kd_wrong, 0) << "N = " << n;
-  EXPECT_EQ(sf_wrong, 0) << "N = " << n;
+  return {kd_wrong, sf_wrong};
+}
+
+TEST_P(FibonacciLookup, NearestMatchesExhaustiveSearch) {
+  const int n = GetParam();
+  const auto wrong = nearest_mismatches(n);
+  EXPECT_EQ(wrong.first, 0) << "N = " << n;
+  EXPECT_EQ(wrong.second, 0) << "N = " << n;
 }
 
 INSTANTIATE_TEST_SUITE_P(ViewpointCounts, FibonacciLookup,
                          ::testing::Values(1, 2, 10, 100, 1000, 100000));
 
+// Queries whose cap neighbours (indices and weights) differ from exhaustive search,
+// for the KD-tree (first) and the inverse mapping (second). A free function: nvcc
+// cannot compile a device lambda inside a gtest TEST body (a private member).
+std::pair<int, int> neighbor_mismatches(int n) {
+  const auto pts = fibonacci_points<Mem>(n);
+  const auto kd = build_fibonacci_kdtree<Mem>(n);
+  const auto sf = build_fibonacci_inverse<Mem>(n);
+  const Real r = fibonacci_radius(n);
+  int kd_wrong = 0, sf_wrong = 0;
+  Kokkos::parallel_reduce(
+      "rtmini::test::lookup_neighbors", Kokkos::RangePolicy<Exec>(0, 20000),
+      KOKKOS_LAMBDA(int i, int& kw, int& sw) {
+        const Vec3 q = random_direction(i);
+        const ViewNeighbors ref = brute_force_neighbors(pts, q, r);
+        const ViewNeighbors a = kd.neighbors(q, r), b = sf.neighbors(q, r);
+        bool ka = a.count == ref.count, kb = b.count == ref.count;
+        for (int k = 0; k < ref.count; ++k) {
+          ka = ka && a.index[k] == ref.index[k] && a.weight[k] == ref.weight[k];
+          kb = kb && b.index[k] == ref.index[k] && b.weight[k] == ref.weight[k];
+        }
+        kw += ka ? 0 : 1;
+        sw += kb ? 0 : 1;
+      },
+      kd_wrong, sf_wrong);
+  return {kd_wrong, sf_wrong};
+}
+
 // The cap query returns the same neighbours and weights as exhaustive search.
 TEST(FibonacciLookupNeighbors, MatchBruteForce) {
   for (int n : {1, 7, 20, 100, 1000, 20000}) {
-    const auto pts = fibonacci_points<Mem>(n);
-    const auto kd = build_fibonacci_kdtree<Mem>(n);
-    const auto sf = build_fibonacci_inverse<Mem>(n);
-    const Real r = fibonacci_radius(n);
-    int kd_wrong = 0, sf_wrong = 0;
-    Kokkos::parallel_reduce(
-        "rtmini::test::lookup_neighbors", Kokkos::RangePolicy<Exec>(0, 20000),
-        KOKKOS_LAMBDA(int i, int& kw, int& sw) {
-          const Vec3 q = random_direction(i);
-          const ViewNeighbors ref = brute_force_neighbors(pts, q, r);
-          const ViewNeighbors a = kd.neighbors(q, r), b = sf.neighbors(q, r);
-          bool ka = a.count == ref.count, kb = b.count == ref.count;
-          for (int k = 0; k < ref.count; ++k) {
-            ka = ka && a.index[k] == ref.index[k] && a.weight[k] == ref.weight[k];
-            kb = kb && b.index[k] == ref.index[k] && b.weight[k] == ref.weight[k];
-          }
-          kw += ka ? 0 : 1;
-          sw += kb ? 0 : 1;
-        },
-        kd_wrong, sf_wrong);
-    EXPECT_EQ(kd_wrong, 0) << "N = " << n;
-    EXPECT_EQ(sf_wrong, 0) << "N = " << n;
+    const auto wrong = neighbor_mismatches(n);
+    EXPECT_EQ(wrong.first, 0) << "N = " << n;
+    EXPECT_EQ(wrong.second, 0) << "N = " << n;
   }
 }
 
-// About 8 neighbours in the cap (the seed's "8 plus or minus 2"), weights summing to one.
-TEST(FibonacciLookupNeighbors, SeedRadiusHoldsAboutEightPoints) {
-  const int n = 1000;
+// Mean neighbour count in the cap over 10000 random queries, and the worst deviation of
+// a query's weight sum from one.
+std::pair<double, double> cap_statistics(int n) {
   const auto kd = build_fibonacci_kdtree<Mem>(n);
   const Real r = fibonacci_radius(n);
   double mean = 0;
@@ -111,10 +127,15 @@ TEST(FibonacciLookupNeighbors, SeedRadiusHoldsAboutEightPoints) {
         ws = e > ws ? e : ws;
       },
       mean, Kokkos::Max<double>(worst_sum));
-  mean /= 10000;
-  EXPECT_GT(mean, 6.0);
-  EXPECT_LT(mean, 10.0);
-  EXPECT_LT(worst_sum, 1e-5);
+  return {mean / 10000, worst_sum};
+}
+
+// About 8 neighbours in the cap (the seed's "8 plus or minus 2"), weights summing to one.
+TEST(FibonacciLookupNeighbors, SeedRadiusHoldsAboutEightPoints) {
+  const auto stats = cap_statistics(1000);
+  EXPECT_GT(stats.first, 6.0);
+  EXPECT_LT(stats.first, 10.0);
+  EXPECT_LT(stats.second, 1e-5);
 }
 
 }  // namespace
