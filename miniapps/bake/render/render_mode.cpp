@@ -119,16 +119,20 @@ void bounds_of(const Mesh& mesh, Vec3d& lo, Vec3d& hi) {
 }
 
 // Precedence: the flags, then the scene's [camera], then sketchtrace's default framing of the
-// map's bounds (so a bare `bake render MAP -o X.png` sees what `sketchtrace MAP` sees).
+// map's bounds (so `bake render MAP` sees what sketchtrace sees of a scene holding that mesh).
 CameraDesc choose_camera(const RenderOptions& o, const CLI::App& app, const Mesh& mesh) {
   CameraDesc c;
+  bool framed = true;
   if (!o.scene.empty()) {
     const SceneDescription scene = read_scene_file(o.scene);
-    if (!scene.has_camera) throw InputError(o.scene, 0, "no [camera] table to render from");
-    c = scene.camera;
-    if (!(c.fov_deg > 0 && c.fov_deg < 180))
-      throw InputError(o.scene, 0, "[camera] fov_deg must be in (0, 180)");
-  } else {
+    if (scene.has_camera) {
+      c = scene.camera;
+      framed = false;
+      if (!(c.fov_deg > 0 && c.fov_deg < 180))
+        throw InputError(o.scene, 0, "[camera] fov_deg must be in (0, 180)");
+    }
+  }
+  if (framed) {
     Vec3d lo, hi;
     bounds_of(mesh, lo, hi);
     c = frame_bounds(lo, hi, app.count("--fov") ? o.fov : c.fov_deg);
