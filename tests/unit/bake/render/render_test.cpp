@@ -4,8 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "render_map.hpp"
+#include "rtmini/io/bakeshop.hpp"
+#include "rtmini/io/bakeshop_binary.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/sampling/fibonacci_lookup.hpp"
 
@@ -156,6 +160,29 @@ TEST(BakeRender, ViewDependentMapShowsTheCameraRayDirection) {
   // the camera at +x it runs towards -x (less red than head-on).
   EXPECT_LT(centre_colour[0].z, 0.05f);
   EXPECT_LT(centre_colour[1].x - centre_colour[0].x, -0.25f);
+}
+
+// The text and binary forms of a map are read into the same colours and render identically.
+TEST(BakeRender, TextAndBinaryMapsRenderAlike) {
+  const Mesh mesh = square_map(200, direction_colour);
+  const std::string text = ::testing::TempDir() + "render_square.bs";
+  const std::string binary = ::testing::TempDir() + "render_square.bsb";
+  write_bakeshop(text, mesh);
+  write_bakeshop_binary(binary, mesh);
+  const BakedMapHost a = read_baked_map(text), b = read_baked_map(binary);
+  EXPECT_EQ(a.colors.size(), b.colors.size());
+  EXPECT_EQ(a.viewpoints, 200);
+  RenderParams p;
+  p.width = p.height = 32;
+  p.spp = 4;
+  const DeviceCamera cam = camera_at({1.0, 0.5, 2.5});
+  const RenderResult ra = render_baked_map(upload_baked_map(a, bvh::BuildQuality::kSah), cam, p);
+  const RenderResult rb = render_baked_map(upload_baked_map(b, bvh::BuildQuality::kLbvh), cam, p);
+  EXPECT_EQ(ra.verification, rb.verification);
+  EXPECT_EQ(ra.image.data, rb.image.data);
+  EXPECT_GT(ra.hits, 0);
+  std::remove(text.c_str());
+  std::remove(binary.c_str());
 }
 
 TEST(BakeRender, RejectsMapsThatAreNotBaked) {
