@@ -4,34 +4,11 @@
 #include <cmath>
 #include <sstream>
 
+#include "rtmini/io/cli_values.hpp"
 #include "rtmini/io/error.hpp"
 
 namespace rtmini::sketch {
 namespace {
-
-std::vector<double> numbers(const std::string& flag, const std::string& text, std::size_t count) {
-  std::vector<double> out;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    try {
-      std::size_t used = 0;
-      const double v = std::stod(item, &used);
-      if (used != item.size() || !std::isfinite(v)) throw std::invalid_argument(item);
-      out.push_back(v);
-    } catch (const std::exception&) {
-      throw InputError(flag + ": '" + text + "' is not a list of " + std::to_string(count) + " numbers");
-    }
-  }
-  if (out.size() != count)
-    throw InputError(flag + ": '" + text + "' is not a list of " + std::to_string(count) + " numbers");
-  return out;
-}
-
-Vec3d vec3(const std::string& flag, const std::string& text) {
-  const auto v = numbers(flag, text, 3);
-  return {v[0], v[1], v[2]};
-}
 
 bool on_off(const std::string& flag, const std::string& text) {
   if (text == "on" || text == "true" || text == "1") return true;
@@ -110,12 +87,12 @@ void CliOverrides::apply(RenderSettings& s) const {
   if (given("--smooth")) s.smooth = on_off("--smooth", smooth_);
   if (given("--chunk-pixels")) s.chunk_pixels = chunk_pixels_;
   if (given("--ambient")) {
-    const Vec3d a = vec3("--ambient", ambient_);
+    const Vec3d a = parse_vec3("--ambient", ambient_);
     if (a.x < 0 || a.y < 0 || a.z < 0) throw InputError("--ambient: must be non-negative");
     s.ambient = Vec3f(a);
   }
   if (given("--background")) {
-    const Vec3d b = vec3("--background", background_);
+    const Vec3d b = parse_vec3("--background", background_);
     if (b.x < 0 || b.y < 0 || b.z < 0) throw InputError("--background: must be non-negative");
     s.background = Vec3f(b);
   }
@@ -139,18 +116,18 @@ void CliOverrides::apply(RenderSettings& s) const {
 }
 
 void CliOverrides::apply_camera(RenderSettings& s) const {
-  if (given("--camera-pos")) s.camera.position = vec3("--camera-pos", camera_pos_);
-  if (given("--look-at")) s.camera.look_at = vec3("--look-at", look_at_);
-  if (given("--up")) s.camera.up = vec3("--up", up_);
+  if (given("--camera-pos")) s.camera.position = parse_vec3("--camera-pos", camera_pos_);
+  if (given("--look-at")) s.camera.look_at = parse_vec3("--look-at", look_at_);
+  if (given("--up")) s.camera.up = parse_vec3("--up", up_);
   if (given("--fov")) s.camera.fov_deg = fov_;
   if (given("--aperture")) s.camera.aperture = aperture_;
   if (given("--focus-distance")) s.camera.focus_distance = focus_distance_;
   if (given("--shutter")) {
-    const auto v = numbers("--shutter", shutter_, 2);
+    const auto v = parse_number_list("--shutter", shutter_, 2);
     s.camera.shutter_open = v[0];
     s.camera.shutter_close = v[1];
   }
-  if (given("--camera-velocity")) s.camera.velocity = vec3("--camera-velocity", velocity_);
+  if (given("--camera-velocity")) s.camera.velocity = parse_vec3("--camera-velocity", velocity_);
   if (length(s.camera.look_at - s.camera.position) == 0.0)
     throw InputError("camera: position and look_at coincide");
 }

@@ -4,6 +4,7 @@
 
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/obj_reader.hpp"
+#include "rtmini/scene/camera.hpp"
 #include "rtmini/scene/primitives.hpp"
 
 namespace rtmini::sketch {
@@ -29,20 +30,6 @@ void bounds_of(const Mesh& mesh, Vec3d& lo, Vec3d& hi) {
     hi = vmax(hi, p);
   }
   if (mesh.positions.empty()) lo = hi = Vec3d(0.0);
-}
-
-// Looks at the bounds' centre from the front-right-above (y up), far enough
-// that the bounding sphere fills the vertical field of view with 10 % margin.
-CameraDesc frame_bounds(const Vec3d& lo, const Vec3d& hi, double fov_deg) {
-  CameraDesc c;
-  c.fov_deg = fov_deg;
-  const Vec3d center = (lo + hi) * 0.5;
-  const double radius = std::max(0.5 * length(hi - lo), 1e-6);
-  const double dist = 1.1 * radius / std::sin(0.5 * fov_deg * math::kPi / 180.0);
-  c.look_at = center;
-  c.position = center + normalize(Vec3d(0.35, 0.45, 1.0)) * dist;
-  c.up = Vec3d(0.0, 1.0, 0.0);
-  return c;
 }
 
 }  // namespace

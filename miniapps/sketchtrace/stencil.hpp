@@ -8,7 +8,7 @@
 // centre hit is nearer (lower object id at equal depth) marks it, so a line is
 // about h pixels wide. The stencil runs at several jittered sub-pixel centres and
 // the fractions are averaged, which anti-aliases the line.
-#include "camera.hpp"
+#include "rtmini/scene/camera.hpp"
 #include "light_sampling.hpp"
 
 namespace rtmini::sketch {

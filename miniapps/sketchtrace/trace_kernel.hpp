@@ -7,7 +7,7 @@
 // light sampling already counted it). The first hit may fan out into
 // `glossy_samples` glossy branches. Randomness: Rng(seed, pixel, sample) with a
 // fixed dimension layout (README), so an image never depends on rank/thread/chunk.
-#include "camera.hpp"
+#include "rtmini/scene/camera.hpp"
 #include "light_sampling.hpp"
 
 namespace rtmini::sketch {

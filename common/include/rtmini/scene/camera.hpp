@@ -3,10 +3,11 @@
 // sampling the lens disk and aiming at the focal-plane point of the pinhole ray, and
 // motion blur by moving the camera along its velocity over the shutter interval
 // (distribution seed: "depth of field" and "motion blur" sections; Cook et al. 1984).
+// Shared by sketchtrace and `bake render`, so both see a scene through the same pixels.
 #include "rtmini/geometry/ray.hpp"
 #include "rtmini/io/scene_file.hpp"
 
-namespace rtmini::sketch {
+namespace rtmini {
 
 struct DeviceCamera {
   Vec3 position, forward, right, up;  // right/up scaled to the image-plane half extents
@@ -65,4 +66,9 @@ struct DeviceCamera {
 // lens diameter, a zero focus distance means "focus on look_at".
 DeviceCamera make_camera(const CameraDesc& desc, int width, int height);
 
-}  // namespace rtmini::sketch
+// The default view of a scene without a camera: looks at the bounds' centre from the
+// front-right-above (y up), far enough that the bounding sphere fills the vertical field of
+// view with 10 % margin.
+CameraDesc frame_bounds(const Vec3d& lo, const Vec3d& hi, double fov_deg);
+
+}  // namespace rtmini

@@ -1,8 +1,9 @@
-#include "camera.hpp"
+#include "rtmini/scene/camera.hpp"
 
+#include <algorithm>
 #include <cmath>
 
-namespace rtmini::sketch {
+namespace rtmini {
 
 DeviceCamera make_camera(const CameraDesc& desc, int width, int height) {
   DeviceCamera c;
@@ -28,4 +29,16 @@ DeviceCamera make_camera(const CameraDesc& desc, int width, int height) {
   return c;
 }
 
-}  // namespace rtmini::sketch
+CameraDesc frame_bounds(const Vec3d& lo, const Vec3d& hi, double fov_deg) {
+  CameraDesc c;
+  c.fov_deg = fov_deg;
+  const Vec3d center = (lo + hi) * 0.5;
+  const double radius = std::max(0.5 * length(hi - lo), 1e-6);
+  const double dist = 1.1 * radius / std::sin(0.5 * fov_deg * math::kPi / 180.0);
+  c.look_at = center;
+  c.position = center + normalize(Vec3d(0.35, 0.45, 1.0)) * dist;
+  c.up = Vec3d(0.0, 1.0, 0.0);
+  return c;
+}
+
+}  // namespace rtmini
