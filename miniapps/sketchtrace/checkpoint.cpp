@@ -25,7 +25,8 @@ Checkpoint read_checkpoint(const std::string& path) {
   Hdf5File f = Hdf5File::open(path);
   Checkpoint c;
   try {
-    if (f.string_attribute("/", "app") != "sketchtrace") throw InputError(path + ": not a sketchtrace checkpoint");
+    if (f.string_attribute("/", "app") != "sketchtrace")
+      throw InputError(path + ": not a sketchtrace checkpoint");
     if (f.int_attribute("/", "pixel_bytes") != static_cast<std::int64_t>(sizeof(PixelResult)))
       throw InputError(path + ": checkpoint from an incompatible build");
     c.signature = f.string_attribute("/", "signature");

@@ -15,8 +15,8 @@ namespace rtmini::sketch {
 struct Checkpoint {
   int width = 0, height = 0;
   std::string signature;            // parameters + scene, as JSON text
-  std::vector<std::uint8_t> done;    // [width * height], 1 = finished
-  std::vector<PixelResult> pixels;   // [width * height], valid where done
+  std::vector<std::uint8_t> done;   // [width * height], 1 = finished
+  std::vector<PixelResult> pixels;  // [width * height], valid where done
 };
 
 void write_checkpoint(const std::string& path, const Checkpoint& c);

@@ -21,18 +21,22 @@ bool on_off(const std::string& flag, const std::string& text) {
 void CliOverrides::add_to(CLI::App& app, RunOptions& run) {
   app_ = &app;
   app.add_option("input", run.input, "Scene (.toml) or mesh (.obj, .bs)")->required();
-  app.add_option("-o,--output", run.output, "Image: .ppm, .png (8-bit sRGB) or .exr (linear + AOVs)");
+  app.add_option("-o,--output", run.output,
+                 "Image: .ppm, .png (8-bit sRGB) or .exr (linear + AOVs)");
   app.add_option("--width", width_, "Image width in pixels");
   app.add_option("--height", height_, "Image height in pixels");
   app.add_option("--spp", spp_, "Anti-aliasing samples per pixel (stratified, jittered)");
   app.add_option("--soft-shadows", soft_shadows_, "on|off: area lights sampled over their area");
-  app.add_option("--shadow-samples", shadow_samples_, "Shadow rays per area light at the first hit");
-  app.add_option("--bounces", bounces_, "Secondary rays (reflection/refraction) after the camera ray");
+  app.add_option("--shadow-samples", shadow_samples_,
+                 "Shadow rays per area light at the first hit");
+  app.add_option("--bounces", bounces_,
+                 "Secondary rays (reflection/refraction) after the camera ray");
   app.add_option("--glossy-samples", glossy_, "Glossy branches at the first hit");
   app.add_option("--indirect", indirect_, "on|off: diffuse interreflection");
   app.add_option("--edge-thickness", edge_thickness_, "Stencil ring radius h in pixels");
   app.add_option("--crease-angle", crease_angle_, "Crease line threshold in degrees");
-  app.add_option("--depth-threshold", depth_threshold_, "Relative depth jump of a self-occluding silhouette");
+  app.add_option("--depth-threshold", depth_threshold_,
+                 "Relative depth jump of a self-occluding silhouette");
   app.add_option("--stencil-samples", stencil_samples_, "Stencil evaluations per pixel");
   app.add_option("--sphere-subdivisions", sphere_subdivisions_, "Icosphere level of [[spheres]]");
   app.add_option("--smooth", smooth_, "on|off: interpolated vertex normals");
@@ -43,7 +47,8 @@ void CliOverrides::add_to(CLI::App& app, RunOptions& run) {
   app.add_option("--up", up_, "Camera up vector x,y,z");
   app.add_option("--fov", fov_, "Vertical field of view in degrees");
   app.add_option("--aperture", aperture_, "Lens diameter (0 = pinhole)");
-  app.add_option("--focus-distance", focus_distance_, "Focal plane distance (0 = distance to look-at)");
+  app.add_option("--focus-distance", focus_distance_,
+                 "Focal plane distance (0 = distance to look-at)");
   app.add_option("--shutter", shutter_, "Shutter interval open,close");
   app.add_option("--camera-velocity", velocity_, "Camera velocity x,y,z per unit time");
   app.add_option("--seed", seed_, "Random seed");
@@ -57,12 +62,14 @@ void CliOverrides::add_to(CLI::App& app, RunOptions& run) {
   app.add_option("--checkpoint", run.checkpoint, "Write progress to this HDF5 file");
   app.add_option("--checkpoint-interval", run.checkpoint_interval, "Seconds between checkpoints");
   app.add_option("--restart", run.restart, "Resume from this checkpoint");
-  app.add_option("--stop-after-chunks", run.stop_after_chunks,
-                 "Testing: stop as on SIGTERM after this many dispatches per rank (checkpoint, exit 4)");
+  app.add_option(
+      "--stop-after-chunks", run.stop_after_chunks,
+      "Testing: stop as on SIGTERM after this many dispatches per rank (checkpoint, exit 4)");
   app.add_option("--time-limit", run.time_limit_minutes,
                  "Wall-clock minutes: stop in time to checkpoint and exit 4 (0 = none)");
   app.add_option("--balance", run.balance, "static|metric|chunks|bargain|queue|steal");
-  app.add_option("--cost-map", run.cost_map, "Keep the probed cost map in this HDF5 file and reuse it");
+  app.add_option("--cost-map", run.cost_map,
+                 "Keep the probed cost map in this HDF5 file and reuse it");
   app.add_flag("--progress", run.progress, "Progress on stderr");
   app.add_option("--reference", run.reference, "Reference image: report the linear RGB RMSE");
   app.add_option("--max-rmse", run.max_rmse, "With --reference: exit 1 when the RMSE is larger");
@@ -98,7 +105,8 @@ void CliOverrides::apply(RenderSettings& s) const {
   }
   if (given("--seed")) s.seed = seed_;
   if (given("--bvh")) {
-    if (bvh_ != "lbvh" && bvh_ != "sah") throw InputError("--bvh: expected lbvh or sah, got '" + bvh_ + "'");
+    if (bvh_ != "lbvh" && bvh_ != "sah")
+      throw InputError("--bvh: expected lbvh or sah, got '" + bvh_ + "'");
     s.bvh = bvh_ == "lbvh" ? bvh::BuildQuality::kLbvh : bvh::BuildQuality::kSah;
   }
   if (given("--aov")) {

@@ -56,9 +56,8 @@ CostMap make_cost_map(const Renderer& renderer, const Communicator& comm, int wi
     const int y = std::min(height - 1, gy * m.stride + m.stride / 2);
     pixels.push_back(static_cast<std::int64_t>(y) * width + x);
   }
-  std::vector<std::uint32_t> rays;
-  renderer.probe(pixels, rays);
-  std::vector<float> mine(rays.begin(), rays.end());
+  std::vector<float> mine;
+  renderer.probe(pixels, mine);
   m.cost = comm.allgatherv(mine);
   if (comm.is_root() && !path.empty()) {
     Hdf5File f = Hdf5File::create(path);

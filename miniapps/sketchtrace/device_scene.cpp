@@ -55,7 +55,8 @@ DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality) {
     for (int t : ids) {
       const auto& v = tl.vertices[t];
       const Vec3d& a = scene.mesh.positions[v[0]];
-      areas.push_back(0.5 * length(cross(scene.mesh.positions[v[1]] - a, scene.mesh.positions[v[2]] - a)));
+      areas.push_back(
+          0.5 * length(cross(scene.mesh.positions[v[1]] - a, scene.mesh.positions[v[2]] - a)));
       total += areas.back();
     }
     if (!(total > 0)) continue;
@@ -78,7 +79,8 @@ DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality) {
     if (m.is_reflective() || m.opacity < 1.f) d.any_secondary = true;
   const std::size_t nt = d.triangles, nv = scene.mesh.positions.size();
   d.bytes = nv * 2 * sizeof(Vec3) + nt * (sizeof(Triangle) * 2 + 6 * sizeof(int)) +
-            d.mesh.accel.nodes.extent(0) * sizeof(bvh::BvhNode) + tris.size() * (sizeof(int) + sizeof(Real));
+            d.mesh.accel.nodes.extent(0) * sizeof(bvh::BvhNode) +
+            tris.size() * (sizeof(int) + sizeof(Real));
   return d;
 }
 

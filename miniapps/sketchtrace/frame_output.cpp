@@ -44,7 +44,8 @@ Image final_image(const Frame& frame, const RenderSettings& s) {
   in.normal = &frame.normal;
   return npr::apply_passes(in, config);
 #else
-  throw InputError("--style " + s.style + ": this build has no hand-drawn passes (miniapps/sketchtrace/npr)");
+  throw InputError("--style " + s.style +
+                   ": this build has no hand-drawn passes (miniapps/sketchtrace/npr)");
 #endif
 }
 
@@ -76,13 +77,15 @@ Frame assemble_frame(const std::vector<PixelResult>& pixels, int width, int heig
   return f;
 }
 
-std::uint64_t hash_pixels(const std::vector<PixelResult>& pixels, std::int64_t first_index, bool aov) {
+std::uint64_t hash_pixels(const std::vector<PixelResult>& pixels, std::int64_t first_index,
+                          bool aov) {
   std::uint64_t h = 0;
   for (std::size_t i = 0; i < pixels.size(); ++i) {
     const PixelResult& p = pixels[i];
     std::uint64_t v = mix64(bits(p.r) | bits(p.g) << 32) ^ mix64(bits(p.b) ^ 0x5bd1e995ULL);
     if (aov) {
-      v ^= mix64(bits(p.depth) | bits(p.edge) << 32) ^ mix64(static_cast<std::uint32_t>(p.object) + 0x1234ULL);
+      v ^= mix64(bits(p.depth) | bits(p.edge) << 32) ^
+           mix64(static_cast<std::uint32_t>(p.object) + 0x1234ULL);
       v ^= mix64(bits(p.nx) | bits(p.ny) << 32) ^ mix64(bits(p.nz) + 0x9876ULL);
     }
     h += hash_term(static_cast<std::uint64_t>(first_index) + i, v);
@@ -92,9 +95,9 @@ std::uint64_t hash_pixels(const std::vector<PixelResult>& pixels, std::int64_t f
 
 double rmse(const Image& a, const Image& b, const std::string& what) {
   if (a.width != b.width || a.height != b.height || b.channels < 3)
-    throw InputError(what + ": reference is " + std::to_string(b.width) + "x" + std::to_string(b.height) + "x" +
-                     std::to_string(b.channels) + ", the render " + std::to_string(a.width) + "x" +
-                     std::to_string(a.height) + "x3");
+    throw InputError(what + ": reference is " + std::to_string(b.width) + "x" +
+                     std::to_string(b.height) + "x" + std::to_string(b.channels) + ", the render " +
+                     std::to_string(a.width) + "x" + std::to_string(a.height) + "x3");
   double se = 0;
   for (int y = 0; y < a.height; ++y)
     for (int x = 0; x < a.width; ++x)
@@ -111,7 +114,8 @@ void check_output_path(const std::string& path) {
     throw InputError(path + ": output must end in .ppm, .png or .exr");
 }
 
-std::vector<std::string> write_frame(const std::string& path, const Frame& frame, const RenderSettings& s) {
+std::vector<std::string> write_frame(const std::string& path, const Frame& frame,
+                                     const RenderSettings& s) {
   std::vector<std::string> written;
   const Image image = final_image(frame, s);
   std::vector<std::pair<std::string, Image>> layers;

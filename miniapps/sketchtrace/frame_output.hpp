@@ -22,7 +22,8 @@ struct Frame {
 Frame assemble_frame(const std::vector<PixelResult>& pixels, int width, int height);
 
 // Order-independent verification hash of a set of pixels (colour, and the AOVs when computed).
-std::uint64_t hash_pixels(const std::vector<PixelResult>& pixels, std::int64_t first_index, bool aov);
+std::uint64_t hash_pixels(const std::vector<PixelResult>& pixels, std::int64_t first_index,
+                          bool aov);
 
 // Root-mean-square difference of two linear RGB images over all channels;
 // InputError when the sizes differ.
@@ -32,6 +33,7 @@ double rmse(const Image& a, const Image& b, const std::string& what);
 void check_output_path(const std::string& path);
 
 // Writes -o (styled when a style is set) and the AOV EXR when asked; returns the files written.
-std::vector<std::string> write_frame(const std::string& path, const Frame& frame, const RenderSettings& s);
+std::vector<std::string> write_frame(const std::string& path, const Frame& frame,
+                                     const RenderSettings& s);
 
 }  // namespace rtmini::sketch

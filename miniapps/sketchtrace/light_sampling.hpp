@@ -2,17 +2,18 @@
 // Direct illumination with shadow rays: quad area lights and emissive meshes with
 // stratified jittered samples (the hand-drawn seed's soft shadows; the
 // distribution seed's jittered light sub-sections), and point lights.
-#include "shading.hpp"
-#include "stratify.hpp"
 #include "rtmini/bvh/traverse.hpp"
 #include "rtmini/sampling/rng.hpp"
+#include "shading.hpp"
+#include "stratify.hpp"
 
 namespace rtmini::sketch {
 
 // Rays traced and (with stats) ray-triangle tests, per pixel.
 struct TraceCounter {
   std::uint32_t rays = 0;
-  std::uint64_t tests = 0;
+  std::uint64_t tests = 0;  // ray-triangle tests (with stats)
+  std::uint64_t nodes = 0;  // BVH nodes visited (with stats)
   bool stats = false;
 };
 
@@ -23,6 +24,7 @@ KOKKOS_INLINE_FUNCTION Hit trace_closest(const Accel& accel, const Ray& ray, Tra
     bvh::TraversalStats st;
     const Hit h = bvh::closest_hit(accel, ray, st);
     c.tests += st.tests;
+    c.nodes += st.nodes;
     return h;
   }
   return bvh::closest_hit(accel, ray);
@@ -35,6 +37,7 @@ KOKKOS_INLINE_FUNCTION bool trace_occluded(const Accel& accel, const Ray& ray, T
     bvh::TraversalStats st;
     const bool h = bvh::any_hit(accel, ray, st);
     c.tests += st.tests;
+    c.nodes += st.nodes;
     return h;
   }
   return bvh::any_hit(accel, ray);
@@ -52,9 +55,11 @@ struct ShadowPlan {
   bool soft = true;
 };
 
-// Unoccluded shadow-ray test from the surface towards point q (light geometry at q is not a blocker).
+// Unoccluded shadow-ray test from the surface towards point q (light geometry at q is not a
+// blocker).
 template <class Scene>
-KOKKOS_INLINE_FUNCTION bool visible(const Scene& scene, const Surface& s, const Vec3& q, TraceCounter& c) {
+KOKKOS_INLINE_FUNCTION bool visible(const Scene& scene, const Surface& s, const Vec3& q,
+                                    TraceCounter& c) {
   Ray r;
   r.org = offset_ray_origin(s.p, s.ng);
   const Vec3 d = q - r.org;
@@ -108,14 +113,17 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_irradiance(const Scene& scene, const Surface&
       rng.uniform2(plan.pair_base + static_cast<std::uint32_t>(light * samples + j), a, b);
       Real x = a, y = b;
       if (plan.soft)
-        stratum_2d(plan.first + j, plan.strata, plan.key ^ static_cast<std::uint32_t>(light), Real(a),
-                   Real(b), x, y);
+        stratum_2d(plan.first + j, plan.strata, plan.key ^ static_cast<std::uint32_t>(light),
+                   Real(a), Real(b), x, y);
       // Pick a triangle by area with x (binary search of the CDF), reuse x's
       // position inside that triangle's CDF interval as the first barycentric number.
       int lo = ml.first, hi = ml.first + ml.count - 1;
       while (lo < hi) {
         const int mid = (lo + hi) / 2;
-        if (scene.emissive_cdf(mid) > x) hi = mid; else lo = mid + 1;
+        if (scene.emissive_cdf(mid) > x)
+          hi = mid;
+        else
+          lo = mid + 1;
       }
       const Real c0 = lo == ml.first ? Real(0) : scene.emissive_cdf(lo - 1);
       const Real c1 = scene.emissive_cdf(lo);

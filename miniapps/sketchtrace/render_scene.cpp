@@ -41,14 +41,16 @@ void add_quad_light(HostScene& s, const Vec3d& corner, const Vec3d& u, const Vec
   m.diffuse = Vec3f(0.f);
   m.emissive = emission;
   const int mat = add_material(s.mesh, m);
-  const int obj = add_object(s, "quad_light" + std::to_string(s.quads.size()), {Vec3(0), Real(0)}, true);
+  const int obj =
+      add_object(s, "quad_light" + std::to_string(s.quads.size()), {Vec3(0), Real(0)}, true);
   append_quad(s.mesh, corner, u, v, mat, obj);
   const Vec3d n = cross(u, v);
-  s.quads.push_back({Vec3(corner), Vec3(u), Vec3(v), Vec3(normalize(n)), Real(length(n)), Vec3(emission)});
+  s.quads.push_back(
+      {Vec3(corner), Vec3(u), Vec3(v), Vec3(normalize(n)), Real(length(n)), Vec3(emission)});
 }
 
-int add_sphere(HostScene& s, const Vec3d& center, double radius, int level, const Material& material,
-               const std::string& name) {
+int add_sphere(HostScene& s, const Vec3d& center, double radius, int level,
+               const Material& material, const std::string& name) {
   const int mat = add_material(s.mesh, material);
   const int obj = add_object(s, name, {Vec3(center), Real(radius)}, false);
   append_icosphere(s.mesh, center, radius, level, mat, obj);
@@ -59,9 +61,12 @@ int add_mesh_object(HostScene& s, const std::string& name) {
   return add_object(s, name, {Vec3(0), Real(0)}, false);
 }
 
-int add_scene_material(HostScene& s, const Material& material) { return add_material(s.mesh, material); }
+int add_scene_material(HostScene& s, const Material& material) {
+  return add_material(s.mesh, material);
+}
 
-HostScene build_scene(const std::string& input, const SceneDescription* desc, RenderSettings& settings) {
+HostScene build_scene(const std::string& input, const SceneDescription* desc,
+                      RenderSettings& settings) {
   HostScene s;
   s.name = input;
   s.mesh = desc ? load_scene_meshes(*desc) : read_mesh(input);

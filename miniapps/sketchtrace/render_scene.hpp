@@ -43,15 +43,16 @@ struct HostScene {
   Mesh mesh;
   std::vector<QuadLight> quads;
   std::vector<PointLight> points;
-  std::vector<ObjectShading> objects;   // one per mesh object
+  std::vector<ObjectShading> objects;      // one per mesh object
   std::vector<char> object_is_quad_light;  // excluded from the mesh-light list
 };
 
 // Building blocks for generators and tests (build_scene uses them too). Each adds
 // a new object; the quad light is also visible geometry.
-void add_quad_light(HostScene& s, const Vec3d& corner, const Vec3d& u, const Vec3d& v, const Vec3f& emission);
-int add_sphere(HostScene& s, const Vec3d& center, double radius, int level, const Material& material,
-               const std::string& name);
+void add_quad_light(HostScene& s, const Vec3d& corner, const Vec3d& u, const Vec3d& v,
+                    const Vec3f& emission);
+int add_sphere(HostScene& s, const Vec3d& center, double radius, int level,
+               const Material& material, const std::string& name);
 int add_mesh_object(HostScene& s, const std::string& name);
 int add_scene_material(HostScene& s, const Material& material);
 
@@ -59,6 +60,7 @@ int add_scene_material(HostScene& s, const Material& material);
 // mesh file `input` alone. Spheres use settings.sphere_subdivisions. Without a
 // [camera], settings.camera becomes a default framing of the scene bounds; a bare
 // mesh also gets a default quad light above it and a small ambient term.
-HostScene build_scene(const std::string& input, const SceneDescription* desc, RenderSettings& settings);
+HostScene build_scene(const std::string& input, const SceneDescription* desc,
+                      RenderSettings& settings);
 
 }  // namespace rtmini::sketch

@@ -15,7 +15,7 @@ namespace rtmini::sketch {
 struct RenderSettings {
   int width = 640;
   int height = 480;
-  int spp = 1;             // anti-aliasing samples per pixel (stratified, jittered)
+  int spp = 1;  // anti-aliasing samples per pixel (stratified, jittered)
   bool soft_shadows = true;
   int shadow_samples = 16;  // per area light at the first hit
   int bounces = 3;          // secondary rays (reflection/refraction/diffuse) after the camera ray

@@ -26,8 +26,8 @@ class Renderer {
   // Renders the listed pixels (indices y * width + x); out[k] belongs to pixels[k].
   void render_pixels(const std::vector<std::int64_t>& pixels, std::vector<PixelResult>& out) const;
   // Cost probe for load balancing: one camera sample per listed pixel, no AOV or
-  // stencil; out[k] = rays traced, an estimate of pixel k's cost per sample.
-  void probe(const std::vector<std::int64_t>& pixels, std::vector<std::uint32_t>& out) const;
+  // stencil; out[k] estimates pixel k's cost per sample (traversal steps + rays).
+  void probe(const std::vector<std::int64_t>& pixels, std::vector<float>& out) const;
 
   unsigned features() const { return features_; }
   const DeviceScene& scene() const { return scene_; }

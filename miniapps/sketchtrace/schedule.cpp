@@ -163,6 +163,8 @@ class PeerScheduler : public Scheduler {
       taken += c.end - c.begin;
     }
     last_pixels_ = taken;
+    // Ask before running dry, so the answer arrives while this batch renders.
+    if (steal_ && !asking_ && !stop_ && comm_.size() > 1 && queued_pixels() < batch_) ask();
     return true;
   }
 
@@ -196,6 +198,12 @@ class PeerScheduler : public Scheduler {
     std::vector<double> data;
   };
   enum Tag { kLoad = 11, kTransfer = 12, kSteal = 13 };
+
+  std::int64_t queued_pixels() const {
+    std::int64_t n = 0;
+    for (const Chunk& c : queue_) n += c.end - c.begin;
+    return n;
+  }
 
   // Steal request to a random other rank; the answer is a (possibly empty) transfer.
   void ask() {

@@ -78,9 +78,10 @@ KOKKOS_INLINE_FUNCTION Real fresnel_dielectric(Real cos_i, Real cos_t, Real eta)
 // One continuation ray chosen among reflection, transmission and (when `indirect`)
 // diffuse interreflection, with probability proportional to each weight's largest
 // component; `weight` is the weight divided by that probability. False: absorbed.
-KOKKOS_INLINE_FUNCTION bool sample_continuation(const DeviceMaterial& m, const Surface& s, const Vec3& dir,
-                                                bool indirect, Real u_pick, Real u1, Real u2, Ray& next,
-                                                Vec3& weight, bool& diffuse) {
+KOKKOS_INLINE_FUNCTION bool sample_continuation(const DeviceMaterial& m, const Surface& s,
+                                                const Vec3& dir, bool indirect, Real u_pick,
+                                                Real u1, Real u2, Ray& next, Vec3& weight,
+                                                bool& diffuse) {
   const Real transparency = Real(1) - m.opacity;
   Real fresnel = Real(0);
   Vec3 refracted(Real(0));

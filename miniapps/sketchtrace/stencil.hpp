@@ -8,8 +8,8 @@
 // centre hit is nearer (lower object id at equal depth) marks it, so a line is
 // about h pixels wide. The stencil runs at several jittered sub-pixel centres and
 // the fractions are averaged, which anti-aliases the line.
-#include "rtmini/scene/camera.hpp"
 #include "light_sampling.hpp"
+#include "rtmini/scene/camera.hpp"
 
 namespace rtmini::sketch {
 
@@ -29,8 +29,8 @@ struct StencilHit {
 };
 
 template <class Scene>
-KOKKOS_INLINE_FUNCTION StencilHit stencil_hit(const Scene& scene, const DeviceCamera& cam, Real px, Real py,
-                                              const StencilParams& sp, TraceCounter& c) {
+KOKKOS_INLINE_FUNCTION StencilHit stencil_hit(const Scene& scene, const DeviceCamera& cam, Real px,
+                                              Real py, const StencilParams& sp, TraceCounter& c) {
   const Ray ray = cam.generate(px, py, Real(0.5), Real(0.5), Real(0), false, false);
   const Hit h = trace_closest(scene.mesh.accel, ray, c);
   StencilHit out;
@@ -44,15 +44,16 @@ KOKKOS_INLINE_FUNCTION StencilHit stencil_hit(const Scene& scene, const DeviceCa
 
 // Fraction in [0, 1] of ring rays that mark the centre as an edge (max over the three criteria).
 template <class Scene>
-KOKKOS_INLINE_FUNCTION Real stencil_fraction(const Scene& scene, const DeviceCamera& cam, Real cx, Real cy,
-                                             const StencilParams& sp, TraceCounter& c) {
+KOKKOS_INLINE_FUNCTION Real stencil_fraction(const Scene& scene, const DeviceCamera& cam, Real cx,
+                                             Real cy, const StencilParams& sp, TraceCounter& c) {
   const StencilHit centre = stencil_hit(scene, cam, cx, cy, sp, c);
   int silhouette = 0, crease = 0, depth = 0;
   for (int k = 0; k < 8; ++k) {
     const Real angle = Real(math::kPi / 4) * Real(k);
-    const StencilHit ring =
-        stencil_hit(scene, cam, cx + sp.radius * math::cos(angle), cy + sp.radius * math::sin(angle), sp, c);
-    const bool owner = centre.depth < ring.depth || (centre.depth == ring.depth && centre.object < ring.object);
+    const StencilHit ring = stencil_hit(scene, cam, cx + sp.radius * math::cos(angle),
+                                        cy + sp.radius * math::sin(angle), sp, c);
+    const bool owner =
+        centre.depth < ring.depth || (centre.depth == ring.depth && centre.object < ring.object);
     if (!owner || centre.object < 0) continue;
     if (ring.object != centre.object) {
       ++silhouette;
@@ -61,7 +62,8 @@ KOKKOS_INLINE_FUNCTION Real stencil_fraction(const Scene& scene, const DeviceCam
       if (ring.depth - centre.depth > sp.depth_threshold * centre.depth) ++depth;
     }
   }
-  const int worst = silhouette > crease ? (silhouette > depth ? silhouette : depth) : (crease > depth ? crease : depth);
+  const int worst = silhouette > crease ? (silhouette > depth ? silhouette : depth)
+                                        : (crease > depth ? crease : depth);
   return Real(worst) / Real(8);
 }
 

@@ -36,7 +36,8 @@ KOKKOS_INLINE_FUNCTION int permute(int i, int n, std::uint32_t key) {
 
 // Sample `index` of `count` strata in [0,1)^2, jittered by (u1, u2).
 template <class T>
-KOKKOS_INLINE_FUNCTION void stratum_2d(int index, int count, std::uint32_t key, T u1, T u2, T& x, T& y) {
+KOKKOS_INLINE_FUNCTION void stratum_2d(int index, int count, std::uint32_t key, T u1, T u2, T& x,
+                                       T& y) {
   const int side = isqrt_exact(count);
   if (side > 0) {
     stratified_2d(index, side, u1, u2, x, y);

@@ -7,8 +7,8 @@
 // light sampling already counted it). The first hit may fan out into
 // `glossy_samples` glossy branches. Randomness: Rng(seed, pixel, sample) with a
 // fixed dimension layout (README), so an image never depends on rank/thread/chunk.
-#include "rtmini/scene/camera.hpp"
 #include "light_sampling.hpp"
+#include "rtmini/scene/camera.hpp"
 
 namespace rtmini::sketch {
 
@@ -25,6 +25,7 @@ struct TraceParams {
   bool indirect = false;
   bool smooth = true;
   bool stats = false;
+  bool probe = false;  // cost probe: PixelResult::tests = traversal work (nodes + tests)
   bool lens = false, motion = false;
   Real cos_crease = Real(0.5);
   Vec3 background, ambient;
@@ -47,9 +48,10 @@ struct PixelResult {
 inline constexpr std::uint32_t kContinuationPair = 4;
 inline constexpr std::uint32_t kShadowPair = 1u << 24;
 
-KOKKOS_INLINE_FUNCTION std::uint32_t pixel_key(std::uint64_t seed, std::uint64_t pixel, std::uint32_t tag) {
-  return hash_u32(static_cast<std::uint32_t>(seed) ^ hash_u32(static_cast<std::uint32_t>(pixel) ^
-                                                              hash_u32(tag + 0x632be5abu)));
+KOKKOS_INLINE_FUNCTION std::uint32_t pixel_key(std::uint64_t seed, std::uint64_t pixel,
+                                               std::uint32_t tag) {
+  return hash_u32(static_cast<std::uint32_t>(seed) ^
+                  hash_u32(static_cast<std::uint32_t>(pixel) ^ hash_u32(tag + 0x632be5abu)));
 }
 
 template <unsigned kFeatures>
@@ -60,7 +62,8 @@ struct RadianceEstimator {
 
   // Lambert + ambient + emission at one surface; `emission` false after a diffuse bounce.
   KOKKOS_INLINE_FUNCTION Vec3 shade_local(const Surface& s, const DeviceMaterial& m, const Rng& rng,
-                                          const ShadowPlan& plan, bool emission, TraceCounter& c) const {
+                                          const ShadowPlan& plan, bool emission,
+                                          TraceCounter& c) const {
     Vec3 l = emission ? m.emissive : Vec3(Real(0));
     const Vec3 kd = m.diffuse * m.opacity;
     if (max_component(kd) <= Real(0)) return l;
@@ -69,7 +72,8 @@ struct RadianceEstimator {
     return l + kd * e;
   }
 
-  KOKKOS_INLINE_FUNCTION Vec3 sample(std::uint64_t pixel, int x, int y, int i, TraceCounter& c) const {
+  KOKKOS_INLINE_FUNCTION Vec3 sample(std::uint64_t pixel, int x, int y, int i,
+                                     TraceCounter& c) const {
     const Rng rng(p.seed, pixel, static_cast<std::uint32_t>(i));
     float jx, jy;
     rng.uniform2(0, jx, jy);
@@ -83,7 +87,8 @@ struct RadianceEstimator {
       rng.uniform2(2, t, unused);
       const int lens_index = permute(i, p.spp, pixel_key(p.seed, pixel, 1));
       stratum_2d(lens_index, p.spp, pixel_key(p.seed, pixel, 2), Real(a), Real(b), lu, lv);
-      tu = below_one((Real(permute(i, p.spp, pixel_key(p.seed, pixel, 3))) + Real(t)) / Real(p.spp));
+      tu =
+          below_one((Real(permute(i, p.spp, pixel_key(p.seed, pixel, 3))) + Real(t)) / Real(p.spp));
     }
     Ray ray = camera.generate(Real(x) + sx, Real(y) + sy, lu, lv, tu, p.lens, p.motion);
     Hit hit = trace_closest(scene.mesh.accel, ray, c);
@@ -115,7 +120,8 @@ struct RadianceEstimator {
       Ray next;
       Vec3 weight;
       bool diffuse = false;
-      if (!sample_continuation(m, s, ray.dir, p.indirect, u_pick, u1, u2, next, weight, diffuse)) continue;
+      if (!sample_continuation(m, s, ray.dir, p.indirect, u_pick, u1, u2, next, weight, diffuse))
+        continue;
       Vec3 throughput = weight * branch_weight;
       for (int depth = 1; depth <= p.bounces; ++depth) {
         const Hit h = trace_closest(scene.mesh.accel, next, c);
@@ -131,17 +137,20 @@ struct RadianceEstimator {
         plan.samples = 1;
         plan.first = 0;
         plan.strata = 1;
-        plan.pair_base = kShadowPair + slot * static_cast<std::uint32_t>(
-                                                  lights * (p.shadow_samples > 1 ? p.shadow_samples : 1));
+        plan.pair_base =
+            kShadowPair + slot * static_cast<std::uint32_t>(
+                                     lights * (p.shadow_samples > 1 ? p.shadow_samples : 1));
         plan.soft = p.soft_shadows;
         radiance += throughput * shade_local(sd, md, rng, plan, !diffuse, c);
         if (depth == p.bounces) break;
-        const std::uint32_t cq = kContinuationPair + 2u * static_cast<std::uint32_t>(p.glossy_samples) +
+        const std::uint32_t cq = kContinuationPair +
+                                 2u * static_cast<std::uint32_t>(p.glossy_samples) +
                                  2u * (slot - 1u);
         rng.uniform2(cq, u_pick, unused);
         rng.uniform2(cq + 1, u1, u2);
         const Vec3 dir = next.dir;
-        if (!sample_continuation(md, sd, dir, p.indirect, u_pick, u1, u2, next, weight, diffuse)) break;
+        if (!sample_continuation(md, sd, dir, p.indirect, u_pick, u1, u2, next, weight, diffuse))
+          break;
         throughput *= weight;
       }
     }
@@ -149,7 +158,8 @@ struct RadianceEstimator {
   }
 
   KOKKOS_INLINE_FUNCTION void pixel(int x, int y, PixelResult& out, TraceCounter& c) const {
-    const std::uint64_t index = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(p.width) + x;
+    const std::uint64_t index =
+        static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(p.width) + x;
     Vec3 sum(Real(0));
     for (int i = 0; i < p.spp; ++i) sum += sample(index, x, y, i, c);
     const Real inv = Real(1) / Real(p.spp);
