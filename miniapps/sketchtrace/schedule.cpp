@@ -99,9 +99,10 @@ class QueueScheduler : public Scheduler {
 
 // Per-rank chunk queues that move between ranks by non-blocking messages, progressed
 // between dispatches: neighbour bargaining (the hand-drawn paper's §3.4: push to a
-// neighbour below the average) or work stealing (an idle rank asks a random victim,
-// which answers with the back half of its queue). A non-blocking allreduce per round
-// gives the average remaining cost and detects the end (all pixels done, or a stop).
+// neighbour below the average) or work stealing (an idle rank asks a victim drawn by
+// remaining work, which answers with the back half of its queue). A non-blocking
+// allgather of {remaining cost, pixels done, stop} per round gives the average (and
+// the victims' loads) and detects the end (all pixels done, or a stop).
 class PeerScheduler : public Scheduler {
  public:
   PeerScheduler(const Communicator& comm, const PixelOrder& order, const CostMap* cost,
@@ -135,6 +136,8 @@ class PeerScheduler : public Scheduler {
     right_ = (r + 1) % p;
     sent_to_.assign(p, 0);
     received_from_.assign(p, 0);
+    round_all_.assign(3 * static_cast<std::size_t>(p), 0.0);
+    loads_.assign(p, 0.0);
   }
   ~PeerScheduler() override {
     if (mpi_ != MPI_COMM_NULL) MPI_Comm_free(&mpi_);
@@ -205,13 +208,28 @@ class PeerScheduler : public Scheduler {
     return n;
   }
 
-  // Steal request to a random other rank; the answer is a (possibly empty) transfer.
+  // Steal request to a random other rank, drawn with probability proportional to its
+  // remaining work at the last round (uniformly before the first); the answer is a
+  // (possibly empty) transfer.
   void ask() {
     rng_ = rng_ * 6364136223846793005ULL + 1442695040888963407ULL +
            2 * static_cast<std::uint64_t>(comm_.rank());
-    const int p = comm_.size();
-    const int victim =
-        (comm_.rank() + 1 + static_cast<int>((rng_ >> 33) % static_cast<std::uint64_t>(p - 1))) % p;
+    const int p = comm_.size(), me = comm_.rank();
+    const double u = static_cast<double>(rng_ >> 11) * 0x1.0p-53;
+    double total = 0;
+    for (int r = 0; r < p; ++r)
+      if (r != me) total += loads_[r];
+    int victim = (me + 1 + static_cast<int>(u * (p - 1))) % p;
+    if (total > 0) {
+      double run = 0;
+      for (int r = 0; r < p; ++r) {
+        if (r == me || loads_[r] <= 0) continue;
+        victim = r;
+        run += loads_[r];
+        if (run > u * total) break;
+      }
+    }
+    loads_[victim] = 0;  // until the next round says otherwise
     post(victim, kSteal, {0.0});
     asking_ = true;
   }
@@ -285,11 +303,16 @@ class PeerScheduler : public Scheduler {
       MPI_Test(&round_req_, &flag, MPI_STATUS_IGNORE);
       if (!flag) return;
       round_active_ = false;
-      if (round_out_[1] >= static_cast<double>(total_) || round_out_[2] > 0) {
+      double sum[3] = {0, 0, 0};
+      for (int r = 0; r < comm_.size(); ++r) {
+        loads_[r] = round_all_[3 * r];
+        for (int k = 0; k < 3; ++k) sum[k] += round_all_[3 * r + k];
+      }
+      if (sum[1] >= static_cast<double>(total_) || sum[2] > 0) {
         finished_ = true;
         return;
       }
-      const double avg = round_out_[0] / comm_.size();
+      const double avg = sum[0] / comm_.size();
       if (comm_.size() > 1 && !stop_ && !steal_) {
         for (int side = 0; side < (left_ == right_ ? 1 : 2); ++side) {
           double& nb = side == 0 ? load_left_ : load_right_;
@@ -306,7 +329,7 @@ class PeerScheduler : public Scheduler {
       round_in_[0] = remaining_;
       round_in_[1] = static_cast<double>(done_);
       round_in_[2] = stop_ ? 1.0 : 0.0;
-      MPI_Iallreduce(round_in_, round_out_, 3, MPI_DOUBLE, MPI_SUM, mpi_, &round_req_);
+      MPI_Iallgather(round_in_, 3, MPI_DOUBLE, round_all_.data(), 3, MPI_DOUBLE, mpi_, &round_req_);
       comm_.count(sizeof round_in_);
       round_active_ = true;
     }
@@ -327,7 +350,9 @@ class PeerScheduler : public Scheduler {
   std::vector<std::int64_t> sent_to_, received_from_;
   bool round_active_ = false, finished_ = false, stop_ = false;
   MPI_Request round_req_ = MPI_REQUEST_NULL;
-  double round_in_[3] = {0, 0, 0}, round_out_[3] = {0, 0, 0};
+  double round_in_[3] = {0, 0, 0};
+  std::vector<double> round_all_;  // every rank's {remaining, done, stop} of the last round
+  std::vector<double> loads_;      // every rank's remaining cost at the last round
 };
 
 #endif  // RTMINI_HAVE_MPI
