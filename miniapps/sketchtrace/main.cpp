@@ -352,14 +352,20 @@ int run(Communicator& comm, int argc, char** argv) {
       }
     }
   }
-  const double completion = report.timer.now();
+  const double loop_end = report.timer.now();
   report.timer.stop();
   report.timer.start("gather");
   scheduler->finish(stopping);
   sink.finish();
   report.timer.stop();
-  const double render_end = comm.max(completion);
-  const double idle = scheduler->stats().idle + (report.timer.now() - completion);
+  const double render_end = comm.max(loop_end);
+  // A rank's completion is the end of its last dispatch (the paper's per-rank
+  // completion plots); idle is the rest of the render span: waiting for work, for
+  // messages, for the termination round and for the slowest rank.
+  const double completion = records.empty() ? render_start : records.back().end;
+  double busy = 0;
+  for (const BandRecord& r : records) busy += r.end - r.start;
+  const double idle = std::max(0.0, (render_end - render_start) - busy);
   const std::int64_t missing =
       comm.sum(comm.is_root() ? order.size() - sink.merged() : std::int64_t(0));
   if (comm.is_root() && progress)
