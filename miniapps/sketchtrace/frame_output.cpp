@@ -93,21 +93,6 @@ std::uint64_t hash_pixels(const std::vector<PixelResult>& pixels, std::int64_t f
   return h;
 }
 
-double rmse(const Image& a, const Image& b, const std::string& what) {
-  if (a.width != b.width || a.height != b.height || b.channels < 3)
-    throw InputError(what + ": reference is " + std::to_string(b.width) + "x" +
-                     std::to_string(b.height) + "x" + std::to_string(b.channels) + ", the render " +
-                     std::to_string(a.width) + "x" + std::to_string(a.height) + "x3");
-  double se = 0;
-  for (int y = 0; y < a.height; ++y)
-    for (int x = 0; x < a.width; ++x)
-      for (int c = 0; c < 3; ++c) {
-        const double d = static_cast<double>(a.at(x, y, c)) - static_cast<double>(b.at(x, y, c));
-        se += d * d;
-      }
-  return std::sqrt(se / (3.0 * a.width * a.height));
-}
-
 void check_output_path(const std::string& path) {
   const std::string e = lower_extension(path);
   if (e != ".ppm" && e != ".png" && e != ".exr")

@@ -25,6 +25,7 @@
 #include "rtmini/io/timings.hpp"
 #include "rtmini/report/app_main.hpp"
 #include "rtmini/report/hash.hpp"
+#include "rtmini/report/image_metrics.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/report/stop_request.hpp"
 #include "rtmini/report/version.hpp"
@@ -426,11 +427,19 @@ int run(Communicator& comm, int argc, char** argv) {
         for (const std::string& f : write_frame(opt.output, frame, s))
           std::printf("  wrote %s\n", f.c_str());
       if (!opt.reference.empty()) {
-        const double e = rmse(frame.color, read_image(opt.reference), opt.reference);
-        report.errors = {{"reference", opt.reference}, {"rmse", e}, {"max_rmse", opt.max_rmse}};
-        const bool ok = opt.max_rmse < 0 || e <= opt.max_rmse;
-        std::printf("  reference %s: RMSE %.6g (limit %g) %s\n", opt.reference.c_str(), e,
-                    opt.max_rmse, ok ? "PASS" : "FAIL");
+        const ImageErrors e = compare_images(frame.color, read_image(opt.reference), opt.reference);
+        report.errors = {{"reference", opt.reference},
+                         {"rmse", e.rmse},
+                         {"rel_mse", e.rel_mse},
+                         {"psnr", e.psnr},
+                         {"ssim", e.ssim},
+                         {"max_rmse", opt.max_rmse}};
+        const bool ok = opt.max_rmse < 0 || e.rmse <= opt.max_rmse;
+        std::printf(
+            "  reference %s: RMSE %.6g, relative MSE %.6g, PSNR %.2f dB, SSIM %.5f (RMSE limit %g) "
+            "%s\n",
+            opt.reference.c_str(), e.rmse, e.rel_mse, e.psnr, e.ssim, opt.max_rmse,
+            ok ? "PASS" : "FAIL");
         if (!ok) exit_code = kVerificationFailed;
       }
     }
