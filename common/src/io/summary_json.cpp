@@ -19,7 +19,7 @@ std::string format_summary_json(const RunSummary& s) {
   nlohmann::ordered_json phases = nlohmann::ordered_json::object();
   for (const auto& [name, seconds] : s.phases) phases[name] = seconds;
   j["phases"] = phases;
-  j["fom"] = {{"name", s.fom_name}, {"value", s.fom_value}, {"unit", s.fom_unit}};
+  j["figure_of_merit"] = {{"name", s.fom_name}, {"value", s.fom_value}, {"unit", s.fom_unit}};
   j["verification_hash"] = s.verification_hash;
   j["peak_memory_bytes"] = s.peak_memory_bytes;
   if (!s.errors.is_null()) j["errors"] = nlohmann::ordered_json::parse(s.errors.dump());

@@ -176,7 +176,7 @@ with h5py.File(t, "r") as f:
     assert f["/chunks/work_units"][:].sum() == 160 * 120
 summary = json.load(open(s))
 assert summary["app"] == "sketchtrace" and summary["ranks"] == np_
-assert summary["fom"]["unit"] == "Mrays/s" and summary["fom"]["value"] > 0
+assert summary["figure_of_merit"]["unit"] == "Mrays/s" and summary["figure_of_merit"]["value"] > 0
 print("timings and summary OK")
 PYEOF
     ;;

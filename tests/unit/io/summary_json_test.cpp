@@ -37,7 +37,7 @@ TEST(SummaryJson, ParsesBackWithStableOrder) {
   std::vector<std::string> keys;
   for (const auto& item : j.items()) keys.push_back(item.key());
   EXPECT_EQ(keys, (std::vector<std::string>{"app", "version", "git_hash", "backend", "ranks",
-                                            "threads", "scene", "parameters", "phases", "fom",
+                                            "threads", "scene", "parameters", "phases", "figure_of_merit",
                                             "verification_hash", "peak_memory_bytes"}));
   EXPECT_EQ(j["app"], "sketchtrace");
   EXPECT_EQ(j["ranks"], 4);
@@ -47,9 +47,9 @@ TEST(SummaryJson, ParsesBackWithStableOrder) {
   for (const auto& item : j["phases"].items()) phases.push_back(item.key());
   EXPECT_EQ(phases, (std::vector<std::string>{"read", "bvh", "trace"}));  // run order kept
   EXPECT_EQ(j["phases"]["trace"], 12.75);
-  EXPECT_EQ(j["fom"]["name"], "rays_per_second");
-  EXPECT_EQ(j["fom"]["value"], 1.5e9);
-  EXPECT_EQ(j["fom"]["unit"], "rays/s");
+  EXPECT_EQ(j["figure_of_merit"]["name"], "rays_per_second");
+  EXPECT_EQ(j["figure_of_merit"]["value"], 1.5e9);
+  EXPECT_EQ(j["figure_of_merit"]["unit"], "rays/s");
   EXPECT_EQ(j["peak_memory_bytes"], 123456789012LL);
   EXPECT_EQ(text.back(), '\n');
   EXPECT_EQ(format_summary_json(s), text);  // same input, same bytes
