@@ -12,6 +12,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <type_traits>
 #include <nlohmann/json.hpp>
 
 #include "checkpoint.hpp"
@@ -82,11 +83,14 @@ std::string extension(const std::string& path) {
   return e;
 }
 
-// Pixels per dispatch: about 1/64 of a rank's share, whole tiles, 256..65536.
+// Pixels per dispatch: about 1/64 of a rank's share on a CPU backend (256..65536),
+// 1/8 on a GPU, whose launches need many pixels to fill the device (65536..2^20).
 std::int64_t dispatch_pixels(const RenderSettings& s, std::int64_t pixels, int ranks) {
   if (s.chunk_pixels > 0) return s.chunk_pixels;
-  const std::int64_t share = pixels / (64 * static_cast<std::int64_t>(ranks));
-  return std::clamp<std::int64_t>(share / (kTile * kTile) * (kTile * kTile), 256, 65536);
+  constexpr bool host = std::is_same<Kokkos::DefaultExecutionSpace, Kokkos::DefaultHostExecutionSpace>::value;
+  const std::int64_t share = pixels / ((host ? 64 : 8) * static_cast<std::int64_t>(ranks));
+  return std::clamp<std::int64_t>(share / (kTile * kTile) * (kTile * kTile), host ? 256 : 65536,
+                                  host ? 65536 : std::int64_t(1) << 20);
 }
 
 // "[######......]  42.0%  1.3 Mpx/s  ETA 0:00:12" on stderr, at most twice a second.
