@@ -12,11 +12,6 @@
 namespace rtmini::sketch {
 namespace {
 
-double seconds_now() {
-  using namespace std::chrono;
-  return duration<double>(steady_clock::now().time_since_epoch()).count();
-}
-
 // Whole 16x16 tiles (256 positions) per dispatch, at least one.
 std::int64_t batch_tiles(std::int64_t batch) {
   return std::max<std::int64_t>(1, batch / (kTile * kTile));
@@ -74,12 +69,10 @@ class QueueScheduler : public Scheduler {
   bool next(std::vector<PosRange>& out, const std::function<bool()>&) override {
     out.clear();
     if (last_ >= tiles_) return false;
-    const double t0 = seconds_now();
     std::int64_t k = guided(tiles_ - last_, comm_.size(), max_tiles_), old = 0;
     MPI_Fetch_and_op(&k, &old, MPI_INT64_T, 0, 0, MPI_SUM, win_);
     MPI_Win_flush(0, win_);
     comm_.count(sizeof k);
-    stats_.idle += seconds_now() - t0;
     last_ = old + k;
     if (old >= tiles_) return false;
     out.push_back(tile_range(old, std::min(old + k, tiles_), size_));
@@ -148,14 +141,12 @@ class PeerScheduler : public Scheduler {
     done_ += last_pixels_;
     last_pixels_ = 0;
     poll();
-    const double start = seconds_now();
     while (queue_.empty() && !finished_) {
       if (should_stop()) stop_ = true;
       if (steal_ && !asking_ && !stop_ && comm_.size() > 1) ask();
       poll();
       if (queue_.empty() && !finished_) std::this_thread::sleep_for(std::chrono::microseconds(50));
     }
-    stats_.idle += seconds_now() - start;
     if (finished_ || queue_.empty()) return false;
     std::int64_t taken = 0;
     while (!queue_.empty() && taken < batch_) {
@@ -172,7 +163,6 @@ class PeerScheduler : public Scheduler {
   }
 
   void finish(bool stopping) override {
-    const double start = seconds_now();
     if (stopping) stop_ = true;
     done_ += last_pixels_;
     last_pixels_ = 0;
@@ -188,7 +178,6 @@ class PeerScheduler : public Scheduler {
       while (received_from_[src] < expected[src]) receive(static_cast<int>(src), true);
     for (auto& s : sends_) MPI_Wait(&s.req, MPI_STATUS_IGNORE);
     sends_.clear();
-    stats_.idle += seconds_now() - start;
   }
 
  private:
@@ -268,7 +257,6 @@ class PeerScheduler : public Scheduler {
         queue_.push_back({static_cast<std::int64_t>(data[i]),
                           static_cast<std::int64_t>(data[i + 1]), data[i + 2]});
         remaining_ += data[i + 2];
-        stats_.received += static_cast<std::int64_t>(data[i + 1] - data[i]);
       }
     }
     return true;
@@ -282,7 +270,6 @@ class PeerScheduler : public Scheduler {
       queue_.pop_back();
       msg.insert(msg.end(), {static_cast<double>(c.begin), static_cast<double>(c.end), c.cost});
       given += c.cost;
-      stats_.handed += c.end - c.begin;
     }
     if (!msg.empty()) {
       remaining_ -= given;

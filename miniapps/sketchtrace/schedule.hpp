@@ -78,11 +78,6 @@ std::vector<std::int64_t> equal_cost_cuts(const PixelOrder& order, const CostMap
 std::vector<PosRange> cost_chunks(const PixelOrder& order, const CostMap& cost, std::int64_t pixels,
                                   std::vector<double>& costs);
 
-struct SchedulerStats {
-  double idle = 0;            // seconds spent waiting for work or for peers
-  std::int64_t handed = 0;    // pixels given to other ranks (bargain, steal victims don't know)
-  std::int64_t received = 0;  // pixels taken from other ranks (bargain, steal)
-};
 
 class Scheduler {
  public:
@@ -92,10 +87,6 @@ class Scheduler {
   virtual bool next(std::vector<PosRange>& out, const std::function<bool()>& should_stop) = 0;
   // Leaves the schedule; collective. `stopping`: this rank stopped early.
   virtual void finish(bool stopping) { (void)stopping; }
-  const SchedulerStats& stats() const { return stats_; }
-
- protected:
-  SchedulerStats stats_;
 };
 
 // `cost` is needed by needs_cost_map(b) strategies; `batch` is the dispatch size in pixels.
