@@ -84,7 +84,7 @@ int run_ao_mode(Communicator& comm, int argc, char** argv) {
   if (root) {
     const std::int64_t batch = std::min<std::int64_t>(o.batch, total);
     const double mib = 1.0 / (1024.0 * 1024.0);
-    const double est = stored_tris * (36.0 + 4.0 + 28.0) + plan.total_triangles() * 44.0 +
+    const double est = stored_tris * (36.0 + 4.0 + 28.0) + plan.total_triangles() * 52.0 +
                        batch * (24.0 + 2.0) + total * (2.0 + 8.0);
     std::printf("%s\n", build_banner().c_str());
     std::printf("bake --mode ao: %s\n", o.input.c_str());
@@ -184,7 +184,9 @@ int run_ao_mode(Communicator& comm, int argc, char** argv) {
     if (o.least_squares) {
       std::printf("    build mass matrices ...           %10.2f ms\n", 1e3 * lsq.assemble_s);
       std::printf("    build regularization matrices ... %10.2f ms\n", 1e3 * lsq.regularize_s);
-      std::printf("    decompose matrices ...            %10.2f ms\n", 1e3 * lsq.factor_s);
+      std::printf(
+          "    decompose matrices ...            %10.2f ms  (%d factorization(s), %zu instances)\n",
+          1e3 * lsq.factor_s, lsq.factorizations, plan.receivers.size());
       std::printf("    solve linear systems ...          %10.2f ms\n", 1e3 * lsq.solve_s);
       if (lsq.fallbacks > 0)
         std::printf("    %d singular system(s): weighted average used there\n", lsq.fallbacks);

@@ -76,17 +76,23 @@ DeviceSamplePlan upload_plan(const AoScene& scene, const SamplePlan& plan) {
       Kokkos::View<Triangle*, MemSpace>("rtmini::bake::ao::receiver_tris", plan.total_triangles());
   d.offsets = Kokkos::View<std::int64_t*, MemSpace>("rtmini::bake::ao::sample_offsets",
                                                     plan.offsets.size());
+  d.items = Kokkos::View<std::uint64_t*, MemSpace>("rtmini::bake::ao::sample_items",
+                                                   plan.total_triangles());
   auto th = Kokkos::create_mirror_view(d.tris);
-  std::int64_t g = 0;
-  for (int i : plan.receivers) {
-    const AoInstance& inst = scene.instances[i];
+  auto ih = Kokkos::create_mirror_view(d.items);
+  for (std::size_t r = 0; r < plan.receivers.size(); ++r) {
+    const AoInstance& inst = scene.instances[plan.receivers[r]];
     const AoMesh& mesh = scene.meshes[inst.mesh];
-    for (const auto& t : mesh.tris)
-      th(g++) = {Vec3(inst.xform.point(mesh.positions[t[0]])),
-                 Vec3(inst.xform.point(mesh.positions[t[1]])),
-                 Vec3(inst.xform.point(mesh.positions[t[2]]))};
+    for (std::int64_t g = plan.tri_base[r]; g < plan.tri_base[r + 1]; ++g) {
+      const auto& t = mesh.tris[g - plan.tri_base[r]];
+      th(g) = {Vec3(inst.xform.point(mesh.positions[t[0]])),
+               Vec3(inst.xform.point(mesh.positions[t[1]])),
+               Vec3(inst.xform.point(mesh.positions[t[2]]))};
+      ih(g) = plan.item(r, g);
+    }
   }
   Kokkos::deep_copy(d.tris, th);
+  Kokkos::deep_copy(d.items, ih);
   auto oh = Kokkos::create_mirror_view(d.offsets);
   std::copy(plan.offsets.begin(), plan.offsets.end(), oh.data());
   Kokkos::deep_copy(d.offsets, oh);
@@ -106,6 +112,7 @@ std::vector<std::uint16_t> trace_samples(const OcclusionQuery& query, const Devi
   auto hits_h = Kokkos::create_mirror_view(hits);
   const auto dirs = detail::upload_directions(s.rays, s.seed);
   const auto tris = plan.tris;
+  const auto items = plan.items;
   const auto offsets = plan.offsets;
   const std::int64_t num_tris = static_cast<std::int64_t>(tris.extent(0));
   const std::uint64_t seed = s.seed;
@@ -126,7 +133,7 @@ std::vector<std::uint16_t> trace_samples(const OcclusionQuery& query, const Devi
           }
           const Triangle t = tris(lo);
           Real u, v;
-          sample_barycentrics(seed, id, u, v);
+          sample_barycentrics(seed, items(lo), id - offsets(lo), u, v);
           pos(i) = barycentric_point(t.a, t.b, t.c, u, v);
           nrm(i) = triangle_normal(t.a, t.b, t.c);
         });

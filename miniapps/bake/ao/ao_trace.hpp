@@ -26,9 +26,11 @@ struct TraceSettings {
 // plain random. Identical for every sample, rank and pass split.
 std::vector<Vec3> direction_table(int rays, std::uint64_t seed);
 
-// World-space receiver triangles and sample offsets on the device (for generation).
+// World-space receiver triangles, their random-number items (sample_item) and
+// sample offsets on the device (for generation).
 struct DeviceSamplePlan {
   Kokkos::View<Triangle*, MemSpace> tris;
+  Kokkos::View<std::uint64_t*, MemSpace> items;
   Kokkos::View<std::int64_t*, MemSpace> offsets;
 };
 DeviceSamplePlan upload_plan(const AoScene& scene, const SamplePlan& plan);

@@ -13,14 +13,15 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-// Calls fn(b0, b1, b2, a) for every sample of global triangle g: barycentric
-// weights of its three vertices and the sample's visibility.
+// Calls fn(b0, b1, b2, a) for every sample of global triangle g of receiver r:
+// barycentric weights of its three vertices and the sample's visibility.
 template <class Fn>
-void for_each_sample(const SampleValues& sv, std::int64_t g, Fn&& fn) {
+void for_each_sample(const SampleValues& sv, std::size_t r, std::int64_t g, Fn&& fn) {
   const SamplePlan& plan = *sv.plan;
+  const std::uint64_t item = plan.item(r, g);
   for (std::int64_t s = plan.offsets[g]; s < plan.offsets[g + 1]; ++s) {
     Real u, v;
-    sample_barycentrics(sv.seed, s, u, v);
+    sample_barycentrics(sv.seed, item, s - plan.offsets[g], u, v);
     const double du = u, dv = v;
     fn(1.0 - du - dv, du, dv, sv.visibility[s]);
   }
@@ -65,7 +66,7 @@ std::vector<float> map_weighted_average(const AoScene& scene, const SampleValues
       if (count == 0) continue;
       const double da = plan.areas[g] / static_cast<double>(count);
       const auto& tri = mesh.tris[g - plan.tri_base[r]];
-      for_each_sample(sv, g, [&](double b0, double b1, double b2, double a) {
+      for_each_sample(sv, r, g, [&](double b0, double b1, double b2, double a) {
         const double b[3] = {b0, b1, b2};
         for (int k = 0; k < 3; ++k) {
           sum[vbase + tri[k]] += b[k] * da * a;
@@ -129,27 +130,78 @@ struct TriangleBlock {
   double f[3];
 };
 
+// Receivers with the same system matrix: same stored mesh, per-triangle sample
+// counts and relative areas, hence (barycentrics keyed by mesh triangle) the same
+// mass blocks. Groups in scene order, members in scene order; without sharing
+// every receiver is a group of its own.
+std::vector<std::vector<std::size_t>> group_receivers(const SamplePlan& plan, bool share) {
+  auto same_system = [&](std::size_t q, std::size_t r) {
+    if (plan.meshes[q] != plan.meshes[r]) return false;
+    const std::int64_t gq = plan.tri_base[q], gr = plan.tri_base[r];
+    for (std::int64_t t = 0; t < plan.tri_base[q + 1] - gq; ++t)
+      if (plan.sample_count(gq + t) != plan.sample_count(gr + t) ||
+          plan.relative_areas[gq + t] != plan.relative_areas[gr + t])
+        return false;
+    return true;
+  };
+  std::vector<std::vector<std::size_t>> groups;
+  for (std::size_t r = 0; r < plan.receivers.size(); ++r) {
+    std::size_t c = 0;
+    while (share && c < groups.size() && !same_system(groups[c][0], r)) ++c;
+    if (!share || c == groups.size()) groups.emplace_back();
+    groups[share ? c : groups.size() - 1].push_back(r);
+  }
+  return groups;
+}
+
+// One factored system: A = weight * Laplacian + mass blocks (+1 on the diagonal of
+// vertices no sample reaches), from the group's first member.
+struct GroupSystem {
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
+  std::vector<char> touched;  // per vertex: reached by a sample
+  bool ok = false;
+  double factor_s = 0;
+};
+
+void factor_group(const AoMesh& mesh, const MeshPattern& pat, const TriangleBlock* blocks,
+                  double weight, GroupSystem& sys) {
+  const int nv = static_cast<int>(mesh.positions.size());
+  Eigen::SparseMatrix<double> a = pat.laplacian * weight;
+  double* val = a.valuePtr();
+  sys.touched.assign(nv, 0);
+  static constexpr int kSym[9] = {0, 1, 2, 1, 3, 4, 2, 4, 5};
+  for (std::size_t t = 0; t < mesh.tris.size(); ++t) {
+    const TriangleBlock& b = blocks[t];
+    if (b.m[0] + b.m[3] + b.m[5] <= 0.0) continue;
+    const int* slot = &pat.slots[t * 9];
+    for (int k = 0; k < 9; ++k) val[slot[k]] += b.m[kSym[k]];
+    for (int i = 0; i < 3; ++i) sys.touched[mesh.tris[t][i]] = 1;
+  }
+  // Vertices without data are pulled weakly towards open (1).
+  for (int v = 0; v < nv; ++v)
+    if (!sys.touched[v]) a.coeffRef(v, v) += 1.0;
+  const auto c0 = std::chrono::steady_clock::now();
+  sys.solver.compute(a);
+  sys.factor_s = seconds_since(c0);
+  sys.ok = sys.solver.info() == Eigen::Success;
+}
+
 }  // namespace
 
 std::vector<float> map_least_squares(const AoScene& scene, const SampleValues& sv, double weight,
-                                     LeastSquaresStats* stats) {
+                                     LeastSquaresStats* stats, bool share_factorization) {
   using Clock = std::chrono::steady_clock;
   using HostSpace = Kokkos::DefaultHostExecutionSpace;
+  using DynamicHostPolicy = Kokkos::RangePolicy<HostSpace, Kokkos::Schedule<Kokkos::Dynamic>>;
   const SamplePlan& plan = *sv.plan;
   LeastSquaresStats local;
   LeastSquaresStats& st = stats ? *stats : local;
   const std::size_t nr = plan.receivers.size();
   std::vector<float> out(plan.total_vertices(), 1.0f);
 
-  // Data term, one independent block per triangle (any thread count gives the same sums).
+  // Data term, one independent block per triangle (any thread count gives the same
+  // sums), w_s = relative area / count.
   auto t0 = Clock::now();
-  std::vector<double> mean_area(nr, 1.0);
-  for (std::size_t r = 0; r < nr; ++r) {
-    double a = 0.0;
-    for (std::int64_t g = plan.tri_base[r]; g < plan.tri_base[r + 1]; ++g) a += plan.areas[g];
-    const std::int64_t n = plan.tri_base[r + 1] - plan.tri_base[r];
-    if (n > 0 && a > 0.0) mean_area[r] = a / static_cast<double>(n);
-  }
   std::vector<TriangleBlock> blocks(static_cast<std::size_t>(plan.total_triangles()));
   std::vector<int> owner(blocks.size());
   for (std::size_t r = 0; r < nr; ++r)
@@ -161,10 +213,10 @@ std::vector<float> map_least_squares(const AoScene& scene, const SampleValues& s
         TriangleBlock& b = blocks[g];
         for (double& x : b.m) x = 0.0;
         for (double& x : b.f) x = 0.0;
-        const std::int64_t count = plan.offsets[g + 1] - plan.offsets[g];
-        if (count == 0 || plan.areas[g] <= 0.0) return;
-        const double w = plan.areas[g] / static_cast<double>(count) / mean_area[owner[g]];
-        for_each_sample(sv, g, [&](double b0, double b1, double b2, double a) {
+        const std::int64_t count = plan.sample_count(g);
+        if (count == 0 || plan.relative_areas[g] <= 0.0) return;
+        const double w = plan.relative_areas[g] / static_cast<double>(count);
+        for_each_sample(sv, owner[g], g, [&](double b0, double b1, double b2, double a) {
           b.m[0] += w * b0 * b0;
           b.m[1] += w * b0 * b1;
           b.m[2] += w * b0 * b2;
@@ -182,69 +234,60 @@ std::vector<float> map_least_squares(const AoScene& scene, const SampleValues& s
   t0 = Clock::now();
   std::map<int, MeshPattern> patterns;
   for (std::size_t r = 0; r < nr; ++r) {
-    const int mesh_id = scene.instances[plan.receivers[r]].mesh;
+    const int mesh_id = plan.meshes[r];
     if (!patterns.count(mesh_id)) patterns.emplace(mesh_id, make_pattern(scene.meshes[mesh_id]));
   }
   st.regularize_s += seconds_since(t0);
 
-  // One sparse Cholesky per receiver instance, instances in parallel (as the sample does per mesh).
-  t0 = Clock::now();
+  // One sparse Cholesky per group of identical systems, groups in parallel (the
+  // sample factors per mesh), then one solve per receiver, receivers in parallel.
+  const auto groups = group_receivers(plan, share_factorization);
+  const std::size_t ng = groups.size();
+  std::vector<GroupSystem> systems(ng);
+  std::vector<int> group_of(nr, 0);
+  for (std::size_t c = 0; c < ng; ++c)
+    for (std::size_t r : groups[c]) group_of[r] = static_cast<int>(c);
+  Kokkos::parallel_for("rtmini::bake::ao::lsq_factor",
+                       DynamicHostPolicy(0, static_cast<std::int64_t>(ng)), [&](std::int64_t c) {
+                         const std::size_t r = groups[c][0];
+                         const AoMesh& mesh = scene.meshes[plan.meshes[r]];
+                         if (mesh.positions.empty()) return;
+                         factor_group(mesh, patterns.at(plan.meshes[r]),
+                                      blocks.data() + plan.tri_base[r], weight, systems[c]);
+                       });
   std::vector<char> failed(nr, 0);
-  std::vector<double> factor_s(nr, 0.0), solve_s(nr, 0.0);
+  std::vector<double> solve_s(nr, 0.0);
   Kokkos::parallel_for("rtmini::bake::ao::lsq_solve",
-                       Kokkos::RangePolicy<HostSpace, Kokkos::Schedule<Kokkos::Dynamic>>(
-                           0, static_cast<std::int64_t>(nr)),
-                       [&](std::int64_t r) {
-                         const int mesh_id = scene.instances[plan.receivers[r]].mesh;
-                         const AoMesh& mesh = scene.meshes[mesh_id];
-                         const MeshPattern& pat = patterns.at(mesh_id);
+                       DynamicHostPolicy(0, static_cast<std::int64_t>(nr)), [&](std::int64_t r) {
+                         const AoMesh& mesh = scene.meshes[plan.meshes[r]];
                          const int nv = static_cast<int>(mesh.positions.size());
                          if (nv == 0) return;
-                         Eigen::SparseMatrix<double> a = pat.laplacian * weight;
-                         double* val = a.valuePtr();
+                         const GroupSystem& sys = systems[group_of[r]];
+                         if (!sys.ok) {
+                           failed[r] = 1;
+                           return;
+                         }
+                         const auto c0 = Clock::now();
                          Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nv);
-                         std::vector<char> touched(nv, 0);
                          const std::int64_t g0 = plan.tri_base[r];
-                         static constexpr int kSym[9] = {0, 1, 2, 1, 3, 4, 2, 4, 5};
                          for (std::size_t t = 0; t < mesh.tris.size(); ++t) {
                            const TriangleBlock& b = blocks[g0 + static_cast<std::int64_t>(t)];
-                           if (b.m[0] + b.m[3] + b.m[5] <= 0.0) continue;
-                           const int* slot = &pat.slots[t * 9];
-                           for (int k = 0; k < 9; ++k) val[slot[k]] += b.m[kSym[k]];
-                           for (int i = 0; i < 3; ++i) {
-                             rhs[mesh.tris[t][i]] += b.f[i];
-                             touched[mesh.tris[t][i]] = 1;
-                           }
+                           for (int i = 0; i < 3; ++i) rhs[mesh.tris[t][i]] += b.f[i];
                          }
-                         // Vertices without data are pulled weakly towards open (1).
-                         for (int v = 0; v < nv; ++v) {
-                           if (touched[v]) continue;
-                           a.coeffRef(v, v) += 1.0;
-                           rhs[v] += 1.0;
-                         }
-                         auto c0 = Clock::now();
-                         Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
-                         solver.compute(a);
-                         factor_s[r] = seconds_since(c0);
-                         c0 = Clock::now();
-                         bool ok = solver.info() == Eigen::Success;
-                         Eigen::VectorXd x;
-                         if (ok) {
-                           x = solver.solve(rhs);
-                           ok = solver.info() == Eigen::Success && x.allFinite();
-                         }
+                         for (int v = 0; v < nv; ++v)
+                           if (!sys.touched[v]) rhs[v] += 1.0;
+                         const Eigen::VectorXd x = sys.solver.solve(rhs);
                          solve_s[r] = seconds_since(c0);
-                         if (!ok) {
+                         if (!x.allFinite()) {
                            failed[r] = 1;
                            return;
                          }
                          for (int v = 0; v < nv; ++v)
                            out[plan.vertex_base[r] + v] = static_cast<float>(x[v]);
                        });
-  for (std::size_t r = 0; r < nr; ++r) {
-    st.factor_s += factor_s[r];
-    st.solve_s += solve_s[r];
-  }
+  for (const GroupSystem& sys : systems) st.factor_s += sys.factor_s;
+  st.factorizations += static_cast<int>(ng);
+  for (std::size_t r = 0; r < nr; ++r) st.solve_s += solve_s[r];
   std::vector<float> fallback;  // weighted average where a system was singular
   for (std::size_t r = 0; r < nr; ++r) {
     if (!failed[r]) continue;

@@ -28,14 +28,19 @@ std::vector<float> map_weighted_average(const AoScene& scene, const SampleValues
 
 struct LeastSquaresStats {
   double assemble_s = 0, regularize_s = 0, factor_s = 0, solve_s = 0;
-  int fallbacks = 0;  // instances whose system was singular (weighted average used)
+  int fallbacks = 0;       // instances whose system was singular (weighted average used)
+  int factorizations = 0;  // sparse Cholesky factorizations (one per group of identical systems)
 };
 
 // Minimises sum_s w_s (sum_k b_sk x_k - a_s)^2 + weight * sum_edges (x_i - x_j)^2 per
 // receiver instance, w_s = sample area / mean triangle area of the instance (so
 // `weight` is independent of scene scale and tessellation density), with Eigen's
-// sparse Cholesky (SimplicialLDLT). weight = 0 is the pure fit.
+// sparse Cholesky (SimplicialLDLT). weight = 0 is the pure fit. Instances of one
+// mesh with the same per-triangle counts and relative areas have the same matrix:
+// it is factored once and solved per instance (share_factorization = false
+// factors every instance on its own, for verification).
 std::vector<float> map_least_squares(const AoScene& scene, const SampleValues& samples,
-                                     double weight, LeastSquaresStats* stats = nullptr);
+                                     double weight, LeastSquaresStats* stats = nullptr,
+                                     bool share_factorization = true);
 
 }  // namespace rtmini::ao

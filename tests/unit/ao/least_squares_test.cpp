@@ -28,7 +28,7 @@ SampleValues synthetic(const AoScene& scene, const SamplePlan& plan, std::uint64
       const auto& t = mesh.tris[g - plan.tri_base[r]];
       for (std::int64_t s = plan.offsets[g]; s < plan.offsets[g + 1]; ++s) {
         Real u, v;
-        sample_barycentrics(seed, s, u, v);
+        sample_barycentrics(seed, plan.item(r, g), s - plan.offsets[g], u, v);
         const Vec3d p = mesh.positions[t[0]] * (1.0 - u - v) + mesh.positions[t[1]] * double(u) +
                         mesh.positions[t[2]] * double(v);
         sv.visibility[s] = f(inst.xform.point(p));
@@ -78,6 +78,52 @@ TEST(AoLeastSquares, RegularisedFitKeepsConstantField) {
     for (float v : x) EXPECT_NEAR(v, 0.625, 1e-5);
   }
   for (float v : map_weighted_average(scene, sv)) EXPECT_NEAR(v, 0.625, 1e-6);
+}
+
+double wavy_field(const Vec3d& p) { return 0.5 + 0.3 * std::sin(p.x) * std::cos(0.7 * p.y + p.z); }
+
+TEST(AoLeastSquares, InstancesOfOneMeshShareOneFactorization) {
+  // Two instances of one mesh under different rigid transforms: same per-triangle
+  // counts and barycentrics, so one factorization serves both; the values match
+  // a separate factor-and-solve per instance.
+  AoScene scene;
+  Mesh m;
+  append_grid(m, {-2, 0, -2}, {0, 0, 4}, {4, 0, 0}, 10, 10, -1, 0);
+  append_icosphere(m, {0, 0.75, 0}, 0.7, 1, -1, 0);
+  test::add_instance(scene, m, make_trs({1, 2, 3}, {10, 20, 30}, {1, 1, 1}));
+  AoInstance copy = scene.instances[0];
+  copy.xform = make_trs({7, -1, 4}, {0, 90, 0}, {1, 1, 1});
+  scene.instances.push_back(copy);
+  const std::int64_t tris = static_cast<std::int64_t>(scene.meshes[0].tris.size());
+  const SamplePlan plan = plan_samples(scene, 3 * 2 * tris + 1000, 3);
+  for (std::int64_t t = 0; t < tris; ++t) {
+    ASSERT_EQ(plan.sample_count(t), plan.sample_count(tris + t));
+    ASSERT_EQ(plan.item(0, t), plan.item(1, tris + t));
+  }
+  const SampleValues sv = synthetic(scene, plan, 7, wavy_field);
+  LeastSquaresStats shared, separate;
+  const std::vector<float> x = map_least_squares(scene, sv, 0.1, &shared);
+  const std::vector<float> y = map_least_squares(scene, sv, 0.1, &separate, false);
+  EXPECT_EQ(shared.factorizations, 1);
+  EXPECT_EQ(separate.factorizations, 2);
+  EXPECT_EQ(shared.fallbacks, 0);
+  ASSERT_EQ(x.size(), y.size());
+  double worst = 0, spread = 0;
+  for (std::size_t v = 0; v < x.size(); ++v)
+    worst = std::max(worst, std::fabs(double(x[v]) - y[v]));
+  const std::size_t nv = scene.meshes[0].positions.size();
+  for (std::size_t v = 0; v < nv; ++v)
+    spread = std::max(spread, std::fabs(double(x[v]) - x[nv + v]));
+  EXPECT_LE(worst, 1e-9);
+  EXPECT_GT(spread, 1e-2);  // different transforms, different fields: two real solves
+
+  // A non-uniformly scaled third instance has other relative areas: its own factorization.
+  copy.xform = make_trs({0, 0, 9}, {0, 0, 0}, {1, 2, 1});
+  scene.instances.push_back(copy);
+  const SamplePlan plan3 = plan_samples(scene, 0, 3);
+  LeastSquaresStats three;
+  map_least_squares(scene, synthetic(scene, plan3, 7, wavy_field), 0.1, &three);
+  EXPECT_EQ(three.factorizations, 2);
 }
 
 // RMS over vertices of a - b.
