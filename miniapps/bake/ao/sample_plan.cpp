@@ -28,27 +28,25 @@ double similarity_area_scale(const AffineD& x) {
   return std::ldexp(std::round(std::ldexp(m, 32)), e - 32);
 }
 
-// Hands `extra` points to items in proportion to `weight`: item i gets
-// floor(E * C_i / W) - floor(E * C_{i-1} / W); the last item closes the sum
-// exactly whatever the rounding of the running sum C.
-std::vector<std::int64_t> split_by_weight(const std::vector<double>& weight, std::int64_t extra) {
-  std::vector<std::int64_t> out(weight.size(), 0);
+// Hands `extra` points to n items in proportion to `weight`: item i gets
+// out[i] = floor(E * C_i / W) - floor(E * C_{i-1} / W); the last item closes the
+// sum exactly whatever the rounding of the running sum C.
+void split_by_weight(const double* weight, std::size_t n, std::int64_t extra, std::int64_t* out) {
   double total = 0.0;
-  for (double w : weight) total += w;
-  if (!(total > 0.0)) return out;
+  for (std::size_t i = 0; i < n; ++i) total += weight[i];
   double running = 0.0;
   std::int64_t handed_out = 0;
-  for (std::size_t i = 0; i < weight.size(); ++i) {
+  for (std::size_t i = 0; i < n; ++i) {
     running += weight[i];
     const std::int64_t upto =
-        i + 1 == weight.size()
+        !(total > 0.0) ? 0
+        : i + 1 == n
             ? extra
             : static_cast<std::int64_t>(std::floor(static_cast<double>(extra) * (running / total)));
     const std::int64_t mine = std::min(upto, extra) - handed_out;
     out[i] = mine > 0 ? mine : 0;
     handed_out += out[i];
   }
-  return out;
 }
 
 }  // namespace
@@ -59,6 +57,10 @@ SamplePlan plan_samples(const AoScene& scene, std::int64_t requested, int min_pe
   const std::size_t nr = plan.receivers.size();
   plan.tri_base.push_back(0);
   plan.vertex_base.push_back(0);
+  std::size_t all_tris = 0;
+  for (int i : plan.receivers) all_tris += scene.meshes[scene.instances[i].mesh].tris.size();
+  plan.areas.reserve(all_tris);
+  plan.relative_areas.reserve(all_tris);
   // Object-space areas once per stored mesh (only meshes that receive).
   std::vector<std::vector<double>> mesh_areas(scene.meshes.size());
   std::vector<double> scale(nr), receiver_area(nr, 0.0);
@@ -120,18 +122,29 @@ SamplePlan plan_samples(const AoScene& scene, std::int64_t requested, int min_pe
     classes[c].push_back(r);
     class_area[c] += receiver_area[r];
   }
-  const std::vector<std::int64_t> class_extra = split_by_weight(class_area, extra);
+  std::vector<std::int64_t> class_extra(classes.size());
+  split_by_weight(class_area.data(), classes.size(), extra, class_extra.data());
+  // Per-triangle counts first (prefix-summed below); a member with the same share
+  // as the previous member of its class copies that member's counts.
   plan.offsets.assign(static_cast<std::size_t>(triangles) + 1, 0);
   for (std::size_t c = 0; c < classes.size(); ++c) {
     const auto n = static_cast<std::int64_t>(classes[c].size());
+    auto share = [&](std::int64_t k) {
+      return class_extra[c] / n + (k < class_extra[c] % n ? 1 : 0);
+    };
     for (std::int64_t k = 0; k < n; ++k) {
       const std::size_t r = classes[c][k];
-      const std::int64_t mine = class_extra[c] / n + (k < class_extra[c] % n ? 1 : 0);
-      const std::vector<double> rel(plan.relative_areas.begin() + plan.tri_base[r],
-                                    plan.relative_areas.begin() + plan.tri_base[r + 1]);
-      const std::vector<std::int64_t> add = split_by_weight(rel, mine);
-      for (std::size_t t = 0; t < add.size(); ++t)
-        plan.offsets[plan.tri_base[r] + static_cast<std::int64_t>(t) + 1] = min_per_face + add[t];
+      const std::int64_t mine = share(k);
+      std::int64_t* counts = plan.offsets.data() + plan.tri_base[r] + 1;
+      const std::int64_t nt = plan.tri_base[r + 1] - plan.tri_base[r];
+      if (k > 0 && share(k - 1) == mine) {
+        const std::int64_t* prev = plan.offsets.data() + plan.tri_base[classes[c][k - 1]] + 1;
+        std::copy(prev, prev + nt, counts);
+        continue;
+      }
+      split_by_weight(plan.relative_areas.data() + plan.tri_base[r], static_cast<std::size_t>(nt),
+                      mine, counts);
+      for (std::int64_t t = 0; t < nt; ++t) counts[t] += min_per_face;
     }
   }
   for (std::int64_t g = 0; g < triangles; ++g) plan.offsets[g + 1] += plan.offsets[g];
