@@ -73,6 +73,14 @@ KOKKOS_INLINE_FUNCTION std::int64_t quantise(float x) {
 }
 
 // Order-independent hash over (vertex, viewpoint, quantised colour) of this rank's vertices.
+// Copies a device map into the host map (sizes match).
+void download(Kokkos::View<const Vec3f*, MemSpace> from, std::vector<Vec3f>& to) {
+  Kokkos::deep_copy(
+      Kokkos::View<Vec3f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(to.data(),
+                                                                                       to.size()),
+      from);
+}
+
 std::uint64_t map_hash(const BakeSceneDevice& s, Kokkos::View<const Vec3f*, MemSpace> map,
                        const std::vector<Batch>& batches, int rank, int n) {
   std::uint64_t total = 0;
@@ -347,7 +355,8 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
 
   std::vector<IterationRecord> iter_records;
   std::vector<ChunkRecord> chunks;
-  std::vector<Vec3f> pack(static_cast<std::size_t>(my_items));
+  const bool device_resident = comm.size() == 1;
+  std::vector<Vec3f> pack(device_resident ? 0 : static_cast<std::size_t>(my_items));
   const bool contiguous_in_rank_order =
       std::is_sorted(batches.begin(), batches.end(),
                      [](const Batch& a, const Batch& b) { return a.rank < b.rank; });
@@ -373,6 +382,7 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
       chunks.push_back({comm.rank(), it, ie - ib, crays, cs, timer.now()});
       rays += crays;
       work += ie - ib;
+      if (device_resident) continue;
       Kokkos::deep_copy(
           Kokkos::View<Vec3f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
               pack.data() + packed, ie - ib),
@@ -384,31 +394,38 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
     rec.trace = t1 - t0;
     completion = t1;
     // All-gather: every rank gets every batch's colours (the seed's MPI_Allgather step).
+    // One rank already holds the whole map in `next`: it becomes `prev` without leaving the
+    // device (on a GPU the two host copies and the gather would cost more than the iteration).
     const std::int64_t bytes_before = comm.bytes_sent();
     comm.barrier();
     const double t_wait = timer.now();
     idle += t_wait - t1;
-    std::vector<Vec3f> gathered = comm.allgatherv(pack);
-    if (contiguous_in_rank_order) {
-      map.swap(gathered);
+    if (device_resident) {
+      std::swap(prev, next);
+      if (!c.checkpoint.empty() || it == iterations) download(prev, map);
     } else {
-      std::vector<std::size_t> pos(static_cast<std::size_t>(comm.size()), 0);
-      std::vector<std::size_t> rank_start(static_cast<std::size_t>(comm.size()) + 1, 0);
-      for (const Batch& b : batches)
-        rank_start[b.rank + 1] += host.color_offset[b.end] - host.color_offset[b.begin];
-      for (int r = 0; r < comm.size(); ++r) rank_start[r + 1] += rank_start[r];
-      for (const Batch& b : batches) {
-        const std::int64_t ib = host.color_offset[b.begin], ie = host.color_offset[b.end];
-        std::copy(gathered.begin() + rank_start[b.rank] + pos[b.rank],
-                  gathered.begin() + rank_start[b.rank] + pos[b.rank] + (ie - ib),
-                  map.begin() + ib);
-        pos[b.rank] += static_cast<std::size_t>(ie - ib);
+      std::vector<Vec3f> gathered = comm.allgatherv(pack);
+      if (contiguous_in_rank_order) {
+        map.swap(gathered);
+      } else {
+        std::vector<std::size_t> pos(static_cast<std::size_t>(comm.size()), 0);
+        std::vector<std::size_t> rank_start(static_cast<std::size_t>(comm.size()) + 1, 0);
+        for (const Batch& b : batches)
+          rank_start[b.rank + 1] += host.color_offset[b.end] - host.color_offset[b.begin];
+        for (int r = 0; r < comm.size(); ++r) rank_start[r + 1] += rank_start[r];
+        for (const Batch& b : batches) {
+          const std::int64_t ib = host.color_offset[b.begin], ie = host.color_offset[b.end];
+          std::copy(gathered.begin() + rank_start[b.rank] + pos[b.rank],
+                    gathered.begin() + rank_start[b.rank] + pos[b.rank] + (ie - ib),
+                    map.begin() + ib);
+          pos[b.rank] += static_cast<std::size_t>(ie - ib);
+        }
       }
+      Kokkos::deep_copy(
+          prev,
+          Kokkos::View<const Vec3f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
+              map.data(), map.size()));
     }
-    Kokkos::deep_copy(
-        prev,
-        Kokkos::View<const Vec3f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
-            map.data(), map.size()));
     const double t2 = timer.now();
     rec.allgather = t2 - t_wait;
     rec.allgather_bytes = comm.bytes_sent() - bytes_before;
