@@ -54,6 +54,11 @@ nlohmann::json parameters_json(const ao::AoOptions& o) {
 int run_ao_mode(Communicator& comm, int argc, char** argv) {
   ao::AoOptions o;
   if (!ao::parse_ao_options(argc, argv, o)) return kExitOk;
+  // auto: the device builds an LBVH in a few milliseconds, where the host SAH build
+  // would cost more than all the rays; host traversal gains more from SAH than it costs.
+  if (o.bvh == "auto")
+    o.bvh =
+        Kokkos::SpaceAccessibility<Kokkos::HostSpace, ao::MemSpace>::accessible ? "sah" : "lbvh";
   ao::output_format(o.output);  // reject a bad extension before any work
   const bool root = comm.is_root();
   RunReport report;

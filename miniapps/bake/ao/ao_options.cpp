@@ -61,9 +61,9 @@ bool parse_ao_options(int argc, char** argv, AoOptions& o) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   app.add_option("--seed", o.seed, "random seed")->capture_default_str();
-  app.add_option("--bvh", o.bvh, "BVH build: lbvh or sah")
+  app.add_option("--bvh", o.bvh, "BVH build: lbvh, sah, or auto (lbvh on a GPU, sah on the host)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"lbvh", "sah"}));
+      ->check(CLI::IsMember({"auto", "lbvh", "sah"}));
   app.add_flag("--ply-ascii", o.ply_ascii, "ASCII PLY instead of binary little endian");
   app.add_option("--summary", o.summary, "write the run summary JSON here");
   app.add_flag("--no_viewer,--no-viewer", "accepted for compatibility (there is no viewer)");

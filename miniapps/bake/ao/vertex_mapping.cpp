@@ -93,31 +93,60 @@ struct MeshPattern {
 };
 
 MeshPattern make_pattern(const AoMesh& mesh) {
-  using Triplet = Eigen::Triplet<double>;
   const int nv = static_cast<int>(mesh.positions.size());
+  // Column v holds its neighbours j < v, then v, then its neighbours j > v: both
+  // directions of every unique edge, written straight into compressed storage (no
+  // triplet sort). mesh_edges is sorted by (i, j), which keeps every column sorted.
   const auto edges = mesh_edges(mesh);
-  std::vector<Triplet> trip;
-  trip.reserve(static_cast<std::size_t>(nv) + 4 * edges.size());
-  for (int v = 0; v < nv; ++v) trip.emplace_back(v, v, 0.0);
+  std::vector<int> outer(static_cast<std::size_t>(nv) + 1, 0);
   for (const auto& e : edges) {
-    trip.emplace_back(e.first, e.first, 1.0);
-    trip.emplace_back(e.second, e.second, 1.0);
-    trip.emplace_back(e.first, e.second, -1.0);
-    trip.emplace_back(e.second, e.first, -1.0);
+    ++outer[e.first + 1];
+    ++outer[e.second + 1];
+  }
+  for (int v = 0; v < nv; ++v) outer[v + 1] += outer[v] + 1;  // + the diagonal
+  std::vector<int> inner(static_cast<std::size_t>(outer[nv]));
+  std::vector<double> values(inner.size(), 0.0);
+  // Rows j < v of column v come from edges (j, v): collect them per column first.
+  std::vector<int> below_count(nv, 0);
+  for (const auto& e : edges) ++below_count[e.second];
+  std::vector<int> below_start(static_cast<std::size_t>(nv) + 1, 0);
+  for (int v = 0; v < nv; ++v) below_start[v + 1] = below_start[v] + below_count[v];
+  std::vector<int> below_rows(edges.size());
+  {
+    std::vector<int> at(below_start.begin(), below_start.end() - 1);
+    for (const auto& e : edges) below_rows[at[e.second]++] = e.first;
+  }
+  std::size_t e = 0;  // edges (v, j > v) are contiguous and ascending for each v
+  for (int v = 0; v < nv; ++v) {
+    int k = outer[v];
+    for (int q = below_start[v]; q < below_start[v + 1]; ++q) {
+      inner[k] = below_rows[q];
+      values[k++] = -1.0;
+    }
+    const int diag = k++;
+    inner[diag] = v;
+    int degree = below_start[v + 1] - below_start[v];
+    for (; e < edges.size() && edges[e].first == v; ++e) {
+      inner[k] = edges[e].second;
+      values[k++] = -1.0;
+      ++degree;
+    }
+    values[diag] = degree;
   }
   MeshPattern p;
   p.laplacian.resize(nv, nv);
-  p.laplacian.setFromTriplets(trip.begin(), trip.end());
-  p.laplacian.makeCompressed();
-  const int* outer = p.laplacian.outerIndexPtr();
-  const int* inner = p.laplacian.innerIndexPtr();
+  p.laplacian.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
+  std::copy(outer.begin(), outer.end(), p.laplacian.outerIndexPtr());
+  std::copy(inner.begin(), inner.end(), p.laplacian.innerIndexPtr());
+  std::copy(values.begin(), values.end(), p.laplacian.valuePtr());
+  const int* in = p.laplacian.innerIndexPtr();
   p.slots.resize(mesh.tris.size() * 9);
   for (std::size_t t = 0; t < mesh.tris.size(); ++t) {
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) {
         const int row = mesh.tris[t][i], col = mesh.tris[t][j];
-        const int* at = std::lower_bound(inner + outer[col], inner + outer[col + 1], row);
-        p.slots[t * 9 + i * 3 + j] = static_cast<int>(at - inner);
+        const int* found = std::lower_bound(in + outer[col], in + outer[col + 1], row);
+        p.slots[t * 9 + i * 3 + j] = static_cast<int>(found - in);
       }
     }
   }
