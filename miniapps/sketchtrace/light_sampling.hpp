@@ -2,6 +2,7 @@
 // Direct illumination with shadow rays: quad area lights and emissive meshes with
 // stratified jittered samples (the hand-drawn seed's soft shadows; the
 // distribution seed's jittered light sub-sections), and point lights.
+#include "rtmini/bvh/shaft.hpp"
 #include "rtmini/bvh/traverse.hpp"
 #include "rtmini/sampling/rng.hpp"
 #include "shading.hpp"
@@ -55,20 +56,48 @@ struct ShadowPlan {
   bool soft = true;
 };
 
+// Shaft culling pays off from this many shadow rays per light and shading point.
+inline constexpr int kShaftMinSamples = 8;
+// A shadow ray stops this fraction of the way to its light point (the light's surface is no
+// blocker); its shaft reaches a little further, so that it holds every such segment.
+inline constexpr Real kShadowRayReach = Real(1 - 1e-4);
+inline constexpr Real kShaftReach = Real(1 - 0.5e-4);
+
 // Unoccluded shadow-ray test from the surface towards point q (light geometry at q is not a
-// blocker).
+// blocker). With `blockers` (the shaft's, bvh/shaft.hpp) only those triangles are tested:
+// the same answer as a traversal, for rays inside that shaft.
+// `org` is the shading point's shadow-ray origin, offset_ray_origin(p, ng).
 template <class Scene>
-KOKKOS_INLINE_FUNCTION bool visible(const Scene& scene, const Surface& s, const Vec3& q,
-                                    TraceCounter& c) {
+KOKKOS_FORCEINLINE_FUNCTION bool visible(const Scene& scene, const Vec3& org, const Vec3& q,
+                                         TraceCounter& c,
+                                         const bvh::ShaftBlockers* blockers = nullptr) {
   Ray r;
-  r.org = offset_ray_origin(s.p, s.ng);
+  r.org = org;
   const Vec3 d = q - r.org;
   const Real dist = length(d);
   if (!(dist > Real(0))) return false;
   r.dir = d / dist;
   r.tmin = Real(0);
-  r.tmax = dist * Real(1 - 1e-4);
+  r.tmax = dist * kShadowRayReach;
+  if (blockers) {
+    ++c.rays;
+    return !bvh::any_hit_blockers(scene.mesh.accel, *blockers, r, c.stats ? &c.tests : nullptr);
+  }
   return !trace_occluded(scene.mesh.accel, r, c);
+}
+
+// The blockers of the shaft from the shading point's shadow-ray origin to a quad light;
+// false when the shaft is degenerate or holds too many triangles (trace each ray).
+template <class Scene>
+KOKKOS_INLINE_FUNCTION bool quad_shaft_blockers(const Scene& scene, const Vec3& org,
+                                                const QuadLight& ql, bvh::ShaftBlockers& out,
+                                                TraceCounter& c) {
+  bvh::Shaft shaft;
+  if (!bvh::make_shaft(org, ql.corner, ql.u, ql.v, kShaftReach, shaft)) return false;
+  std::uint32_t nodes = 0;
+  const bool ok = bvh::collect_shaft_blockers(scene.mesh.accel, shaft, out, nodes);
+  if (c.stats) c.nodes += nodes;
+  return ok;
 }
 
 // Irradiance-like sum over lights of L_e cos_s cos_l A / r^2 (area lights, two-sided)
@@ -80,6 +109,8 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_irradiance(const Scene& scene, const Surface&
   const int samples = plan.soft ? plan.samples : 1;
   const Real inv_samples = Real(1) / Real(samples);
   int light = 0;
+  const Vec3 org = offset_ray_origin(s.p, s.ng);
+  const bvh::ShaftBlockers* blockers = nullptr;
   auto area_sample = [&](const Vec3& q, const Vec3& nl, const Vec3& le, Real area) {
     const Vec3 w = q - s.p;
     const Real d2 = dot(w, w);
@@ -88,7 +119,7 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_irradiance(const Scene& scene, const Surface&
     const Real cos_s = dot(s.ns, wi);
     const Real cos_l = math::fabs(dot(nl, wi));
     if (cos_s <= Real(0) || dot(s.ng, wi) <= Real(0) || cos_l <= Real(0)) return;
-    if (!visible(scene, s, q, c)) return;
+    if (!visible(scene, org, q, c, blockers)) return;
     sum += le * (cos_s * cos_l * area / d2 * inv_samples);
   };
   for (int l = 0; l < scene.num_quads; ++l, ++light) {
@@ -97,14 +128,29 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_irradiance(const Scene& scene, const Surface&
       area_sample(ql.corner + ql.u * Real(0.5) + ql.v * Real(0.5), ql.normal, ql.emission, ql.area);
       continue;
     }
+    bvh::ShaftBlockers shaft;
+    blockers = samples >= kShaftMinSamples && quad_shaft_blockers(scene, org, ql, shaft, c)
+                   ? &shaft
+                   : nullptr;
+    const int side = isqrt_exact(plan.strata);
+    const std::uint32_t key = plan.key ^ static_cast<std::uint32_t>(light);
+    const std::uint32_t pair0 = plan.pair_base + static_cast<std::uint32_t>(light * samples);
+    // Consecutive pairs share one Philox block (Rng::uniform2 draws the same numbers).
+    r123::Philox4x32::ctr_type block{};
+    std::uint32_t block_id = ~0u;
     for (int j = 0; j < samples; ++j) {
-      float a, b;
-      rng.uniform2(plan.pair_base + static_cast<std::uint32_t>(light * samples + j), a, b);
+      const std::uint32_t pair = pair0 + static_cast<std::uint32_t>(j);
+      if ((pair >> 1) != block_id) {
+        block_id = pair >> 1;
+        block = rng.block(block_id);
+      }
+      const unsigned o = (pair & 1u) * 2u;
       Real x, y;
-      stratum_2d(plan.first + j, plan.strata, plan.key ^ static_cast<std::uint32_t>(light), Real(a),
-                 Real(b), x, y);
+      stratum_2d(plan.first + j, plan.strata, side, key, Real(Rng::to_unit(block.v[o])),
+                 Real(Rng::to_unit(block.v[o + 1])), x, y);
       area_sample(ql.corner + ql.u * x + ql.v * y, ql.normal, ql.emission, ql.area);
     }
+    blockers = nullptr;
   }
   for (int l = 0; l < scene.num_mesh_lights; ++l, ++light) {
     const MeshLight ml = scene.mesh_lights(l);
@@ -145,7 +191,7 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_irradiance(const Scene& scene, const Surface&
     const Vec3 wi = w / math::sqrt(d2);
     const Real cos_s = dot(s.ns, wi);
     if (cos_s <= Real(0) || dot(s.ng, wi) <= Real(0)) continue;
-    if (!visible(scene, s, pl.position, c)) continue;
+    if (!visible(scene, org, pl.position, c)) continue;
     sum += pl.intensity * (cos_s / d2);
   }
   return sum;

@@ -34,17 +34,23 @@ KOKKOS_INLINE_FUNCTION int permute(int i, int n, std::uint32_t key) {
   return static_cast<int>((static_cast<long long>(a) * i + b) % n);
 }
 
-// Sample `index` of `count` strata in [0,1)^2, jittered by (u1, u2).
+// Sample `index` of `count` strata in [0,1)^2, jittered by (u1, u2); `side` is
+// isqrt_exact(count), for loops that hoist it.
 template <class T>
-KOKKOS_INLINE_FUNCTION void stratum_2d(int index, int count, std::uint32_t key, T u1, T u2, T& x,
-                                       T& y) {
-  const int side = isqrt_exact(count);
+KOKKOS_FORCEINLINE_FUNCTION void stratum_2d(int index, int count, int side, std::uint32_t key, T u1,
+                                            T u2, T& x, T& y) {
   if (side > 0) {
     stratified_2d(index, side, u1, u2, x, y);
     return;
   }
   x = (T(index) + u1) / T(count);
   y = (T(permute(index, count, key)) + u2) / T(count);
+}
+
+template <class T>
+KOKKOS_INLINE_FUNCTION void stratum_2d(int index, int count, std::uint32_t key, T u1, T u2, T& x,
+                                       T& y) {
+  stratum_2d(index, count, isqrt_exact(count), key, u1, u2, x, y);
 }
 
 // Guard against 1.0 after float rounding of (i + u) / n.

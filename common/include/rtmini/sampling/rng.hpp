@@ -28,7 +28,7 @@ class Rng {
   }
 
   // Four independent 32-bit words for dimension block `dim4` (dimensions 4*dim4 .. 4*dim4+3).
-  KOKKOS_INLINE_FUNCTION r123::Philox4x32::ctr_type block(std::uint32_t dim4) const {
+  KOKKOS_FORCEINLINE_FUNCTION r123::Philox4x32::ctr_type block(std::uint32_t dim4) const {
     r123::Philox4x32::ctr_type c = ctr_;
     c.v[3] = dim4;
     return r123::Philox4x32()(c, key_);
@@ -40,7 +40,7 @@ class Rng {
   }
 
   // Two uniforms for dimensions (2*pair, 2*pair+1) from one Philox call.
-  KOKKOS_INLINE_FUNCTION void uniform2(std::uint32_t pair, float& a, float& b) const {
+  KOKKOS_FORCEINLINE_FUNCTION void uniform2(std::uint32_t pair, float& a, float& b) const {
     const auto r = block(pair >> 1);
     const unsigned o = (pair & 1u) * 2u;
     a = to_unit(r.v[o]);
