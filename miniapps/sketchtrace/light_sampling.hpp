@@ -132,7 +132,7 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_irradiance(const Scene& scene, const Surface&
     blockers = samples >= kShaftMinSamples && quad_shaft_blockers(scene, org, ql, shaft, c)
                    ? &shaft
                    : nullptr;
-    const int side = isqrt_exact(plan.strata);
+    const StrataShape shape = strata_shape(plan.strata);
     const std::uint32_t key = plan.key ^ static_cast<std::uint32_t>(light);
     const std::uint32_t pair0 = plan.pair_base + static_cast<std::uint32_t>(light * samples);
     // Consecutive pairs share one Philox block (Rng::uniform2 draws the same numbers).
@@ -146,7 +146,7 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_irradiance(const Scene& scene, const Surface&
       }
       const unsigned o = (pair & 1u) * 2u;
       Real x, y;
-      stratum_2d(plan.first + j, plan.strata, side, key, Real(Rng::to_unit(block.v[o])),
+      stratum_2d(plan.first + j, plan.strata, shape, key, Real(Rng::to_unit(block.v[o])),
                  Real(Rng::to_unit(block.v[o + 1])), x, y);
       area_sample(ql.corner + ql.u * x + ql.v * y, ql.normal, ql.emission, ql.area);
     }
