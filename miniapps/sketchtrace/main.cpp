@@ -7,13 +7,17 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
-#include <type_traits>
+#include <mutex>
 #include <nlohmann/json.hpp>
+#include <thread>
+#include <type_traits>
 
 #include "checkpoint.hpp"
 #include "cli_options.hpp"
@@ -87,7 +91,8 @@ std::string extension(const std::string& path) {
 // 1/8 on a GPU, whose launches need many pixels to fill the device (65536..2^20).
 std::int64_t dispatch_pixels(const RenderSettings& s, std::int64_t pixels, int ranks) {
   if (s.chunk_pixels > 0) return s.chunk_pixels;
-  constexpr bool host = std::is_same<Kokkos::DefaultExecutionSpace, Kokkos::DefaultHostExecutionSpace>::value;
+  constexpr bool host =
+      std::is_same<Kokkos::DefaultExecutionSpace, Kokkos::DefaultHostExecutionSpace>::value;
   const std::int64_t share = pixels / ((host ? 64 : 8) * static_cast<std::int64_t>(ranks));
   return std::clamp<std::int64_t>(share / (kTile * kTile) * (kTile * kTile), host ? 256 : 65536,
                                   host ? 65536 : std::int64_t(1) << 20);
@@ -315,6 +320,30 @@ int run(Communicator& comm, int argc, char** argv) {
       return false;
     return true;
   };
+  // --comm-thread: peers' steal requests and loads are answered while this rank renders,
+  // instead of between dispatches. MPI calls take turns under mpi_mutex(): the main thread
+  // holds it except while a dispatch renders.
+  const bool comm_thread = opt.comm_thread && scheduler->has_progress();
+  if (opt.comm_thread && !comm_thread && comm.is_root())
+    std::printf("  --comm-thread: ignored (only bargain and steal on more than one rank use it)\n");
+  if (comm_thread && !mpi_serialized_threads())
+    throw std::runtime_error(
+        "--comm-thread needs MPI_THREAD_SERIALIZED, which this MPI did not grant");
+  std::unique_lock<std::mutex> mpi_lock(mpi_mutex(), std::defer_lock);
+  std::atomic<bool> comm_quit{false};
+  std::thread comm_worker;
+  if (comm_thread) {
+    mpi_lock.lock();
+    comm_worker = std::thread([&]() {
+      while (!comm_quit.load()) {
+        {
+          const std::lock_guard<std::mutex> g(mpi_mutex());
+          scheduler->progress();
+        }
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+      }
+    });
+  }
   report.timer.start("render");
   for (;;) {
     if (should_stop()) {
@@ -329,7 +358,9 @@ int run(Communicator& comm, int argc, char** argv) {
     for (const PosRange& r : ranges)
       for (std::int64_t pos = r.begin; pos < r.end; ++pos) list.push_back(order.pixel(pos));
     const double t0 = report.timer.now();
+    if (comm_thread) mpi_lock.unlock();
     renderer.render_pixels(list, out);
+    if (comm_thread) mpi_lock.lock();
     const double t1 = report.timer.now();
     last_dispatch = t1 - t0;
     std::int64_t chunk_rays = 0;
@@ -359,6 +390,11 @@ int run(Communicator& comm, int argc, char** argv) {
   }
   const double loop_end = report.timer.now();
   report.timer.stop();
+  if (comm_thread) {
+    comm_quit = true;
+    mpi_lock.unlock();
+    comm_worker.join();
+  }
   report.timer.start("gather");
   scheduler->finish(stopping);
   sink.finish();

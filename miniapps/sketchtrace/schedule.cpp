@@ -162,6 +162,11 @@ class PeerScheduler : public Scheduler {
     return true;
   }
 
+  void progress() override {
+    if (!finished_) poll();
+  }
+  bool has_progress() const override { return comm_.size() > 1; }
+
   void finish(bool stopping) override {
     if (stopping) stop_ = true;
     done_ += last_pixels_;

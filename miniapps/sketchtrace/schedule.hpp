@@ -78,7 +78,6 @@ std::vector<std::int64_t> equal_cost_cuts(const PixelOrder& order, const CostMap
 std::vector<PosRange> cost_chunks(const PixelOrder& order, const CostMap& cost, std::int64_t pixels,
                                   std::vector<double>& costs);
 
-
 class Scheduler {
  public:
   virtual ~Scheduler() = default;
@@ -87,6 +86,11 @@ class Scheduler {
   virtual bool next(std::vector<PosRange>& out, const std::function<bool()>& should_stop) = 0;
   // Leaves the schedule; collective. `stopping`: this rank stopped early.
   virtual void finish(bool stopping) { (void)stopping; }
+  // Answers peers' messages; a communication thread calls it while this rank renders
+  // (the caller serialises it with next()/finish() through rtmini::mpi_mutex()).
+  virtual void progress() {}
+  // Whether progress() does anything (peer-to-peer strategies).
+  virtual bool has_progress() const { return false; }
 };
 
 // `cost` is needed by needs_cost_map(b) strategies; `batch` is the dispatch size in pixels.

@@ -5,6 +5,7 @@
 // so per-rank timings can report communication volume.
 #include <cstdint>
 #include <cstring>
+#include <mutex>
 #include <stdexcept>
 #include <type_traits>
 #include <vector>
@@ -113,7 +114,8 @@ class Communicator {
     MPI_Bcast(data.data(), static_cast<int>(n * sizeof(T)), MPI_BYTE, root, comm_);
     if (rank_ == root) count(n * sizeof(T) * static_cast<std::size_t>(size_ - 1));
 #else
-    (void)data; (void)root;
+    (void)data;
+    (void)root;
 #endif
   }
 
@@ -130,7 +132,8 @@ class Communicator {
   double reduce(double v, Op op) const {
 #ifdef RTMINI_HAVE_MPI
     double out = v;
-    MPI_Allreduce(&v, &out, 1, MPI_DOUBLE, op == kMax ? MPI_MAX : (op == kMin ? MPI_MIN : MPI_SUM), comm_);
+    MPI_Allreduce(&v, &out, 1, MPI_DOUBLE, op == kMax ? MPI_MAX : (op == kMin ? MPI_MIN : MPI_SUM),
+                  comm_);
     count(sizeof v);
     return out;
 #else
@@ -161,14 +164,36 @@ class Communicator {
   mutable std::int64_t messages_ = 0;
 };
 
-// Owns MPI and Kokkos for the lifetime of main(): MPI first (funnelled
-// threading, so a rank may use OpenMP threads), Kokkos second, reverse at exit.
+// The thread level MPI granted (0 = single, or no MPI), and the lock that
+// serialises MPI calls when a rank runs a communication thread beside the
+// thread that renders (sketchtrace --comm-thread).
+inline int& mpi_thread_level() {
+  static int level = 0;
+  return level;
+}
+inline std::mutex& mpi_mutex() {
+  static std::mutex m;
+  return m;
+}
+inline bool mpi_serialized_threads() {
+#ifdef RTMINI_HAVE_MPI
+  return mpi_thread_level() >= MPI_THREAD_SERIALIZED;
+#else
+  return false;
+#endif
+}
+
+// Owns MPI and Kokkos for the lifetime of main(): MPI first (serialized
+// threading: OpenMP threads never call MPI, and an optional communication
+// thread takes turns with the main thread under mpi_mutex()), Kokkos second,
+// reverse at exit.
 class Environment {
  public:
   Environment(int& argc, char**& argv) {
 #ifdef RTMINI_HAVE_MPI
     int provided = 0;
-    MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+    MPI_Init_thread(&argc, &argv, MPI_THREAD_SERIALIZED, &provided);
+    mpi_thread_level() = provided;
 #endif
     Kokkos::initialize(argc, argv);
   }
