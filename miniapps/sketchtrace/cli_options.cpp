@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include "rtmini/io/cli_values.hpp"
@@ -71,8 +72,11 @@ void CliOverrides::add_to(CLI::App& app, RunOptions& run) {
   app.add_option("--cost-map", run.cost_map,
                  "Keep the probed cost map in this HDF5 file and reuse it");
   app.add_flag("--progress", run.progress, "Progress on stderr");
-  app.add_flag("--comm-thread", run.comm_thread,
-               "bargain/steal: a thread answers peers while this rank renders");
+  app.add_option("--comm-thread", run.comm_thread,
+                 "on|off: bargain/steal answer peers from a thread while the rank renders "
+                 "(default on; off progresses messages between dispatches only)")
+      ->transform(CLI::Transformer(std::map<std::string, bool>{{"on", true}, {"off", false}}))
+      ->capture_default_str();
   app.add_option("--reference", run.reference, "Reference image: report the linear RGB RMSE");
   app.add_option("--max-rmse", run.max_rmse, "With --reference: exit 1 when the RMSE is larger");
 }

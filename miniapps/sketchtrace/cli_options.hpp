@@ -19,7 +19,7 @@ struct RunOptions {
   std::string balance = "static";     // load-balancing strategy (schedule.hpp)
   std::string cost_map;               // keep/reuse the probed cost map here
   bool progress = false;
-  bool comm_thread = false;  // bargain/steal: answer peers from a thread while rendering
+  bool comm_thread = true;  // bargain/steal: answer peers from a thread while rendering
   std::string reference;     // compare the colour image with this image (linear RMSE)
   double max_rmse = -1.0;    // exit 1 when the RMSE exceeds this (when >= 0)
 };

@@ -323,12 +323,15 @@ int run(Communicator& comm, int argc, char** argv) {
   // --comm-thread: peers' steal requests and loads are answered while this rank renders,
   // instead of between dispatches. MPI calls take turns under mpi_mutex(): the main thread
   // holds it except while a dispatch renders.
-  const bool comm_thread = opt.comm_thread && scheduler->has_progress();
-  if (opt.comm_thread && !comm_thread && comm.is_root())
-    std::printf("  --comm-thread: ignored (only bargain and steal on more than one rank use it)\n");
-  if (comm_thread && !mpi_serialized_threads())
-    throw std::runtime_error(
-        "--comm-thread needs MPI_THREAD_SERIALIZED, which this MPI did not grant");
+  const bool comm_thread = opt.comm_thread && scheduler->has_progress() && mpi_serialized_threads();
+  report.parameters["comm_thread"] = comm_thread;
+  if (scheduler->has_progress() && comm.is_root()) {
+    std::printf("  communication thread: %s\n",
+                comm_thread       ? "on"
+                : opt.comm_thread ? "off (MPI did not grant MPI_THREAD_SERIALIZED)"
+                                  : "off (--comm-thread off)");
+    std::fflush(stdout);
+  }
   std::unique_lock<std::mutex> mpi_lock(mpi_mutex(), std::defer_lock);
   std::atomic<bool> comm_quit{false};
   std::thread comm_worker;
