@@ -24,14 +24,15 @@ export function readPpm(path) {
 }
 
 // `bake render` of map for a camera {eye, target, up, fov, width, height}, pixel centres (spp 1,
-// what the rasteriser samples). Throws with bake's output when it fails.
+// what the rasteriser samples), to out (.ppm: read back and returned; .png: written only).
+// Throws with bake's output when it fails.
 export function bakeRender(bake, map, cam, out) {
   const args = ['render', map, '--camera-pos', cam.eye.join(','), '--look-at', cam.target.join(','),
     '--up', cam.up.join(','), '--fov', String(cam.fov), '--width', String(cam.width),
     '--height', String(cam.height), '--spp', '1', '-o', out];
   const run = spawnSync(bake, args, { encoding: 'utf8', env: { OMP_NUM_THREADS: '2', ...process.env } });
   if (run.status !== 0) throw new Error(`${bake} ${args.join(' ')} failed (${run.status}):\n${run.stdout}${run.stderr}`);
-  return readPpm(out);
+  return out.endsWith('.ppm') ? readPpm(out) : null;
 }
 
 // The page's URL query for the same camera.
