@@ -116,6 +116,36 @@ try {
     return [Math.floor(((v.x + 1) / 2) * kSize), Math.floor(((1 - v.y) / 2) * kSize)];
   }
 
+  // Check 0 (no page): lookup.js's KD-tree query returns the brute-force neighbours and
+  // weights (the shader walks the same tree), on Fibonacci sets and random directions.
+  if (groups.includes('page')) {
+    const { buildKdTree, kdNeighbors, bruteForceNeighbors, fibonacciRadius } = await import('../src/lookup.js');
+    let worst = 0;
+    let mismatches = 0;
+    let seed = 12345;
+    const random = () => ((seed = (seed * 1103515245 + 12345) % 2147483648) / 2147483648);
+    for (const n of [7, 20, 64, 100, 1000]) {
+      const dirs = new Float32Array(3 * n);
+      for (let i = 0; i < n; ++i) {
+        const z = 1 - (2 * i + 1) / n;
+        const r = Math.sqrt(1 - z * z);
+        const phi = 2 * Math.PI * ((i / ((1 + Math.sqrt(5)) / 2)) % 1);
+        dirs.set([r * Math.cos(phi), r * Math.sin(phi), z], 3 * i);
+      }
+      const tree = buildKdTree(dirs, n);
+      for (let t = 0; t < 300; ++t) {
+        const zq = 2 * random() - 1;
+        const a = 2 * Math.PI * random();
+        const q = [Math.sqrt(1 - zq * zq) * Math.cos(a), Math.sqrt(1 - zq * zq) * Math.sin(a), zq];
+        const kd = kdNeighbors(tree, n, q, fibonacciRadius(n));
+        const bf = bruteForceNeighbors((k) => dirs.subarray(3 * k, 3 * k + 3), n, q, fibonacciRadius(n));
+        if (kd.index.join() !== bf.index.join()) ++mismatches;
+        kd.weight.forEach((w, k) => (worst = Math.max(worst, Math.abs(w - (bf.weight[k] ?? 0)))));
+      }
+    }
+    check(mismatches === 0 && worst < 1e-12, `KD-tree lookup = brute force (${mismatches} mismatches, max weight diff ${worst})`);
+  }
+
   // Checks 1-6: the bundled test maps.
   if (groups.includes('page')) await pageChecks();
   async function pageChecks() {
