@@ -72,14 +72,15 @@ std::string default_output(const std::string& input) {
 // Returns -1 to go on baking, or an exit code (--help, --version).
 int parse(int argc, char** argv, BakeConfig& c, bool root) {
   CLI::App app{
-      "bake: view-dependent ray-trace maps of semi-reflective scenes (.bs/.obj in, .bs out)",
+      "bake: view-dependent ray-trace maps of semi-reflective scenes (.bs/.obj in, .bs/.bsb out)",
       "bake"};
   std::string lookup = "kdtree", balance = "cost", bvh_kind = "lbvh", mode = "map";
   std::string max_memory, background;
   bool version = false;
   bool no_cache = false;
   app.add_option("input", c.input, "raw Bake Shop (.bs) or OBJ/MTL scene")->required();
-  app.add_option("-o,--output", c.output, "baked .bs output (default: <input stem>_baked.bs)");
+  app.add_option("-o,--output", c.output,
+                 "baked map: .bsb = binary form, else .bs text (default: <input stem>_baked.bs)");
   app.add_option("--mode", mode, "map (default) or ao");
   app.add_option("-n,--viewpoints", c.viewpoints, "viewpoints per vertex (Fibonacci sphere)");
   app.add_option("-k,--iterations", c.iterations, "reflection iterations after the base map");
