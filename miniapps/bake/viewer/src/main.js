@@ -49,6 +49,29 @@ function render() {
   renderer.render(scene, camera);
 }
 
+// Benchmarks (tests/frame_time.mjs): draws n frames while orbiting the camera once around
+// the target, each one waited for (a one-pixel readPixels, which cannot return before the
+// frame is drawn; gl.finish alone does not block on every driver), and returns the
+// milliseconds per frame.
+window.__rtminiOrbitFrames = (n) => {
+  const gl = renderer.getContext();
+  const pixel = new Uint8Array(4);
+  const finish = () => gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel);
+  const axis = camera.up.clone().normalize();
+  const step = (2 * Math.PI) / n;
+  render();
+  finish();
+  const t0 = performance.now();
+  for (let i = 0; i < n; ++i) {
+    const offset = camera.position.clone().sub(controls.target).applyAxisAngle(axis, step);
+    camera.position.copy(controls.target).add(offset);
+    camera.lookAt(controls.target);
+    render();
+    finish();
+  }
+  return (performance.now() - t0) / n;
+};
+
 function setStatus(text) {
   $('status').textContent = text;
 }
