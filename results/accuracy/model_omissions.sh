@@ -117,8 +117,9 @@ row sketchtrace watchtower "hard shadows (light centre; vs soft)" wt_hard wt_def
 # References: sketchtrace with the bake's model (direct + K = 4 mirror bounces, flat normals)
 # and with diffuse interreflection (12 bounces). Bakes: N = 100, K = 4, 16 shadow samples.
 cb=$root/inputs/cornell_big/cornell_big_raw.bs
-view_toml cb_front "$cb" "0, 1, 3.9" "0, 1, 0" 40
-cbv=$work/cb_front.toml
+# The "boxes" view of results/bake_render (the light and the ceiling are out of view).
+view_toml cb_boxes "$cb" "0.9, 1.1, 2.4" "-0.1, 0.7, -0.2" 35
+cbv=$work/cb_boxes.toml
 flat=(--smooth off --shadow-samples 16 --ambient "0,0,0")
 st cb_gi - "$cbv" "${flat[@]}" --indirect on --bounces 12 --seed 1
 st cb_gi_s2 cb_gi "$cbv" "${flat[@]}" --indirect on --bounces 12 --seed 2
