@@ -76,6 +76,8 @@ int parse(int argc, char** argv, BakeConfig& c, bool root) {
   app.add_option("--background", background, "colour of rays that leave the scene, r,g,b");
   app.add_option("--bvh", bvh_kind, "lbvh or sah");
   app.add_flag("--no-hit-cache", no_cache, "re-trace mirror rays every iteration");
+  // Measurement only: store N colours for view-independent vertices too (same colours).
+  app.add_flag("--all-view-dependent", c.all_view_dependent)->group("");
   app.add_flag("--progress", c.progress, "progress on stderr");
   app.add_flag("--version", version, "print version and exit");
   app.add_option("--stop-after-iteration", c.stop_after_iteration)->group("");  // test hook
