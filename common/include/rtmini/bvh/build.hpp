@@ -30,7 +30,8 @@ void collapse_zero_area(const ExecSpace& space, Bvh<MemorySpace>& bvh) {
   auto tris = bvh.tris;
   Kokkos::parallel_for(
       "rtmini::bvh::build::collapse_zero_area",
-      Kokkos::RangePolicy<ExecSpace>(space, 0, static_cast<std::int64_t>(tris.extent(0))),
+      Kokkos::RangePolicy<ExecSpace>(space, std::int64_t(0),
+                                     static_cast<std::int64_t>(tris.extent(0))),
       KOKKOS_LAMBDA(const std::int64_t i) {
         const Triangle t = tris(i);
         if (is_zero_area(t.a, t.b, t.c)) tris(i) = Triangle{t.a, t.a, t.a};
