@@ -247,7 +247,7 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
     throw InputError(c.input, 0, "the scene has no vertices or no faces");
 
   timer.start("setup");
-  const BakeSceneHost host = prepare_bake_scene(mesh, c.viewpoints);
+  const BakeSceneHost host = prepare_bake_scene(mesh, c.viewpoints, c.all_view_dependent);
   const bool needs_iterations = host.reflective_vertices > 0 || c.gather_rays > 0;
   const int iterations = needs_iterations ? c.iterations : 0;
   const std::vector<Batch> batches = make_batches(host, comm.size(), c.balance, c.batch_size);
@@ -281,6 +281,7 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
                            {"max_memory", c.max_memory},
                            {"time_limit_minutes", c.time_limit_minutes},
                            {"hit_cache", c.cache_hits},
+                           {"all_view_dependent", c.all_view_dependent},
                            {"checkpoint", c.checkpoint},
                            {"restart", c.restart}};
   report.parameters = params;

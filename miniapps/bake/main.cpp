@@ -10,6 +10,7 @@
 #include "ao_mode.hpp"
 #include "bake_config.hpp"
 #include "kitchen.hpp"
+#include "rtmini/io/cli_values.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/report/app_main.hpp"
 #include "rtmini/report/version.hpp"
@@ -19,31 +20,6 @@
 
 namespace rtmini::bake {
 namespace {
-
-std::int64_t parse_size(const std::string& text) {
-  std::size_t used = 0;
-  double value = 0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    throw InputError("--max-memory: not a size: '" + text + "' (e.g. 2G, 512M, 1000000)");
-  }
-  const std::string suffix = text.substr(used);
-  double scale = 1;
-  if (suffix == "K" || suffix == "k" || suffix == "KiB")
-    scale = 1024.0;
-  else if (suffix == "M" || suffix == "MiB")
-    scale = 1024.0 * 1024.0;
-  else if (suffix == "G" || suffix == "GiB")
-    scale = 1024.0 * 1024.0 * 1024.0;
-  else if (suffix == "T" || suffix == "TiB")
-    scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
-  else if (!suffix.empty() && suffix != "B")
-    throw InputError("--max-memory: unknown unit '" + suffix + "' (use K, M, G or T)");
-  if (!(value >= 0) || !std::isfinite(value))
-    throw InputError("--max-memory must be >= 0 (got " + text + ")");
-  return static_cast<std::int64_t>(value * scale);
-}
 
 Vec3f parse_color(const std::string& text) {
   std::istringstream in(text);
@@ -101,6 +77,8 @@ int parse(int argc, char** argv, BakeConfig& c, bool root) {
   app.add_option("--background", background, "colour of rays that leave the scene, r,g,b");
   app.add_option("--bvh", bvh_kind, "lbvh or sah");
   app.add_flag("--no-hit-cache", no_cache, "re-trace mirror rays every iteration");
+  // Measurement only: store N colours for view-independent vertices too (same colours).
+  app.add_flag("--all-view-dependent", c.all_view_dependent)->group("");
   app.add_flag("--progress", c.progress, "progress on stderr");
   app.add_flag("--version", version, "print version and exit");
   app.add_option("--stop-after-iteration", c.stop_after_iteration)->group("");  // test hook
@@ -148,7 +126,7 @@ int parse(int argc, char** argv, BakeConfig& c, bool root) {
   if (!(c.time_limit_minutes >= 0))
     throw InputError("--time-limit must be >= 0 minutes (got " +
                      std::to_string(c.time_limit_minutes) + ")");
-  if (!max_memory.empty()) c.max_memory = parse_size(max_memory);
+  if (!max_memory.empty()) c.max_memory = parse_byte_size("--max-memory", max_memory);
   if (!background.empty()) c.background = parse_color(background);
   if (c.output.empty()) c.output = default_output(c.input);
   return -1;
