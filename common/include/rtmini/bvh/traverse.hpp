@@ -79,7 +79,7 @@ KOKKOS_INLINE_FUNCTION bool traverse(const BvhT& bvh, const Ray& ray, Hit& hit, 
 
 // Leaf triangles [first, first + count): updates hit/tmax; true when any-hit may stop.
 template <class BvhT, bool kAnyHit, bool kStats>
-KOKKOS_INLINE_FUNCTION bool intersect_leaf(const BvhT& bvh, std::uint32_t ref, const WatertightRay& wr,
+KOKKOS_FORCEINLINE_FUNCTION bool intersect_leaf(const BvhT& bvh, std::uint32_t ref, const WatertightRay& wr,
                                            const Ray& ray, Real& tmax, Hit& hit, bool& found,
                                            TraversalStats* stats) {
   const std::uint32_t first = leaf_first(ref), end = first + leaf_count(ref);
@@ -109,7 +109,7 @@ typedef Real RealLanes __attribute__((vector_size(kWidth * sizeof(Real))));
 typedef std::conditional_t<sizeof(Real) == 4, std::int32_t, std::int64_t> LaneInt;
 typedef LaneInt IntLanes __attribute__((vector_size(kWidth * sizeof(Real))));
 
-inline int wide_box_test(const WideNode& nd, bool neg_x, bool neg_y, bool neg_z, Real ox, Real oy, Real oz,
+__attribute__((always_inline)) inline int wide_box_test(const WideNode& nd, bool neg_x, bool neg_y, bool neg_z, Real ox, Real oy, Real oz,
                          const Vec3& inv, Real tmin, Real tmax, Real* tn) {
   RealLanes lx, ly, lz, hx, hy, hz;
   std::memcpy(&lx, neg_x ? nd.hi_x : nd.lo_x, sizeof lx);
@@ -201,7 +201,9 @@ KOKKOS_INLINE_FUNCTION bool traverse_wide(const BvhT& bvh, const Ray& ray, Hit& 
         const std::uint32_t c = nd.child[k];
         if (!(hitmask >> k & 1) || is_leaf(c) || tn[k] > tmax * slab_widening()) continue;
         int j = m++;
-        while (j > 0 && ds[j - 1] < tn[k]) { ds[j] = ds[j - 1]; ids[j] = ids[j - 1]; --j; }
+        // Any hit: any blocker ends the ray, so the order is not worth sorting for.
+        if (!kAnyHit)
+          while (j > 0 && ds[j - 1] < tn[k]) { ds[j] = ds[j - 1]; ids[j] = ids[j - 1]; --j; }
         ds[j] = tn[k];
         ids[j] = c;
       }
