@@ -36,6 +36,12 @@ class Chef {
                               Kokkos::View<const Vec3f*, MemSpace> prev,
                               Kokkos::View<Vec3f*, MemSpace> next);
 
+  // The traced reference (reference_tracer.hpp) of vertices [begin, end) into out (global item
+  // order): config.iterations mirror iterations, no map lookups. Needs bake_base first.
+  // Returns mirror rays traced.
+  std::int64_t trace_reference(std::int64_t begin, std::int64_t end,
+                               Kokkos::View<Vec3f*, MemSpace> out);
+
   // Per-vertex base colours (emission + direct light; filled for baked batches only).
   Kokkos::View<Vec3*, MemSpace> base() const { return base_; }
 

@@ -13,6 +13,7 @@
 #include "bakeshop_mpi_writer.hpp"
 #include "checkpoint.hpp"
 #include "chef.hpp"
+#include "map_errors.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/obj_reader.hpp"
 #include "rtmini/io/timings.hpp"
@@ -46,7 +47,7 @@ std::string parameter_hash(const BakeConfig& c) {
   std::ostringstream p;
   p << "bake-map-v1 N=" << c.viewpoints << " S=" << c.shadow_samples << " M=" << c.gather_rays
     << " seed=" << c.seed << " bg=" << c.background.x << "," << c.background.y << ","
-    << c.background.z << " real=" << sizeof(Real);
+    << c.background.z << " real=" << sizeof(Real) << (c.trace_reference ? " traced" : "");
   const std::string params = p.str();
   return hash_hex(fnv1a(params.data(), params.size(), fnv1a(bytes.data(), bytes.size())));
 }
@@ -64,6 +65,7 @@ MemoryEstimate estimate_memory(const Mesh& mesh, const BakeSceneHost& s, std::in
   m.host = 2 * s.colors() * col + my_items * col;                 // map, gathered, packed
   m.host += my_vertices * c.viewpoints * 60;                      // formatted output text
   if (root && !c.checkpoint.empty()) m.host += s.colors() * col;  // checkpoint copy
+  if (!c.reference.empty()) m.host += nv * c.viewpoints * col;    // the reference's colours
   if (c.cache_hits && iterations > 1) m.hit_cache = Chef::hit_cache_bytes(my_items);
   return m;
 }
@@ -249,7 +251,8 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
   timer.start("setup");
   const BakeSceneHost host = prepare_bake_scene(mesh, c.viewpoints);
   const bool needs_iterations = host.reflective_vertices > 0 || c.gather_rays > 0;
-  const int iterations = needs_iterations ? c.iterations : 0;
+  // The traced reference is one pass (it follows the K mirror bounces itself).
+  const int iterations = needs_iterations && !c.trace_reference ? c.iterations : 0;
   const std::vector<Batch> batches = make_batches(host, comm.size(), c.balance, c.batch_size);
   std::vector<VertexRange> my_ranges;
   std::vector<std::int64_t> my_cache_offset;
@@ -282,7 +285,9 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
                            {"time_limit_minutes", c.time_limit_minutes},
                            {"hit_cache", c.cache_hits},
                            {"checkpoint", c.checkpoint},
-                           {"restart", c.restart}};
+                           {"restart", c.restart},
+                           {"reference", c.reference},
+                           {"trace_reference", c.trace_reference}};
   report.parameters = params;
   report.scene = {
       {"vertices", host.vertices()},          {"faces", mesh.faces.size()},
@@ -300,6 +305,9 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
                 mesh.triangle_count(), host.lights.size());
     std::printf("  colour map: %lld entries (view-independent vertices keep one colour)\n",
                 static_cast<long long>(host.colors()));
+    if (c.trace_reference)
+      std::printf("  traced reference: %d mirror bounces traced per colour, no map lookups\n",
+                  needs_iterations ? c.iterations : 0);
     if (!needs_iterations && c.iterations > 0)
       std::printf("  note: no reflective vertex and no gather rays: iterations 1..%d skipped\n",
                   c.iterations);
@@ -326,6 +334,10 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
                        "checkpoint is at iteration " + std::to_string(restart_cp.iteration) +
                            ", beyond --iterations " + std::to_string(iterations));
   }
+  // Every rank reads and checks the reference (so all ranks agree on a bad one, exit 2)
+  // before anything is baked or written.
+  std::vector<Vec3f> reference;
+  if (!c.reference.empty()) reference = read_reference_map(c.reference, mesh, c.viewpoints);
   const BakeSceneDevice scene = upload_bake_scene(
       mesh, host, c.viewpoints, c.sah ? bvh::BuildQuality::kSah : bvh::BuildQuality::kLbvh);
   Chef chef(scene, c, my_items);
@@ -376,7 +388,9 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
       const VertexRange r = my_ranges[k];
       const double cs = timer.now();
       const std::int64_t crays =
-          chef.bake_iteration(it, r.begin, r.end, my_cache_offset[k], mode, prev, next);
+          c.trace_reference
+              ? chef.trace_reference(r.begin, r.end, next)
+              : chef.bake_iteration(it, r.begin, r.end, my_cache_offset[k], mode, prev, next);
       Kokkos::fence();
       const std::int64_t ib = host.color_offset[r.begin], ie = host.color_offset[r.end];
       chunks.push_back({comm.rank(), it, ie - ib, crays, cs, timer.now()});
@@ -473,6 +487,27 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
   const WriteStats ws = write_baked_map(comm, c.output, baked, my_ranges);
   timer.stop();
   if (!iter_records.empty()) iter_records.back().write += ws.seconds;
+
+  timer.start("compare");
+  if (!reference.empty() && root) {
+    const MapErrors e = compare_maps(map, host.color_offset, reference, c.viewpoints);
+    report.errors = {{"reference", c.reference},
+                     {"entries", e.entries},
+                     {"mean_abs", e.mean_abs},
+                     {"rmse", e.rmse},
+                     {"rel_mse", e.rel_mse},
+                     {"max_abs", e.max_abs},
+                     {"mean_reference", e.mean_reference},
+                     {"view_dependent_entries", e.view_dependent},
+                     {"view_dependent_rmse", e.view_dependent_rmse}};
+    std::printf(
+        "  reference %s: mean |map - ref| %.6g, RMSE %.6g, relative MSE %.6g, max %.6g "
+        "(mean reference %.6g; view-dependent RMSE %.6g over %lld of %lld colours)\n",
+        c.reference.c_str(), e.mean_abs, e.rmse, e.rel_mse, e.max_abs, e.mean_reference,
+        e.view_dependent_rmse, static_cast<long long>(e.view_dependent),
+        static_cast<long long>(e.entries));
+  }
+  timer.stop();
 
   const std::uint64_t hash =
       comm.sum_wrap(map_hash(scene, prev, batches, comm.rank(), c.viewpoints));
