@@ -273,6 +273,85 @@ std::int64_t Chef::trace_reference(std::int64_t begin, std::int64_t end,
 }
 
 namespace {
+// The map along reference entry e (vertex e / ref_n, direction e % ref_n), as MapReader reads
+// one vertex: its single colour, or its viewpoints near the direction, weighted.
+template <class LookupT>
+struct MapAlong {
+  LookupT lookup;
+  Real radius;
+  Kokkos::View<std::int64_t*, MemSpace> offset;
+  Kokkos::View<const Vec3f*, MemSpace> map;
+  int ref_n;
+
+  KOKKOS_INLINE_FUNCTION Vec3 operator()(std::int64_t e, bool& view_dependent) const {
+    const std::int64_t v = e / ref_n, first = offset(v);
+    view_dependent = offset(v + 1) - first > 1;
+    if (!view_dependent) return Vec3(map(first));
+    const ViewNeighbors nb =
+        lookup.neighbors(fibonacci_point(static_cast<int>(e % ref_n), ref_n), radius);
+    Vec3 c(Real(0));
+    for (int k = 0; k < nb.count; ++k) c += Vec3(map(first + nb.index[k])) * nb.weight[k];
+    return c;
+  }
+};
+
+template <class LookupT>
+ErrorSums lookup_errors_with(const LookupT& lookup, Real radius,
+                             Kokkos::View<std::int64_t*, MemSpace> offset,
+                             Kokkos::View<const Vec3f*, MemSpace> map,
+                             Kokkos::View<const Vec3f*, MemSpace> reference, int ref_n) {
+  ErrorSums s;
+  const std::int64_t entries = static_cast<std::int64_t>(reference.extent(0));
+  s.entries = entries;
+  using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>;
+  const MapAlong<LookupT> read{lookup, radius, offset, map, ref_n};
+  double vd_count = 0;
+  Kokkos::parallel_reduce(
+      "rtmini::bake::lookup_errors", Policy(0, entries),
+      KOKKOS_LAMBDA(std::int64_t e, double& abs, double& sq, double& rel, double& ref,
+                    double& vd_sq, double& vd) {
+        bool dependent = false;
+        const Vec3 a = read(e, dependent), b = Vec3(reference(e));
+        const double da[3] = {double(a.x) - double(b.x), double(a.y) - double(b.y),
+                              double(a.z) - double(b.z)};
+        const double rb[3] = {double(b.x), double(b.y), double(b.z)};
+        for (int c = 0; c < 3; ++c) {
+          abs += da[c] < 0 ? -da[c] : da[c];
+          sq += da[c] * da[c];
+          rel += da[c] * da[c] / (rb[c] * rb[c] + 1e-2);
+          ref += rb[c];
+          if (dependent) vd_sq += da[c] * da[c];
+        }
+        if (dependent) vd += 1.0;
+      },
+      s.abs, s.sq, s.rel, s.ref, s.view_dependent_sq, vd_count);
+  s.view_dependent = static_cast<std::int64_t>(vd_count);
+  Kokkos::parallel_reduce(
+      "rtmini::bake::lookup_errors_max", Policy(0, entries),
+      KOKKOS_LAMBDA(std::int64_t e, double& m) {
+        bool dependent = false;
+        const Vec3 a = read(e, dependent), b = Vec3(reference(e));
+        const double d[3] = {double(a.x) - double(b.x), double(a.y) - double(b.y),
+                             double(a.z) - double(b.z)};
+        for (int c = 0; c < 3; ++c) {
+          const double ad = d[c] < 0 ? -d[c] : d[c];
+          if (ad > m) m = ad;
+        }
+      },
+      Kokkos::Max<double>(s.max_abs));
+  return s;
+}
+}  // namespace
+
+ErrorSums Chef::lookup_errors(Kokkos::View<const Vec3f*, MemSpace> map,
+                              Kokkos::View<const Vec3f*, MemSpace> reference, int ref_n) const {
+  const Real radius = fibonacci_radius(config_.viewpoints);
+  if (config_.lookup == Lookup::kKdTree)
+    return lookup_errors_with(kdtree_, radius, scene_.color_offset, map, reference, ref_n);
+  return lookup_errors_with(inverse_, radius, scene_.color_offset, map, reference, ref_n);
+}
+
+namespace {
 template <class LookupT>
 std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, const LookupT& lookup,
                            Kokkos::View<Vec3*, MemSpace> base, Kokkos::View<Vec3*, MemSpace> gather,

@@ -112,6 +112,25 @@ std::uint64_t map_hash(const BakeSceneDevice& s, Kokkos::View<const Vec3f*, MemS
   return total;
 }
 
+nlohmann::json error_json(const MapErrors& e) {
+  return {{"entries", e.entries},
+          {"mean_abs", e.mean_abs},
+          {"rmse", e.rmse},
+          {"rel_mse", e.rel_mse},
+          {"max_abs", e.max_abs},
+          {"mean_reference", e.mean_reference},
+          {"view_dependent_entries", e.view_dependent},
+          {"view_dependent_rmse", e.view_dependent_rmse}};
+}
+
+void print_errors(const char* what, const MapErrors& e) {
+  std::printf(
+      "  reference, %s: mean |map - ref| %.6g, RMSE %.6g, relative MSE %.6g, max %.6g "
+      "(mean reference %.6g; view-dependent RMSE %.6g over %lld of %lld colours)\n",
+      what, e.mean_abs, e.rmse, e.rel_mse, e.max_abs, e.mean_reference, e.view_dependent_rmse,
+      static_cast<long long>(e.view_dependent), static_cast<long long>(e.entries));
+}
+
 struct IterationRecord {
   double trace = 0, allgather = 0, write = 0;
   std::int64_t allgather_bytes = 0;
@@ -336,8 +355,8 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
   }
   // Every rank reads and checks the reference (so all ranks agree on a bad one, exit 2)
   // before anything is baked or written.
-  std::vector<Vec3f> reference;
-  if (!c.reference.empty()) reference = read_reference_map(c.reference, mesh, c.viewpoints);
+  ReferenceMap reference;
+  if (!c.reference.empty()) reference = read_reference_map(c.reference, mesh);
   const BakeSceneDevice scene = upload_bake_scene(
       mesh, host, c.viewpoints, c.sah ? bvh::BuildQuality::kSah : bvh::BuildQuality::kLbvh);
   Chef chef(scene, c, my_items);
@@ -349,7 +368,13 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
   // Base colours of this rank's vertices (needed by every iteration, also after a restart).
   timer.start("base");
   std::int64_t rays = 0, work = 0;
-  for (const VertexRange& r : my_ranges) rays += chef.bake_base(r.begin, r.end);
+  if (c.trace_reference && comm.size() > 1) {
+    // The traced recursion reads the base colour of any vertex a mirror ray reaches: each
+    // rank computes all of them (the same counter-based samples, so the same colours).
+    rays += chef.bake_base(0, host.vertices());
+  } else {
+    for (const VertexRange& r : my_ranges) rays += chef.bake_base(r.begin, r.end);
+  }
   timer.stop();
 
   int first = 0;
@@ -489,23 +514,22 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
   if (!iter_records.empty()) iter_records.back().write += ws.seconds;
 
   timer.start("compare");
-  if (!reference.empty() && root) {
-    const MapErrors e = compare_maps(map, host.color_offset, reference, c.viewpoints);
-    report.errors = {{"reference", c.reference},
-                     {"entries", e.entries},
-                     {"mean_abs", e.mean_abs},
-                     {"rmse", e.rmse},
-                     {"rel_mse", e.rel_mse},
-                     {"max_abs", e.max_abs},
-                     {"mean_reference", e.mean_reference},
-                     {"view_dependent_entries", e.view_dependent},
-                     {"view_dependent_rmse", e.view_dependent_rmse}};
-    std::printf(
-        "  reference %s: mean |map - ref| %.6g, RMSE %.6g, relative MSE %.6g, max %.6g "
-        "(mean reference %.6g; view-dependent RMSE %.6g over %lld of %lld colours)\n",
-        c.reference.c_str(), e.mean_abs, e.rmse, e.rel_mse, e.max_abs, e.mean_reference,
-        e.view_dependent_rmse, static_cast<long long>(e.view_dependent),
-        static_cast<long long>(e.entries));
+  if (!c.reference.empty() && root) {
+    Kokkos::View<Vec3f*, MemSpace> ref("rtmini::bake::reference", reference.colors.size());
+    Kokkos::deep_copy(
+        ref, Kokkos::View<const Vec3f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
+                 reference.colors.data(), reference.colors.size()));
+    const MapErrors e = errors_from_sums(chef.lookup_errors(prev, ref, reference.viewpoints));
+    report.errors = error_json(e);
+    report.errors["reference"] = c.reference;
+    report.errors["reference_viewpoints"] = reference.viewpoints;
+    report.errors["lookup"] = to_string(c.lookup);
+    print_errors("map read along the reference's directions", e);
+    if (reference.viewpoints == c.viewpoints) {
+      const MapErrors st = compare_stored(map, host.color_offset, reference);
+      report.errors["stored"] = error_json(st);
+      print_errors("stored colours, viewpoint by viewpoint", st);
+    }
   }
   timer.stop();
 
