@@ -11,14 +11,16 @@ sketchtrace: time is the render phase of the run's --summary; memory the run's
 peak resident set (os.wait4); errors come from sketchtrace's --reference (RMSE,
 relative MSE, SSIM against the reference EXR).
 
-bake: the reference of each N is `bake --trace-reference` (every viewpoint colour
-traced directly, many shadow samples, more mirror bounces than any point, another
-seed; the double build when given). Each point runs twice: once alone (time = the
-base + iterate phases, memory = peak RSS) and once with --reference (the errors:
-RMSE, relative MSE, mean |error| over every vertex and viewpoint), so holding the
-reference does not count as the bake's memory. Gather rays add light the traced
-reference does not model: those points are compared with a bake of 256 gather
-rays instead (error names `*_vs_gather256`).
+bake: the reference is `bake --trace-reference` with 700 viewpoints (every colour
+traced directly along its direction, many shadow samples, more mirror bounces than
+any point, another seed; the double build when given). bake --reference reads each
+point's map along the reference's 700 directions per vertex with the bake's lookup,
+so every N is measured on the same directions, between its own viewpoints too.
+Each point runs twice: once alone (time = the base + iterate phases, memory = peak
+RSS) and once with --reference (RMSE, relative MSE, mean |error| over every vertex
+and reference direction), so holding the reference does not count as the bake's
+memory. Gather rays add light the traced reference does not model: those points
+are compared with a bake of 256 gather rays instead (error names `*_vs_gather256`).
 """
 
 import argparse
@@ -163,12 +165,13 @@ BAKE_KNOBS = {
     "bvh": ["lbvh", "sah"],
     "lookup": ["kdtree", "sf"],
 }
-BAKE_REFERENCE = {"iterations": 8, "shadow-samples": 1024, "bvh": "sah", "seed": 987654321}
+BAKE_REFERENCE = {"viewpoints": 700, "iterations": 8, "shadow-samples": 1024, "bvh": "sah",
+                  "seed": 987654321}
 BAKE_GATHER_REFERENCE_RAYS = 256
 BAKE_METRICS = ("rmse", "rel_mse", "mean_abs")
 
 
-def bake_point(args, settings, reference, workdir, tag, binary, extra=()):
+def bake_point(args, settings, reference, workdir, tag, binary, extra=(), stored=False):
     """A timed run and an error run of one bake setting: (seconds, total seconds, RSS, errors)."""
     base_cmd = [binary, args.scene] + flags(settings) + list(extra)
     timed, rss = run_command("bake", base_cmd + ["-o", os.path.join(workdir, f"{tag}.bs")],
@@ -181,6 +184,8 @@ def bake_point(args, settings, reference, workdir, tag, binary, extra=()):
     phases = timed["phases"]
     seconds = phases.get("base", 0.0) + phases.get("iterate", 0.0)
     errors = checked.get("errors", {})
+    if stored:  # same N as the reference: the stored colours, viewpoint by viewpoint
+        errors = errors.get("stored", {})
     missing = [m for m in BAKE_METRICS if errors.get(m) is None]
     if missing:
         raise FormatError(f"{tag}: the bake summary has no error {', '.join(missing)}")
@@ -192,12 +197,11 @@ def sweep_bake(args, knobs, workdir):
     ref_bin = args.bake_double or args.bake
     references = {}
 
-    def reference(n, gather=False):
-        """The reference map for N viewpoints (traced, or a bake with many gather rays)."""
-        key = (n, gather)
-        if key not in references:
-            tag = f"reference_n{n}" + ("_gather" if gather else "")
-            settings = dict(BAKE_BASE, **BAKE_REFERENCE, viewpoints=n)
+    def reference(gather=False):
+        """The reference map: traced, or a bake with many gather rays (made on first use)."""
+        if gather not in references:
+            tag = "reference_gather" if gather else "reference"
+            settings = dict(BAKE_BASE, **BAKE_REFERENCE)
             extra = ["--trace-reference"]
             if gather:
                 settings["gather-rays"] = BAKE_GATHER_REFERENCE_RAYS
@@ -208,8 +212,8 @@ def sweep_bake(args, knobs, workdir):
             print(f"sweep: {tag} {settings} with {ref_bin}", file=sys.stderr)
             run_command("bake", [ref_bin, args.scene] + flags(settings) + extra + ["-o", path],
                         args.scene, workdir, tag)
-            references[key] = path
-        return references[key]
+            references[gather] = path
+        return references[gather]
 
     points = [("base", BAKE_BASE["viewpoints"], "float", BAKE_BASE)]
     for knob in knobs:
@@ -219,7 +223,8 @@ def sweep_bake(args, knobs, workdir):
                 points.append((knob, value, "float", settings))
     if args.bake_double:
         points.append(("precision", "double", "double", BAKE_BASE))
-        # The float build's traced reference against the double one: rounding error alone.
+        # The float build's traced reference against the double one, colour by colour: the
+        # rounding error alone.
         traced = dict(BAKE_BASE, **BAKE_REFERENCE)
         traced.pop("gather-rays")
         points.append(("traced-reference", "float", "float", traced))
@@ -227,10 +232,12 @@ def sweep_bake(args, knobs, workdir):
     for knob, value, precision, settings in points:
         binary = args.bake_double if precision == "double" else args.bake
         gather = knob == "gather-rays"
-        ref = reference(settings["viewpoints"], gather)
+        ref = reference(gather)
         tag = f"{knob}_{value}_{precision}"
-        extra = ["--trace-reference"] if knob == "traced-reference" else []
-        seconds, total, rss, errors = bake_point(args, settings, ref, workdir, tag, binary, extra)
+        traced = knob == "traced-reference"
+        extra = ["--trace-reference"] if traced else []
+        seconds, total, rss, errors = bake_point(args, settings, ref, workdir, tag, binary, extra,
+                                                 stored=traced)
         suffix = f"_vs_gather{BAKE_GATHER_REFERENCE_RAYS}" if gather else ""
         for name in BAKE_METRICS:
             rows.append({"app": "bake", "scene": scene_name, "knob": knob, "value": value,

@@ -62,8 +62,8 @@ def test_unknown_knob_is_bad_input(tmp_path):
     assert "colour" in result.stderr
 
 
-# A stand-in bake: its error falls with N and shadow samples; it refuses a reference of another
-# N (as the real bake does) and records every command line it ran.
+# A stand-in bake: its error falls with N and shadow samples; it refuses a reference that is not
+# the dense (N = 700) one and records every command line it ran.
 FAKE_BAKE = """#!/usr/bin/env python3
 import json, os, sys
 args = sys.argv[1:]
@@ -77,16 +77,18 @@ n, s = int(opt("--viewpoints", "100")), int(opt("--shadow-samples", "16"))
 summary = {"phases": {"read": 0.5, "base": 0.001 * s, "iterate": 0.0001 * n, "total": 1.0}}
 if "--reference" in args:
     ref = json.load(open(opt("--reference")))
-    if ref["n"] != n:
+    if ref["n"] != 700:
         sys.exit(2)
     e = 1.0 / n ** 0.5 + 0.1 / s + (0.5 if ref["gather"] else 0.0) / (1 + int(opt("--gather-rays", "0")))
     summary["errors"] = {"rmse": e, "rel_mse": e * e, "mean_abs": e / 2, "max_abs": 3 * e}
+    if n == 700:
+        summary["errors"]["stored"] = {"rmse": 1e-7, "rel_mse": 1e-14, "mean_abs": 1e-8}
 json.dump({"n": n, "gather": int(opt("--gather-rays", "0")) > 0}, open(opt("-o"), "w"))
 json.dump(summary, open(opt("--summary"), "w"))
 """
 
 
-def test_bake_sweep_pairs_each_point_with_a_reference_of_its_n(tmp_path):
+def test_bake_sweep_compares_every_point_with_the_dense_reference(tmp_path):
     out = tmp_path / "bake.csv"
     fake = tmp_path / "bake"
     fake.write_text(FAKE_BAKE)
@@ -106,17 +108,19 @@ def test_bake_sweep_pairs_each_point_with_a_reference_of_its_n(tmp_path):
     gather = {r["value"]: r["error"] for r in rows if r["error_name"] == "rmse_vs_gather256"}
     assert set(gather) == {"0", "4", "16", "64"}
     assert gather["0"] > gather["64"]
-    assert ("precision", "double") in rmse and ("traced-reference", "float") in rmse
+    assert ("precision", "double") in rmse
+    assert rmse[("traced-reference", "float")] == 1e-7  # colour by colour, not through the lookup
     # time is the base + iterate phases, not the whole run
     base = next(r for r in rows if r["knob"] == "base" and r["error_name"] == "rmse")
     assert abs(base["time_s"] - (0.016 + 0.02)) < 1e-9
     calls = (work / "calls.txt").read_text().splitlines()
     traced = [c for c in calls if "--trace-reference" in c and "--reference" not in c.split()
-              and "/reference_n" in c]
-    assert len(traced) == 7  # one traced reference per N
-    assert all("--shadow-samples 1024" in c and "--seed 987654321" in c for c in traced)
+              and "/reference.bs" in c]
+    assert len(traced) == 1  # one traced reference for every point
+    assert all("--viewpoints 700" in c and "--shadow-samples 1024" in c and
+               "--seed 987654321" in c for c in traced)
     # every point runs once alone (timed) and once against its reference
-    assert sum("--reference" in c for c in calls) == sum("--reference" not in c for c in calls) - 8
+    assert sum("--reference" in c for c in calls) == sum("--reference" not in c for c in calls) - 2
     assert not list(work.glob("base_*.bs"))  # point maps are removed after the error run
 
 
