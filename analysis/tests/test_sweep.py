@@ -80,9 +80,11 @@ if "--reference" in args:
     if ref["n"] != 700:
         sys.exit(2)
     e = 1.0 / n ** 0.5 + 0.1 / s + (0.5 if ref["gather"] else 0.0) / (1 + int(opt("--gather-rays", "0")))
-    summary["errors"] = {"rmse": e, "rel_mse": e * e, "mean_abs": e / 2, "max_abs": 3 * e}
+    summary["errors"] = {"rmse": e, "rel_mse": e * e, "mean_abs": e / 2, "max_abs": 3 * e,
+                         "view_dependent_rmse": 2 * e, "view_independent_rmse": e / 3}
     if n == 700:
-        summary["errors"]["stored"] = {"rmse": 1e-7, "rel_mse": 1e-14, "mean_abs": 1e-8}
+        summary["errors"]["stored"] = {"rmse": 1e-7, "rel_mse": 1e-14, "mean_abs": 1e-8,
+                                       "view_dependent_rmse": 0, "view_independent_rmse": 0}
 json.dump({"n": n, "gather": int(opt("--gather-rays", "0")) > 0}, open(opt("-o"), "w"))
 json.dump(summary, open(opt("--summary"), "w"))
 """
@@ -94,7 +96,7 @@ def test_bake_sweep_compares_every_point_with_the_dense_reference(tmp_path):
     fake.write_text(FAKE_BAKE)
     fake.chmod(fake.stat().st_mode | stat.S_IEXEC)
     work = tmp_path / "w"
-    result = run_tool("sweep", "--bake", fake, "--bake-double", fake, "--scene", "cornell.bs",
+    result = run_tool("sweep", "--bake", fake, "--bake-double", fake, "--scene", "cornell.bs", "--repeat", 2,
                       "--knobs", "viewpoints,shadow-samples,gather-rays", "--workdir", work, "-o", out)
     assert result.returncode == 0, result.stderr
     rows = load_sweep(str(out))
@@ -119,8 +121,8 @@ def test_bake_sweep_compares_every_point_with_the_dense_reference(tmp_path):
     assert len(traced) == 1  # one traced reference for every point
     assert all("--viewpoints 700" in c and "--shadow-samples 1024" in c and
                "--seed 987654321" in c for c in traced)
-    # every point runs once alone (timed) and once against its reference
-    assert sum("--reference" in c for c in calls) == sum("--reference" not in c for c in calls) - 2
+    # every point runs twice alone (timed, --repeat 2) and once against the reference
+    assert 2 * sum("--reference" in c for c in calls) == sum("--reference" not in c for c in calls) - 2
     assert not list(work.glob("base_*.bs"))  # point maps are removed after the error run
 
 

@@ -120,15 +120,18 @@ nlohmann::json error_json(const MapErrors& e) {
           {"max_abs", e.max_abs},
           {"mean_reference", e.mean_reference},
           {"view_dependent_entries", e.view_dependent},
-          {"view_dependent_rmse", e.view_dependent_rmse}};
+          {"view_dependent_rmse", e.view_dependent_rmse},
+          {"view_independent_rmse", e.view_independent_rmse}};
 }
 
 void print_errors(const char* what, const MapErrors& e) {
   std::printf(
       "  reference, %s: mean |map - ref| %.6g, RMSE %.6g, relative MSE %.6g, max %.6g "
-      "(mean reference %.6g; view-dependent RMSE %.6g over %lld of %lld colours)\n",
+      "(mean reference %.6g; RMSE %.6g over the %lld view-dependent of %lld colours, %.6g over "
+      "the others)\n",
       what, e.mean_abs, e.rmse, e.rel_mse, e.max_abs, e.mean_reference, e.view_dependent_rmse,
-      static_cast<long long>(e.view_dependent), static_cast<long long>(e.entries));
+      static_cast<long long>(e.view_dependent), static_cast<long long>(e.entries),
+      e.view_independent_rmse);
 }
 
 struct IterationRecord {

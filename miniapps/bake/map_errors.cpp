@@ -23,6 +23,9 @@ MapErrors errors_from_sums(const ErrorSums& s) {
   }
   if (s.view_dependent > 0)
     e.view_dependent_rmse = std::sqrt(s.view_dependent_sq / (3.0 * double(s.view_dependent)));
+  if (s.entries > s.view_dependent)
+    e.view_independent_rmse = std::sqrt(std::max(0.0, s.sq - s.view_dependent_sq) /
+                                        (3.0 * double(s.entries - s.view_dependent)));
   return e;
 }
 

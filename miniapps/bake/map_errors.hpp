@@ -22,14 +22,15 @@ struct ErrorSums {
 };
 
 struct MapErrors {
-  std::int64_t entries = 0;         // vertices x reference viewpoints
-  double mean_abs = 0;              // mean over entries and RGB of |map - ref|
-  double rmse = 0;                  // sqrt(mean of (map - ref)^2)
-  double rel_mse = 0;               // mean of (map - ref)^2 / (ref^2 + 1e-2), as for images
-  double max_abs = 0;               // largest |map - ref| of any entry and channel
-  double mean_reference = 0;        // mean reference value (scale of the errors above)
-  std::int64_t view_dependent = 0;  // entries of vertices with N colours in the map
-  double view_dependent_rmse = 0;   // RMSE over those entries only (0 if none)
+  std::int64_t entries = 0;          // vertices x reference viewpoints
+  double mean_abs = 0;               // mean over entries and RGB of |map - ref|
+  double rmse = 0;                   // sqrt(mean of (map - ref)^2)
+  double rel_mse = 0;                // mean of (map - ref)^2 / (ref^2 + 1e-2), as for images
+  double max_abs = 0;                // largest |map - ref| of any entry and channel
+  double mean_reference = 0;         // mean reference value (scale of the errors above)
+  std::int64_t view_dependent = 0;   // entries of vertices with N colours in the map
+  double view_dependent_rmse = 0;    // RMSE over those entries only (0 if none)
+  double view_independent_rmse = 0;  // RMSE over the other entries (0 if none)
 };
 
 // Adds one entry's colours to the sums.

@@ -26,7 +26,7 @@ for scene in cornell_big/cornell_big_raw cornell/cornell_box; do
   echo "== $name: load $(cut -d' ' -f1-3 /proc/loadavg), $(date -u +%FT%TZ)"
   "$python" -m rtmini_analysis.sweep --bake "$build/miniapps/bake/bake" \
     --bake-double "$double/miniapps/bake/bake" --scene "$root/inputs/$scene.bs" \
-    --workdir "$work/$name" -o "$out/sweep_bake_$name.csv"
+    --repeat 3 --workdir "$work/$name" -o "$out/sweep_bake_$name.csv"
   csvs+=("$out/sweep_bake_$name.csv")
 done
 echo "== done: load $(cut -d' ' -f1-3 /proc/loadavg), $(date -u +%FT%TZ)"

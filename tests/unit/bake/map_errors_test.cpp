@@ -34,6 +34,7 @@ TEST(MapErrors, MetricsOverEveryVertexAndViewpoint) {
   EXPECT_DOUBLE_EQ(e.mean_reference, 13.0 / 12);
   EXPECT_EQ(e.view_dependent, 2);
   EXPECT_DOUBLE_EQ(e.view_dependent_rmse, std::sqrt(1.0 / 6));
+  EXPECT_DOUBLE_EQ(e.view_independent_rmse, 0.0);
 }
 
 Mesh two_vertex_map(int n, double x1, int short_vertex = -1) {
