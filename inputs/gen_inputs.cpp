@@ -1,11 +1,11 @@
 // rtmini-gen-inputs: regenerates the bake inputs (inputs/README.md): the seed's "cube" and
 // "cornell_big_raw" cases, the furnace box of the correctness tests, the shared Cornell box
-// converted to .bs, and a bunny bake scene built around ../shared/scenes/stanford-bunny.obj.
+// converted to .bs, and two bunny bake scenes built around ../shared/scenes/stanford-bunny.obj.
 #include <CLI/CLI.hpp>
 #include <array>
-#include <map>
 #include <cmath>
 #include <iostream>
+#include <map>
 #include <string>
 
 #include "rtmini/io/bakeshop.hpp"
@@ -40,7 +40,7 @@ void append_grid_box(Mesh& m, const Vec3d& centre, const Vec3d& size, double ang
     Vec3d corner;
     int a, b;  // u along axis a, v along axis b, outward normal = u x v
   };
-  const FaceSpec faces[6] = {{lo + ax[0], 1, 2}, {lo, 2, 1}, {lo + ax[1], 2, 0},
+  const FaceSpec faces[6] = {{lo + ax[0], 1, 2}, {lo, 2, 1},         {lo + ax[1], 2, 0},
                              {lo, 0, 2},         {lo + ax[2], 0, 1}, {lo, 1, 0}};
   for (int f = 0; f < 6; ++f) {
     if (f == 3 && !with_bottom) continue;
@@ -73,11 +73,11 @@ Mesh make_cornell_big() {
   const int light = add_material(m, {0.78f, 0.78f, 0.78f}, {0, 0, 0}, {17.f, 12.f, 4.f});
   const int box = add_material(m, {0.3f, 0.3f, 0.3f}, {0.5f, 0.5f, 0.5f}, {0, 0, 0});
   const int g = 16;
-  append_grid(m, {-1, 0, -1}, {0, 0, 2}, {2, 0, 0}, g, g, white, 0);  // floor, normal +y
-  append_grid(m, {-1, 2, -1}, {2, 0, 0}, {0, 0, 2}, g, g, white, 0);  // ceiling, -y
-  append_grid(m, {-1, 0, -1}, {2, 0, 0}, {0, 2, 0}, 20, 13, white, 0);  // back, +z
-  append_grid(m, {-1, 0, -1}, {0, 2, 0}, {0, 0, 2}, g, g, red, 0);    // left, +x
-  append_grid(m, {1, 0, -1}, {0, 0, 2}, {0, 2, 0}, g, g, green, 0);   // right, -x
+  append_grid(m, {-1, 0, -1}, {0, 0, 2}, {2, 0, 0}, g, g, white, 0);         // floor, normal +y
+  append_grid(m, {-1, 2, -1}, {2, 0, 0}, {0, 0, 2}, g, g, white, 0);         // ceiling, -y
+  append_grid(m, {-1, 0, -1}, {2, 0, 0}, {0, 2, 0}, 20, 13, white, 0);       // back, +z
+  append_grid(m, {-1, 0, -1}, {0, 2, 0}, {0, 0, 2}, g, g, red, 0);           // left, +x
+  append_grid(m, {1, 0, -1}, {0, 0, 2}, {0, 2, 0}, g, g, green, 0);          // right, -x
   append_quad(m, {-0.25, 1.98, -0.25}, {0.5, 0, 0}, {0, 0, 0.5}, light, 0);  // light, -y
   const int short_cells[3] = {4, 7, 4}, tall_cells[3] = {4, 12, 4};
   append_grid_box(m, {0.35, 0.3, 0.35}, {0.6, 0.6, 0.6}, -0.3, short_cells, false, box);
@@ -92,7 +92,8 @@ void weld(Mesh& m) {
   std::vector<int> remap(m.positions.size());
   for (std::size_t i = 0; i < m.positions.size(); ++i) {
     const Vec3d& p = m.positions[i];
-    const auto ins = index.emplace(std::array<double, 3>{p.x, p.y, p.z}, static_cast<int>(kept.size()));
+    const auto ins =
+        index.emplace(std::array<double, 3>{p.x, p.y, p.z}, static_cast<int>(kept.size()));
     if (ins.second) kept.push_back(p);
     remap[i] = ins.first->second;
   }
@@ -141,8 +142,39 @@ Mesh make_bunny(const std::string& scene) {
               red, 0);  // normal -y
   append_quad(m, {c.x - 0.3 * s, lo.y - 0.2 * s, c.z - 0.3 * s}, {0, 0, 0.6 * s}, {0.6 * s, 0, 0},
               blue, 0);  // normal +y
-  append_quad(m, {c.x - 1.5 * s, lo.y - 0.3 * s, lo.z - 0.5 * s}, {3.0 * s, 0, 0},
-              {0, 2.0 * s, 0}, grey, 0);  // backdrop, normal +z
+  append_quad(m, {c.x - 1.5 * s, lo.y - 0.3 * s, lo.z - 0.5 * s}, {3.0 * s, 0, 0}, {0, 2.0 * s, 0},
+              grey, 0);  // backdrop, normal +z
+  return m;
+}
+
+// The baking paper's figure 4.g: a very reflective grey bunny in a room, a red light at the
+// top and a blue light at the bottom. Here the room is a gridded, semi-reflective grey floor
+// (the bunny stands on it and is mirrored in it) and a gridded diffuse back wall; the red panel
+// hangs above the bunny facing down, the blue panel lies on the floor in front of it facing up.
+// Floor and wall are grids so the baked light varies across them (colours live on vertices).
+Mesh make_bunny_room(const std::string& scene) {
+  Mesh m = read_obj(scene);
+  m.materials.clear();
+  const int bunny = add_material(m, {0.3f, 0.3f, 0.3f}, {0.6f, 0.6f, 0.6f}, {0, 0, 0});
+  const int red = add_material(m, {0, 0, 0}, {0, 0, 0}, {8.f, 1.f, 1.f});
+  const int blue = add_material(m, {0, 0, 0}, {0, 0, 0}, {1.f, 1.f, 8.f});
+  const int floor = add_material(m, {0.45f, 0.45f, 0.45f}, {0.25f, 0.25f, 0.25f}, {0, 0, 0});
+  const int wall = add_material(m, {0.5f, 0.5f, 0.5f}, {0, 0, 0}, {0, 0, 0});
+  for (Face& f : m.faces) f.material = bunny;
+  Vec3d lo(1e300), hi(-1e300);
+  for (const Vec3d& p : m.positions) {
+    lo = vmin(lo, p);
+    hi = vmax(hi, p);
+  }
+  const Vec3d c = (lo + hi) * 0.5;
+  const double s = max_component(hi - lo);
+  const double x0 = c.x - 1.5 * s, z0 = lo.z - 0.8 * s, z1 = hi.z + 1.6 * s;
+  append_grid(m, {x0, lo.y, z0}, {0, 0, z1 - z0}, {3.0 * s, 0, 0}, 20, 24, floor, 0);  // +y
+  append_grid(m, {x0, lo.y, z0}, {3.0 * s, 0, 0}, {0, 1.6 * s, 0}, 24, 12, wall, 0);   // +z
+  append_quad(m, {c.x - 0.3 * s, hi.y + 0.6 * s, c.z - 0.3 * s}, {0.6 * s, 0, 0}, {0, 0, 0.6 * s},
+              red, 0);  // normal -y
+  append_quad(m, {c.x - 0.4 * s, lo.y + 0.002 * s, hi.z + 0.3 * s}, {0, 0, 0.4 * s},
+              {0.8 * s, 0, 0}, blue, 0);  // normal +y
   return m;
 }
 
@@ -160,13 +192,15 @@ int main(int argc, char** argv) {
   auto* furnace = app.add_subcommand("furnace", "all-emissive mirror box for the furnace test");
   auto* cornell = app.add_subcommand("cornell", "an OBJ/MTL converted to .bs");
   auto* bunny = app.add_subcommand("bunny", "the bunny bake scene");
-  for (auto* sub : {cube, big, furnace, cornell, bunny})
+  auto* bunny_room = app.add_subcommand("bunny_room", "the bunny on a floor, the paper's fig. 4.g");
+  for (auto* sub : {cube, big, furnace, cornell, bunny, bunny_room})
     sub->add_option("-o,--output", out, "output .bs")->required();
   furnace->add_option("--rho", rho, "mirror reflectance");
   furnace->add_option("--emission", emission, "emission of every face");
   furnace->add_option("--cells", cells, "grid cells per face edge (0: 8 shared corners)");
   cornell->add_option("--scene", scene, "OBJ file")->required();
   bunny->add_option("--scene", scene, "stanford-bunny.obj")->required();
+  bunny_room->add_option("--scene", scene, "stanford-bunny.obj")->required();
   app.require_subcommand(1);
   CLI11_PARSE(app, argc, argv);
   try {
@@ -176,9 +210,10 @@ int main(int argc, char** argv) {
     if (*furnace) m = make_furnace(rho, emission, cells);
     if (*cornell) m = read_obj(scene);
     if (*bunny) m = make_bunny(scene);
+    if (*bunny_room) m = make_bunny_room(scene);
     write_bakeshop(out, m);
-    std::cout << out << ": " << m.positions.size() << " vertices, " << m.faces.size()
-              << " faces, " << m.materials.size() << " materials\n";
+    std::cout << out << ": " << m.positions.size() << " vertices, " << m.faces.size() << " faces, "
+              << m.materials.size() << " materials\n";
   } catch (const InputError& e) {
     std::cerr << "rtmini-gen-inputs: " << e.what() << "\n";
     return kExitBadInput;

@@ -36,6 +36,21 @@ def test_duplicate_strategy_is_bad_input(tmp_path):
     assert not (tmp_path / "x.png").exists()
 
 
+def test_labels_name_rows_of_one_strategy(tmp_path):
+    write_timings(tmp_path / "a.h5", [1.0, 2.0], strategy="steal")
+    write_timings(tmp_path / "b.h5", [1.9, 2.0], strategy="steal")
+    out = tmp_path / "x.png"
+    result = run_tool("rank_completion", tmp_path / "a.h5", tmp_path / "b.h5", "-o", out,
+                      "--labels", "steal,steal+thread")
+    assert result.returncode == 0, result.stderr
+    table = parse_table(result.stdout)
+    assert list(table) == ["steal", "steal+thread"]  # given order
+    assert table["steal+thread"][-1] == "1.026"
+    bad = run_tool("rank_completion", tmp_path / "a.h5", tmp_path / "b.h5", "-o", tmp_path / "y.png",
+                   "--labels", "one")
+    assert bad.returncode == 2 and "2 files" in bad.stderr
+
+
 @pytest.mark.parametrize("damage, message", [
     (lambda f: f.__delitem__("ranks/completion_time"), "missing dataset '/ranks/completion_time'"),
     (lambda f: f.attrs.__setitem__("ranks", 3), "has shape (2, 3), expected (3, 3)"),

@@ -30,7 +30,8 @@ struct BakeConfig {
   bool sah = false;
   bool cache_hits = true;
   bool progress = false;
-  int stop_after_iteration = -1;  // hidden test hook: checkpoint, then exit 4
+  int stop_after_iteration = -1;    // hidden test hook: checkpoint, then exit 4
+  bool all_view_dependent = false;  // hidden, measurement: N colours for every vertex
 };
 
 inline const char* to_string(Lookup l) { return l == Lookup::kKdTree ? "kdtree" : "sf"; }

@@ -4,7 +4,7 @@
 
 namespace rtmini::bake {
 
-BakeSceneHost prepare_bake_scene(const Mesh& mesh, int viewpoints) {
+BakeSceneHost prepare_bake_scene(const Mesh& mesh, int viewpoints, bool all_view_dependent) {
   const std::size_t nv = mesh.positions.size();
   BakeSceneHost s;
   std::vector<Vec3d> normal(nv, Vec3d(0.0));
@@ -65,11 +65,11 @@ BakeSceneHost prepare_bake_scene(const Mesh& mesh, int viewpoints) {
     s.reflective[v] = Vec3(kr[v] * inv);
     s.emissive[v] = Vec3(ke[v] * inv);
     // A vertex with no usable normal cannot reflect anything: keep it view-independent.
-    const bool reflective = max_component(s.reflective[v]) > Real(0) &&
-                            length_squared(s.normal[v]) > Real(0);
+    const bool reflective =
+        max_component(s.reflective[v]) > Real(0) && length_squared(s.normal[v]) > Real(0);
     if (reflective) ++s.reflective_vertices;
     if (max_component(s.diffuse[v]) > Real(0)) s.any_diffuse = true;
-    s.color_offset[v + 1] = s.color_offset[v] + (reflective ? viewpoints : 1);
+    s.color_offset[v + 1] = s.color_offset[v] + (reflective || all_view_dependent ? viewpoints : 1);
   }
   return s;
 }
@@ -79,7 +79,7 @@ template <class T>
 Kokkos::View<T*, MemSpace> upload(const char* label, const std::vector<T>& host) {
   Kokkos::View<T*, MemSpace> d(std::string(label), host.size());
   Kokkos::View<const T*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(host.data(),
-                                                                                      host.size());
+                                                                                       host.size());
   Kokkos::deep_copy(d, h);
   return d;
 }

@@ -35,7 +35,8 @@ struct BakeSceneHost {
 
 // Area-weighted normals (each face adds its area-scaled normal to its corners) and plain
 // averages of the adjacent faces' materials (faces without a material are skipped).
-BakeSceneHost prepare_bake_scene(const Mesh& mesh, int viewpoints);
+// all_view_dependent (measurement only) gives every vertex N colours, as if none could keep one.
+BakeSceneHost prepare_bake_scene(const Mesh& mesh, int viewpoints, bool all_view_dependent = false);
 
 struct BakeSceneDevice {
   DeviceMesh<MemSpace> mesh;

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -10,6 +11,7 @@
 
 #include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/bakeshop.hpp"
+#include "rtmini/io/bakeshop_binary.hpp"
 #include "rtmini/io/error.hpp"
 
 namespace rtmini::bake {
@@ -65,8 +67,69 @@ std::string format_vertex_range(const BakedMap& map, VertexRange range) {
   return out;
 }
 
+bool is_binary_map_path(const std::string& path) {
+  if (path.size() < 4) return false;
+  std::string ext = path.substr(path.size() - 4);
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext == ".bsb";
+}
+
+namespace {
+
+// The binary form (io/bakeshop_binary.hpp): every rank holds the whole map after the last
+// all-gather, so rank 0 writes it alone; a view-independent vertex is expanded to N copies,
+// which the writer stores once again (same Mesh as reading the text form back).
+WriteStats write_baked_map_binary(const Communicator& comm, const std::string& path,
+                                  const BakedMap& map) {
+  const auto t0 = std::chrono::steady_clock::now();
+  WriteStats stats;
+  std::string error;
+  if (comm.is_root()) {
+    try {
+      Mesh mesh = *map.mesh;
+      const auto& off = *map.color_offset;
+      const auto& colors = *map.colors;
+      const auto& dirs = *map.directions;
+      const std::size_t nv = mesh.positions.size(), n = dirs.size();
+      ViewpointColors& vc = mesh.viewpoints;
+      vc.offsets.resize(nv + 1);
+      vc.dirs.reserve(nv * n);
+      vc.colors.reserve(nv * n);
+      for (std::size_t v = 0; v < nv; ++v) {
+        vc.offsets[v] = vc.dirs.size();
+        const bool uniform = off[v + 1] - off[v] == 1;
+        for (std::size_t j = 0; j < n; ++j) {
+          vc.dirs.push_back(dirs[j]);
+          vc.colors.push_back(colors[static_cast<std::size_t>(off[v]) + (uniform ? 0 : j)]);
+        }
+      }
+      vc.offsets[nv] = vc.dirs.size();
+      write_bakeshop_binary(path, mesh);
+      std::FILE* f = std::fopen(path.c_str(), "rb");
+      if (f) {
+        std::fseek(f, 0, SEEK_END);
+        stats.file_bytes = std::ftell(f);
+        std::fclose(f);
+      }
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+  }
+  stats.bytes_written = stats.file_bytes;
+  // Every rank fails together when rank 0 could not write.
+  if (comm.max(error.empty() ? 0.0 : 1.0) > 0.5)
+    throw IoError(error.empty() ? path + ": binary map write failed on rank 0" : error);
+  stats.file_bytes = static_cast<std::int64_t>(comm.max(static_cast<double>(stats.file_bytes)));
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return stats;
+}
+
+}  // namespace
+
 WriteStats write_baked_map(const Communicator& comm, const std::string& path, const BakedMap& map,
                            const std::vector<VertexRange>& mine) {
+  if (is_binary_map_path(path)) return write_baked_map_binary(comm, path, map);
   const auto t0 = std::chrono::steady_clock::now();
   WriteStats stats;
   std::vector<std::string> texts;

@@ -4,7 +4,8 @@
 // collective MPI-IO (MPI_File_write_at_all), and rank 0 appends materials, faces and "!". No
 // padding and no post-processing pass (the seed stripped null bytes afterwards). The file is
 // written under a temporary name and renamed by rank 0 once every rank has closed it; without
-// MPI it is one sequential atomic write. Same bytes for any rank count.
+// MPI it is one sequential atomic write. Same bytes for any rank count. A .bsb path gets the
+// binary form instead (io/bakeshop_binary.hpp), written by rank 0.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -34,7 +35,11 @@ struct WriteStats {
   std::int64_t file_bytes = 0;
 };
 
-// Collective over comm. `mine`: the vertex ranges this rank writes; the ranges of all ranks
+// True for a path ending in .bsb (any case): the map is written in the binary form.
+bool is_binary_map_path(const std::string& path);
+
+// Collective over comm; the format follows the extension: .bsb binary, anything else text.
+// `mine`: the vertex ranges this rank writes; the ranges of all ranks
 // tile [0, vertices). IoError on failure.
 WriteStats write_baked_map(const Communicator& comm, const std::string& path, const BakedMap& map,
                            const std::vector<VertexRange>& mine);

@@ -71,7 +71,11 @@ struct DirectLight {
           Ray ray;
           ray.org = org;
           ray.dir = seg * (Real(1) / len);
-          ray.tmin = Real(0);
+          // A vertex on an inside corner lies on the neighbouring wall's plane (its own faces
+          // do not include that wall), so a ray leaving it would hit that wall at t = 0: skip
+          // hits within a relative 1e-5 of the segment (leaks only through geometry that
+          // close to the vertex).
+          ray.tmin = len * Real(1e-5);
           ray.tmax = len;
           ++rays;
           if (!bvh::any_hit(accel, ray)) sum += light.emission * (cos_p * cos_l / d2);

@@ -271,7 +271,7 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
     throw InputError(c.input, 0, "the scene has no vertices or no faces");
 
   timer.start("setup");
-  const BakeSceneHost host = prepare_bake_scene(mesh, c.viewpoints);
+  const BakeSceneHost host = prepare_bake_scene(mesh, c.viewpoints, c.all_view_dependent);
   const bool needs_iterations = host.reflective_vertices > 0 || c.gather_rays > 0;
   // The traced reference is one pass (it follows the K mirror bounces itself).
   const int iterations = needs_iterations && !c.trace_reference ? c.iterations : 0;
@@ -306,6 +306,7 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
                            {"max_memory", c.max_memory},
                            {"time_limit_minutes", c.time_limit_minutes},
                            {"hit_cache", c.cache_hits},
+                           {"all_view_dependent", c.all_view_dependent},
                            {"checkpoint", c.checkpoint},
                            {"restart", c.restart},
                            {"reference", c.reference},

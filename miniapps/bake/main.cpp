@@ -11,6 +11,7 @@
 #include "bake_config.hpp"
 #include "kitchen.hpp"
 #include "reference_tracer.hpp"
+#include "rtmini/io/cli_values.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/report/app_main.hpp"
 #include "rtmini/report/version.hpp"
@@ -20,31 +21,6 @@
 
 namespace rtmini::bake {
 namespace {
-
-std::int64_t parse_size(const std::string& text) {
-  std::size_t used = 0;
-  double value = 0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    throw InputError("--max-memory: not a size: '" + text + "' (e.g. 2G, 512M, 1000000)");
-  }
-  const std::string suffix = text.substr(used);
-  double scale = 1;
-  if (suffix == "K" || suffix == "k" || suffix == "KiB")
-    scale = 1024.0;
-  else if (suffix == "M" || suffix == "MiB")
-    scale = 1024.0 * 1024.0;
-  else if (suffix == "G" || suffix == "GiB")
-    scale = 1024.0 * 1024.0 * 1024.0;
-  else if (suffix == "T" || suffix == "TiB")
-    scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
-  else if (!suffix.empty() && suffix != "B")
-    throw InputError("--max-memory: unknown unit '" + suffix + "' (use K, M, G or T)");
-  if (!(value >= 0) || !std::isfinite(value))
-    throw InputError("--max-memory must be >= 0 (got " + text + ")");
-  return static_cast<std::int64_t>(value * scale);
-}
 
 Vec3f parse_color(const std::string& text) {
   std::istringstream in(text);
@@ -73,14 +49,15 @@ std::string default_output(const std::string& input) {
 // Returns -1 to go on baking, or an exit code (--help, --version).
 int parse(int argc, char** argv, BakeConfig& c, bool root) {
   CLI::App app{
-      "bake: view-dependent ray-trace maps of semi-reflective scenes (.bs/.obj in, .bs out)",
+      "bake: view-dependent ray-trace maps of semi-reflective scenes (.bs/.obj in, .bs/.bsb out)",
       "bake"};
   std::string lookup = "kdtree", balance = "cost", bvh_kind = "lbvh", mode = "map";
   std::string max_memory, background;
   bool version = false;
   bool no_cache = false;
   app.add_option("input", c.input, "raw Bake Shop (.bs) or OBJ/MTL scene")->required();
-  app.add_option("-o,--output", c.output, "baked .bs output (default: <input stem>_baked.bs)");
+  app.add_option("-o,--output", c.output,
+                 "baked map: .bsb = binary form, else .bs text (default: <input stem>_baked.bs)");
   app.add_option("--mode", mode, "map (default) or ao");
   app.add_option("-n,--viewpoints", c.viewpoints, "viewpoints per vertex (Fibonacci sphere)");
   app.add_option("-k,--iterations", c.iterations, "reflection iterations after the base map");
@@ -106,6 +83,8 @@ int parse(int argc, char** argv, BakeConfig& c, bool root) {
   app.add_option("--background", background, "colour of rays that leave the scene, r,g,b");
   app.add_option("--bvh", bvh_kind, "lbvh or sah");
   app.add_flag("--no-hit-cache", no_cache, "re-trace mirror rays every iteration");
+  // Measurement only: store N colours for view-independent vertices too (same colours).
+  app.add_flag("--all-view-dependent", c.all_view_dependent)->group("");
   app.add_flag("--progress", c.progress, "progress on stderr");
   app.add_flag("--version", version, "print version and exit");
   app.add_option("--stop-after-iteration", c.stop_after_iteration)->group("");  // test hook
@@ -163,7 +142,7 @@ int parse(int argc, char** argv, BakeConfig& c, bool root) {
                        std::to_string(kMaxReferenceIterations) + " (up to 3^K rays per colour)");
     c.cache_hits = false;
   }
-  if (!max_memory.empty()) c.max_memory = parse_size(max_memory);
+  if (!max_memory.empty()) c.max_memory = parse_byte_size("--max-memory", max_memory);
   if (!background.empty()) c.background = parse_color(background);
   if (c.output.empty()) c.output = default_output(c.input);
   return -1;

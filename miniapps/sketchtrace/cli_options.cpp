@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include "rtmini/io/cli_values.hpp"
@@ -57,6 +58,10 @@ void CliOverrides::add_to(CLI::App& app, RunOptions& run) {
   app.add_option("--style", style_, "Hand-drawn post-process: sketch|color-pencil|none");
   app.add_option("--chunk-pixels", chunk_pixels_, "Pixels per render dispatch (0 = auto)");
   app.add_flag("--stats", stats_, "Count ray-triangle tests per ray (vs brute force)");
+  // Testing and measurement: the kernel with every feature branch, whatever the scene uses.
+  app.add_flag("--general-kernel", general_kernel_)->group("");
+  app.add_option("--max-memory", max_memory_,
+                 "Refuse runs estimated above this many bytes per rank (e.g. 2G, 512M)");
   app.add_option("--summary", run.summary, "Write the run summary JSON");
   app.add_option("--timings", run.timings, "Write per-rank timings (HDF5)");
   app.add_option("--checkpoint", run.checkpoint, "Write progress to this HDF5 file");
@@ -71,8 +76,11 @@ void CliOverrides::add_to(CLI::App& app, RunOptions& run) {
   app.add_option("--cost-map", run.cost_map,
                  "Keep the probed cost map in this HDF5 file and reuse it");
   app.add_flag("--progress", run.progress, "Progress on stderr");
-  app.add_flag("--comm-thread", run.comm_thread,
-               "bargain/steal: a thread answers peers while this rank renders");
+  app.add_option("--comm-thread", run.comm_thread,
+                 "on|off: bargain/steal answer peers from a thread while the rank renders "
+                 "(default on; off progresses messages between dispatches only)")
+      ->transform(CLI::Transformer(std::map<std::string, bool>{{"on", true}, {"off", false}}))
+      ->capture_default_str();
   app.add_option("--reference", run.reference, "Reference image: report the linear RGB RMSE");
   app.add_option("--max-rmse", run.max_rmse, "With --reference: exit 1 when the RMSE is larger");
 }
@@ -123,6 +131,11 @@ void CliOverrides::apply(RenderSettings& s) const {
     std::replace(s.style.begin(), s.style.end(), '-', '_');
   }
   if (stats_) s.stats = true;
+  if (general_kernel_) s.general_kernel = true;
+}
+
+std::int64_t CliOverrides::max_memory() const {
+  return given("--max-memory") ? parse_byte_size("--max-memory", max_memory_) : 0;
 }
 
 void CliOverrides::apply_camera(RenderSettings& s) const {

@@ -3,6 +3,7 @@
 // scene file's [settings]/[camera]/ambient; camera flags apply after the default
 // framing, so `--fov 30` on a bare mesh keeps the framed position.
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <string>
 
 #include "render_settings.hpp"
@@ -19,9 +20,10 @@ struct RunOptions {
   std::string balance = "static";     // load-balancing strategy (schedule.hpp)
   std::string cost_map;               // keep/reuse the probed cost map here
   bool progress = false;
-  bool comm_thread = false;  // bargain/steal: answer peers from a thread while rendering
-  std::string reference;     // compare the colour image with this image (linear RMSE)
-  double max_rmse = -1.0;    // exit 1 when the RMSE exceeds this (when >= 0)
+  bool comm_thread = true;       // bargain/steal: answer peers from a thread while rendering
+  std::string reference;        // compare the colour image with this image (linear RMSE)
+  double max_rmse = -1.0;       // exit 1 when the RMSE exceeds this (when >= 0)
+  std::int64_t max_memory = 0;  // bytes; refuse runs estimated above this (0 = no limit)
 };
 
 class CliOverrides {
@@ -32,6 +34,8 @@ class CliOverrides {
   void apply(RenderSettings& s) const;
   // Applies the camera options (after the scene's default camera is known).
   void apply_camera(RenderSettings& s) const;
+  // --max-memory in bytes (0 when not given).
+  std::int64_t max_memory() const;
 
  private:
   CLI::App* app_ = nullptr;
@@ -43,6 +47,8 @@ class CliOverrides {
   double fov_ = 0, aperture_ = 0, focus_distance_ = 0;
   std::uint64_t seed_ = 0;
   bool stats_ = false;
+  bool general_kernel_ = false;
+  std::string max_memory_;
 
   bool given(const char* name) const;
 };

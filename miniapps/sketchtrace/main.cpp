@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -76,6 +77,7 @@ nlohmann::json parameters_json(const RenderSettings& s) {
   p["bvh"] = bvh::to_string(s.bvh);
   p["aov"] = s.aov;
   p["style"] = s.style;
+  p["general_kernel"] = s.general_kernel;
   return p;
 }
 
@@ -204,6 +206,7 @@ int run(Communicator& comm, int argc, char** argv) {
     throw InputError(opt.input + ": cannot open the input");
   }
   cli.apply(s);
+  opt.max_memory = cli.max_memory();
   validate_settings(s, "command line");
   if (!opt.output.empty()) check_output_path(opt.output);
 #ifndef RTMINI_SKETCH_HAVE_NPR
@@ -235,19 +238,35 @@ int run(Communicator& comm, int argc, char** argv) {
                   {"quad_lights", ds.num_quads},
                   {"mesh_lights", ds.num_mesh_lights},
                   {"point_lights", ds.num_points}};
+  // Rank 0 holds the scene and the whole frame (pixel results, output planes, the
+  // done flags); other ranks only the scene, so rank 0's total is the maximum.
+  const double frame_bytes =
+      static_cast<double>(pixels_total) * (sizeof(PixelResult) + 11 * sizeof(float) + 1);
+  const double peak_bytes = static_cast<double>(ds.bytes) + frame_bytes;
   if (comm.is_root()) {
-    const double frame_bytes =
-        static_cast<double>(pixels_total) * (sizeof(PixelResult) + 11 * sizeof(float));
     std::printf("%s\n", build_banner().c_str());
     std::printf("sketchtrace: input %s, output %s\n", opt.input.c_str(),
                 opt.output.empty() ? "(none)" : opt.output.c_str());
     std::printf("  parameters: %s\n", report.parameters.dump().c_str());
     std::printf("  scene: %s\n", report.scene.dump().c_str());
-    std::printf("  kernel features: %s, ranks %d, threads per rank %d\n",
-                feature_names(renderer.features()).c_str(), comm.size(), compat::concurrency());
-    std::printf("  memory estimate: scene %.1f MiB per rank, frame %.1f MiB on rank 0\n",
-                static_cast<double>(ds.bytes) / 1048576.0, frame_bytes / 1048576.0);
+    std::printf("  kernel features: %s%s, ranks %d, threads per rank %d\n",
+                feature_names(renderer.features()).c_str(),
+                s.general_kernel ? " (forced general kernel)" : "", comm.size(),
+                compat::concurrency());
+    std::printf(
+        "  memory estimate (max over ranks): %.1f MiB (scene %.1f MiB per rank, frame %.1f MiB on "
+        "rank 0)\n",
+        peak_bytes / 1048576.0, static_cast<double>(ds.bytes) / 1048576.0, frame_bytes / 1048576.0);
     std::fflush(stdout);
+  }
+  // Every rank computes the same estimate, so all refuse together (exit 3, as bake does).
+  if (opt.max_memory > 0 && peak_bytes > static_cast<double>(opt.max_memory)) {
+    if (comm.is_root())
+      std::fprintf(stderr,
+                   "sketchtrace: estimated memory %.1f MiB exceeds --max-memory %.1f MiB; lower "
+                   "the resolution\n",
+                   peak_bytes / 1048576.0, static_cast<double>(opt.max_memory) / 1048576.0);
+    return kExitResource;
   }
 
   // Restart: rank 0 reads the finished pixels, every rank learns which to skip.
@@ -323,12 +342,15 @@ int run(Communicator& comm, int argc, char** argv) {
   // --comm-thread: peers' steal requests and loads are answered while this rank renders,
   // instead of between dispatches. MPI calls take turns under mpi_mutex(): the main thread
   // holds it except while a dispatch renders.
-  const bool comm_thread = opt.comm_thread && scheduler->has_progress();
-  if (opt.comm_thread && !comm_thread && comm.is_root())
-    std::printf("  --comm-thread: ignored (only bargain and steal on more than one rank use it)\n");
-  if (comm_thread && !mpi_serialized_threads())
-    throw std::runtime_error(
-        "--comm-thread needs MPI_THREAD_SERIALIZED, which this MPI did not grant");
+  const bool comm_thread = opt.comm_thread && scheduler->has_progress() && mpi_serialized_threads();
+  report.parameters["comm_thread"] = comm_thread;
+  if (scheduler->has_progress() && comm.is_root()) {
+    std::printf("  communication thread: %s\n",
+                comm_thread       ? "on"
+                : opt.comm_thread ? "off (MPI did not grant MPI_THREAD_SERIALIZED)"
+                                  : "off (--comm-thread off)");
+    std::fflush(stdout);
+  }
   std::unique_lock<std::mutex> mpi_lock(mpi_mutex(), std::defer_lock);
   std::atomic<bool> comm_quit{false};
   std::thread comm_worker;
@@ -461,6 +483,26 @@ int run(Communicator& comm, int argc, char** argv) {
   if (comm.is_root()) {
     report.timer.start("write");
     report.verification_hash = hash_pixels(frame_pixels, 0, s.needs_aov_pass());
+    // Image statistics for the stability checks (issue 7): a non-finite pixel is a bug.
+    double sum[3] = {0, 0, 0}, peak = 0;
+    std::int64_t nonfinite = 0;
+    for (const PixelResult& p : frame_pixels) {
+      const double c[3] = {p.r, p.g, p.b};
+      if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2])) {
+        ++nonfinite;
+        continue;
+      }
+      for (int k = 0; k < 3; ++k) {
+        sum[k] += c[k];
+        peak = std::max(peak, c[k]);
+      }
+    }
+    const double inv = 1.0 / std::max<double>(1.0, double(frame_pixels.size() - nonfinite));
+    report.scene["image"] = {{"mean_rgb", {sum[0] * inv, sum[1] * inv, sum[2] * inv}},
+                             {"max", peak},
+                             {"nonfinite_pixels", nonfinite}};
+    std::printf("  image: mean %.6g %.6g %.6g, max %.6g, %lld non-finite pixels\n", sum[0] * inv,
+                sum[1] * inv, sum[2] * inv, peak, static_cast<long long>(nonfinite));
     if (!opt.output.empty() || !opt.reference.empty()) {
       const Frame frame = assemble_frame(frame_pixels, s.width, s.height);
       if (!opt.output.empty())

@@ -5,6 +5,7 @@
 
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/scene_settings.hpp"
+#include "rtmini/io/text_fields.hpp"
 
 namespace rtmini::sketch {
 namespace {
@@ -63,7 +64,8 @@ class SettingsReader {
         const toml::node& e = *a->get(i);
         if (!e.is_number()) fail(key, "must be an array of 3 numbers");
         const double v = *e.value<double>();
-        if (!std::isfinite(v) || v < 0) fail(key, "must hold finite non-negative numbers");
+        if (!std::isfinite(v) || v < 0 || !detail::fits_real(v))
+          fail(key, "must hold finite non-negative numbers");
         (i == 0 ? out.x : (i == 1 ? out.y : out.z)) = static_cast<float>(v);
       }
     }
@@ -87,8 +89,12 @@ std::string range_problem(const RenderSettings& s, std::string& key) {
         check(s.width <= 65536 && s.height <= 65536, "width", "must be <= 65536"),
         check(s.spp >= 1, "spp", "must be >= 1"),
         check(s.shadow_samples >= 1, "shadow_samples", "must be >= 1"),
-        check(s.bounces >= 0 && s.bounces <= 64, "bounces", "must be in [0, 64]"),
+        check(s.bounces >= 0 && s.bounces <= 1000, "bounces", "must be in [0, 1000]"),
         check(s.glossy_samples >= 1, "glossy_samples", "must be >= 1"),
+        // Continuation random numbers use 2 pairs per (branch, depth) below the shadow pairs
+        // at 2^24 (trace_kernel.hpp); keep them apart.
+        check(static_cast<double>(s.glossy_samples) * (s.bounces + 1) <= 4.0e6, "glossy_samples",
+              "times (bounces + 1) must be <= 4000000"),
         check(s.edge_thickness >= 0, "edge_thickness", "must be >= 0"),
         check(s.crease_angle_deg > 0 && s.crease_angle_deg <= 180, "crease_angle",
               "must be in (0, 180]"),

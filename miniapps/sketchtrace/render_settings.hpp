@@ -36,6 +36,7 @@ struct RenderSettings {
   std::vector<std::string> aov;  // subset of depth, normal, object, cost, edge
   std::string style = "none";    // sketch | color_pencil | none
   bool stats = false;
+  bool general_kernel = false;  // testing: skip the feature specialisation (same image, slower)
   int chunk_pixels = 0;  // pixels per dispatch (0: auto, about 1/64 of a rank's share, 256..65536)
 
   bool wants_aov(const std::string& name) const;

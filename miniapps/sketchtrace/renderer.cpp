@@ -96,6 +96,7 @@ Renderer::Renderer(const HostScene& scene, const RenderSettings& s) {
   if ((scene_.any_secondary || s.indirect) && s.bounces > 0) features_ |= kSecondary;
   if (scene_.num_quads + scene_.num_mesh_lights + scene_.num_points > 0) features_ |= kLights;
   if (params_.lens || params_.motion) features_ |= kCameraSampling;
+  if (s.general_kernel) features_ = kSecondary | kLights | kCameraSampling;
 }
 
 template <unsigned kFeatures>

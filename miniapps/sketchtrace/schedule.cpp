@@ -106,15 +106,16 @@ class PeerScheduler : public Scheduler {
     std::vector<PosRange> chunks;
     if (cost) {
       chunks = cost_chunks(order, *cost, 64, costs);
-    } else {  // whole tiles of unit cost per pixel
-      for (std::int64_t b = 0; b < order.size(); b += kTile * kTile) {
-        chunks.push_back({b, std::min(order.size(), b + kTile * kTile)});
+    } else {  // quarter tiles of unit cost per pixel
+      for (std::int64_t b = 0; b < order.size(); b += kTile * kTile / 4) {
+        chunks.push_back({b, std::min(order.size(), b + kTile * kTile / 4)});
         costs.push_back(static_cast<double>(chunks.back().size()));
       }
     }
     // Initial queues: the metric split in whole chunks.
     std::vector<double> prefix(chunks.size() + 1, 0.0);
     for (std::size_t k = 0; k < chunks.size(); ++k) prefix[k + 1] = prefix[k] + costs[k];
+    total_cost_ = global_remaining_ = prefix.back();
     const int p = comm.size(), r = comm.rank();
     for (std::size_t k = 0; k < chunks.size(); ++k) {
       const double mid = 0.5 * (prefix[k] + prefix[k + 1]);
@@ -148,8 +149,14 @@ class PeerScheduler : public Scheduler {
       if (queue_.empty() && !finished_) std::this_thread::sleep_for(std::chrono::microseconds(50));
     }
     if (finished_ || queue_.empty()) return false;
+    // Guided sizes: once the work left everywhere (last round) is under 2 dispatches per
+    // rank, dispatches shrink with it (down to one chunk), so the last ones end together.
+    const double left = total_cost_ > 0 ? global_remaining_ / total_cost_ : 1.0;
+    const auto guided =
+        static_cast<std::int64_t>(left * static_cast<double>(total_) / (2.0 * comm_.size()));
+    const std::int64_t want = std::max<std::int64_t>(1, std::min(batch_, guided));
     std::int64_t taken = 0;
-    while (!queue_.empty() && taken < batch_) {
+    while (!queue_.empty() && taken < want) {
       const Chunk c = queue_.front();
       queue_.pop_front();
       remaining_ -= c.cost;
@@ -300,6 +307,7 @@ class PeerScheduler : public Scheduler {
         loads_[r] = round_all_[3 * r];
         for (int k = 0; k < 3; ++k) sum[k] += round_all_[3 * r + k];
       }
+      global_remaining_ = sum[0];
       if (sum[1] >= static_cast<double>(total_) || sum[2] > 0) {
         finished_ = true;
         return;
@@ -334,6 +342,7 @@ class PeerScheduler : public Scheduler {
   MPI_Comm mpi_ = MPI_COMM_NULL;
   std::deque<Chunk> queue_;
   double remaining_ = 0;
+  double total_cost_ = 0, global_remaining_ = 0;  // all ranks' work: at start, at the last round
   std::int64_t done_ = 0, last_pixels_ = 0;
   int left_ = 0, right_ = 0;
   double load_left_ = std::numeric_limits<double>::infinity();

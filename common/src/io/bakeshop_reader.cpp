@@ -93,6 +93,10 @@ class BakeshopParser {
     if constexpr (std::is_floating_point_v<T>) {
       if (!std::isfinite(*value))
         fail(line_, std::string("non-finite value '") + std::string(field) + "' in " + what);
+      if (!detail::fits_real(static_cast<double>(*value)))
+        fail(line_, std::string("value '") + std::string(field) + "' in " + what +
+                        " is beyond the " + detail::real_range_name() +
+                        " range (non-finite once uploaded)");
     }
     return *value;
   }

@@ -90,6 +90,9 @@ class ObjPrescan {
       const auto value = detail::parse_number<double>(f[i]);
       if (!value) fail("invalid number '" + std::string(f[i]) + "' in " + what);
       if (!std::isfinite(*value)) fail("non-finite value '" + std::string(f[i]) + "' in " + what);
+      if (!detail::fits_real(*value))
+        fail("value '" + std::string(f[i]) + "' in " + what + " is beyond the " +
+             detail::real_range_name() + " range (non-finite once uploaded)");
     }
   }
 

@@ -7,6 +7,7 @@
 
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/scene_settings.hpp"
+#include "rtmini/io/text_fields.hpp"
 
 namespace rtmini {
 namespace {
@@ -78,6 +79,9 @@ class TableReader {
     if (!n.is_number()) fail(line_of(n), "'" + key + "' in " + where_ + " must be a number");
     const double v = *n.value<double>();
     if (!std::isfinite(v)) fail(line_of(n), "'" + key + "' in " + where_ + " must be finite");
+    if (!detail::fits_real(v))
+      fail(line_of(n), "'" + key + "' in " + where_ + " is beyond the " +
+                           detail::real_range_name() + " range (must be finite once converted)");
     return v;
   }
 

@@ -142,9 +142,11 @@ case $mode in
       [[ $(hash_of "$work/$b.txt") == "$ref" ]] || { echo "--balance $b on $np ranks differs" >&2; exit 1; }
       "$PY" -c "import h5py,sys; f=h5py.File(sys.argv[1]); s=f.attrs['strategy']; s=s.decode() if isinstance(s,bytes) else s; assert s==sys.argv[2], s; assert f['/chunks/work_units'][:].sum()==160*120" "$work/$b.h5" "$b"
     done
-    for b in bargain steal; do  # the same with a communication thread answering peers
-      launch "$np" "$@" --balance "$b" --comm-thread > "$work/${b}_thread.txt"
-      [[ $(hash_of "$work/${b}_thread.txt") == "$ref" ]] || { echo "--balance $b --comm-thread on $np ranks differs" >&2; exit 1; }
+    for b in bargain steal; do  # the same without the communication thread (default on)
+      launch "$np" "$@" --balance "$b" --comm-thread off > "$work/${b}_nothread.txt"
+      [[ $(hash_of "$work/${b}_nothread.txt") == "$ref" ]] || { echo "--balance $b --comm-thread off on $np ranks differs" >&2; exit 1; }
+      grep -q "communication thread: off" "$work/${b}_nothread.txt" || { echo "--comm-thread off not reported" >&2; exit 1; }
+      grep -q "communication thread: on" "$work/$b.txt" || { echo "$b: communication thread not on by default" >&2; exit 1; }
     done
     rc=0
     launch 1 "$@" --balance nonsense > /dev/null 2> "$work/err.txt" || rc=$?

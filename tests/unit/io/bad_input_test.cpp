@@ -85,6 +85,16 @@ const BadInput kBadInputs[] = {
     {"toml_missing_light_field.toml", 1, "missing required key 'intensity'"},
     {"toml_unknown_material_ref.toml", 7, "names no [[materials]] entry: 'blue'"},
     {"toml_negative_radius.toml", 3, "'radius' in [[spheres]] must be positive"},
+    {"bs_material_inf.bs", 5, "non-finite value 'inf' in material"},
+    {"toml_nan_number.toml", 3, "'fov_deg' in [camera] must be finite"},
+    {"toml_inf_vector.toml", 3, "'center' in [[spheres]] must be finite"},
+    {"toml_ao_nan_translate.toml", 4, "'translate' in [[meshes]] must be finite"},
+#ifndef RTMINI_USE_DOUBLE
+    // Finite in double, infinite once converted to the default single precision.
+    {"obj_float_overflow_vertex.obj", 2, "'1e39' in vertex is beyond the single-precision range"},
+    {"bs_position_overflow.bs", 3, "'-4e38' in vertex is beyond the single-precision range"},
+    {"toml_float_overflow.toml", 4, "'ke' in [[materials]] is beyond the single-precision range"},
+#endif
     {"ppm_bad_magic.ppm", 1, "unsupported magic 'P5'"},
     {"ppm_truncated.ppm", 4, "binary raster truncated"},
     {"ppm_sample_over_max.ppm", 5, "sample 16 out of range [0, 15]"},

@@ -20,10 +20,14 @@ KOKKOS_INLINE_FUNCTION Hit closest_hit(const BruteForce<MemorySpace>& bf, const 
   for (int i = 0; i < n; ++i) {
     Real t, u, v;
     const Triangle& tri = bf.tris(i);
+    if (is_zero_area(tri.a, tri.b, tri.c)) continue;
     // Ascending ids and a strict "<" on t give the same tie-break as the BVH.
     if (intersect_triangle(wr, tri.a, tri.b, tri.c, ray.tmin, hit.t, t, u, v) &&
         (t < hit.t || hit.prim < 0)) {
-      hit.t = t; hit.u = u; hit.v = v; hit.prim = i;
+      hit.t = t;
+      hit.u = u;
+      hit.v = v;
+      hit.prim = i;
     }
   }
   return hit;
@@ -36,6 +40,7 @@ KOKKOS_INLINE_FUNCTION bool any_hit(const BruteForce<MemorySpace>& bf, const Ray
   for (int i = 0; i < n; ++i) {
     Real t, u, v;
     const Triangle& tri = bf.tris(i);
+    if (is_zero_area(tri.a, tri.b, tri.c)) continue;
     if (intersect_triangle(wr, tri.a, tri.b, tri.c, ray.tmin, ray.tmax, t, u, v)) return true;
   }
   return false;

@@ -23,6 +23,22 @@ void add_wide_nodes(Bvh<MemorySpace>& bvh) {
   }
 }
 
+// Zero-area triangles become the point (a, a, a): the watertight test gives U = V = W = 0
+// there, so no ray hits them, whatever rounding the shear adds (issue 7, stability).
+template <class ExecSpace, class MemorySpace>
+void collapse_zero_area(const ExecSpace& space, Bvh<MemorySpace>& bvh) {
+  auto tris = bvh.tris;
+  Kokkos::parallel_for(
+      "rtmini::bvh::build::collapse_zero_area",
+      Kokkos::RangePolicy<ExecSpace>(space, std::int64_t(0),
+                                     static_cast<std::int64_t>(tris.extent(0))),
+      KOKKOS_LAMBDA(const std::int64_t i) {
+        const Triangle t = tris(i);
+        if (is_zero_area(t.a, t.b, t.c)) tris(i) = Triangle{t.a, t.a, t.a};
+      });
+  space.fence();
+}
+
 template <class ExecSpace, class MemorySpace = typename ExecSpace::memory_space>
 Bvh<MemorySpace> build(const ExecSpace& space, Kokkos::View<const Triangle*, MemorySpace> tris,
                        BuildQuality quality) {
@@ -36,6 +52,7 @@ Bvh<MemorySpace> build(const ExecSpace& space, Kokkos::View<const Triangle*, Mem
     out = upload<MemorySpace>(build_sah_host(v), BuildQuality::kSah);
     Kokkos::Profiling::popRegion();
   }
+  collapse_zero_area(space, out);
   add_wide_nodes(out);
   return out;
 }

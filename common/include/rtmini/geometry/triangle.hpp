@@ -44,7 +44,9 @@ struct WatertightRay {
     kx = kz == 2 ? 0 : kz + 1;
     ky = kx == 2 ? 0 : kx + 1;
     if (d[kz] < Real(0)) {  // keep the winding so edge signs stay consistent
-      const int t = kx; kx = ky; ky = t;
+      const int t = kx;
+      kx = ky;
+      ky = t;
     }
     sz = Real(1) / d[kz];
     sx = d[kx] * sz;
@@ -89,6 +91,14 @@ KOKKOS_INLINE_FUNCTION bool intersect_triangle(const WatertightRay& r, const Vec
   u_out = V * inv;
   v_out = W * inv;
   return true;
+}
+
+// Exactly zero area in the working precision (repeated or collinear vertices). The sheared
+// 2D test above can still see a sliver there after rounding, so the BVH builders store such
+// a triangle as a point (never hit: U = V = W = 0) and brute force skips it.
+KOKKOS_INLINE_FUNCTION bool is_zero_area(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 n = cross(b - a, c - a);
+  return n.x == Real(0) && n.y == Real(0) && n.z == Real(0);
 }
 
 KOKKOS_INLINE_FUNCTION Vec3 triangle_normal(const Vec3& a, const Vec3& b, const Vec3& c) {

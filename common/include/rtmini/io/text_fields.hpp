@@ -3,12 +3,26 @@
 // whitespace splitting and locale-independent number parsing (std::from_chars),
 // so "1,5" or "abc" in a number field is an error rather than a silent 0.
 #include <charconv>
+#include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "rtmini/config.hpp"
+
 namespace rtmini::detail {
+
+// Readers keep numbers in double but the kernels compute in Real (float by default):
+// a coordinate of 1e39 is finite when read and infinite once uploaded, so it is refused.
+inline bool fits_real(double v) {
+  return std::fabs(v) <= static_cast<double>(std::numeric_limits<Real>::max());
+}
+// Names the build's precision in those errors.
+inline const char* real_range_name() {
+  return sizeof(Real) == 4 ? "single-precision" : "double-precision";
+}
 
 // Reads a whole file; InputError("path: cannot open ...") when it cannot be read.
 std::string read_text_file(const std::string& path);

@@ -4,7 +4,7 @@
 // (window.__rtminiError holds the message when a load fails).
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
-import { makeBakedMaterial, makeMapTextures } from './baked_material.js';
+import { disposeMapTextures, makeBakedMaterial, makeMapTextures } from './baked_material.js';
 import { parseViewParams } from './camera_params.js';
 import { lookupColor } from './lookup.js';
 import { makeViewpointSphere } from './viewpoint_sphere.js';
@@ -28,7 +28,7 @@ camera.up.set(...params.up);
 const controls = new OrbitControls(camera, canvas);
 controls.addEventListener('change', render);
 
-let current = null; // { packed, mesh, points, textures, sphere }
+let current = null; // { packed, mesh, points, textures, sphere, radius }
 
 function fixedSize() {
   return params.width !== null && params.height !== null;
@@ -49,6 +49,29 @@ function render() {
   renderer.render(scene, camera);
 }
 
+// Benchmarks (tests/frame_time.mjs): draws n frames while orbiting the camera once around
+// the target, each one waited for (a one-pixel readPixels, which cannot return before the
+// frame is drawn; gl.finish alone does not block on every driver), and returns the
+// milliseconds per frame.
+window.__rtminiOrbitFrames = (n) => {
+  const gl = renderer.getContext();
+  const pixel = new Uint8Array(4);
+  const finish = () => gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel);
+  const axis = camera.up.clone().normalize();
+  const step = (2 * Math.PI) / n;
+  render();
+  finish();
+  const t0 = performance.now();
+  for (let i = 0; i < n; ++i) {
+    const offset = camera.position.clone().sub(controls.target).applyAxisAngle(axis, step);
+    camera.position.copy(controls.target).add(offset);
+    camera.lookAt(controls.target);
+    render();
+    finish();
+  }
+  return (performance.now() - t0) / n;
+};
+
 function setStatus(text) {
   $('status').textContent = text;
 }
@@ -67,12 +90,10 @@ function disposeCurrent() {
     scene.remove(obj);
     obj.traverse?.((o) => {
       o.geometry?.dispose();
-      if (o.material !== current.material) o.material?.dispose();
+      o.material?.dispose();
     });
   }
-  current.material.dispose();
-  current.textures.dirs.dispose();
-  current.textures.colors.dispose();
+  disposeMapTextures(current.textures);
   current = null;
 }
 
@@ -98,17 +119,24 @@ function frameCamera(packed) {
 function showMap(packed) {
   disposeCurrent();
   const textures = makeMapTextures(packed, renderer.capabilities.maxTextureSize);
-  const material = makeBakedMaterial(textures, kGridPointSize);
-  const geometry = new THREE.BufferGeometry();
-  geometry.setAttribute('position', new THREE.BufferAttribute(packed.positions, 3));
-  const view = new THREE.BufferAttribute(packed.view, 4);
-  view.gpuType = THREE.IntType; // integer attribute (uvec4 in the shader)
-  geometry.setAttribute('aView', view);
-  geometry.setIndex(new THREE.BufferAttribute(packed.index, 1));
-  const mesh = new THREE.Mesh(geometry, material);
-  const points = new THREE.Points(geometry, material);
+  // Faces: unshared corners, each carrying its triangle's vertex ids (integer attribute,
+  // uvec3 in the shader). Vertex grid: one point per vertex, its own id three times.
+  const geometry = (positions, triangle) => {
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+    const tri = new THREE.BufferAttribute(triangle, 3);
+    tri.gpuType = THREE.IntType;
+    g.setAttribute('aTriangle', tri);
+    return g;
+  };
+  const self3 = new Uint32Array(3 * packed.vertexCount).map((_, k) => Math.floor(k / 3));
+  const mesh = new THREE.Mesh(geometry(packed.cornerPositions, packed.cornerTriangle), makeBakedMaterial(textures));
+  const points = new THREE.Points(
+    geometry(packed.positions, self3),
+    makeBakedMaterial(textures, { points: true, pointSize: kGridPointSize }),
+  );
   scene.add(mesh, points);
-  current = { packed, mesh, points, material, textures, sphere: null, radius: frameCamera(packed) };
+  current = { packed, mesh, points, textures, sphere: null, radius: frameCamera(packed) };
   setGrid($('grid').checked);
   const kb = (packed.bytes / 1024).toFixed(1);
   setStatus(
@@ -177,7 +205,7 @@ function pick(event) {
   const hit = raycaster.intersectObject(current.mesh)[0];
   if (!hit) return;
   // The face corner nearest to the hit point is the picked vertex.
-  const corners = [hit.face.a, hit.face.b, hit.face.c];
+  const corners = [hit.face.a, hit.face.b, hit.face.c].map((k) => current.packed.index[k]);
   const pos = current.packed.positions;
   const dist = (v) => hit.point.distanceToSquared(new THREE.Vector3(pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]));
   const vertex = corners.reduce((a, b) => (dist(b) < dist(a) ? b : a));

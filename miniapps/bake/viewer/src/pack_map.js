@@ -3,10 +3,17 @@
 //                             viewpoint count, uniform flag (1: one colour texel)
 //   dirTex    Float32Array 4D  unit directions (rgb), alpha unused
 //   colorTex  Float32Array 4C  linear colours (rgb), alpha unused
-//   index     Uint32Array      triangles, a quad (a,b,c,d) as (a,b,c) (a,c,d) like triangulate()
-// Texel k of either texture is at (k % kTexWidth, floor(k / kTexWidth)).
+//   kdNodes   Float32Array 4N  KD-tree of the shared direction set (lookup.js buildKdTree), or null
+//   index     Uint32Array 3T   triangles, a quad (a,b,c,d) as (a,b,c) (a,c,d) like triangulate()
+//   cornerPositions Float32Array 9T, cornerTriangle Uint32Array 9T: the triangles unshared
+//             (corner by corner), each corner carrying its triangle's three vertex ids, so the
+//             fragment shader can look all three up along its own ray (README "Lookup rule")
+// Texel k of any texture is at (k % kTexWidth, floor(k / kTexWidth)).
+import { buildKdTree } from './lookup.js';
+
 export const kTexWidth = 2048;
 const kNoMaterialGrey = 0.5;
+const kUnitTolerance = 1e-6;
 
 function padRgba(rgb, extra = 0) {
   const n = rgb.length / 3;
@@ -56,11 +63,15 @@ export function packMap(map) {
     view.set([t, 0, 1, 1], 4 * v);
   });
 
+  // Directions are used normalised; unit ones (the baker's float Fibonacci points) are kept
+  // bit for bit, as `bake render` uses them.
   const dirTex = padRgba(map.dirs);
   for (let k = 0; k < dirTex.length; k += 4) {
     const len = Math.hypot(dirTex[k], dirTex[k + 1], dirTex[k + 2]);
-    if (len > 0) for (let c = 0; c < 3; ++c) dirTex[k + c] /= len;
+    if (len > 0 && Math.abs(len - 1) > kUnitTolerance) for (let c = 0; c < 3; ++c) dirTex[k + c] /= len;
   }
+  const sharedCount = map.shared ? map.dirs.length / 3 : 0;
+  const kdNodes = sharedCount > 0 ? buildKdTree(dirTex.filter((_, i) => i % 4 !== 3), sharedCount) : null;
 
   let triangles = 0;
   for (let f = 0; f < nf; ++f) triangles += faces[5 * f + 3] === -1 ? 1 : 2;
@@ -76,6 +87,15 @@ export function packMap(map) {
     }
   }
 
+  const cornerPositions = new Float32Array(3 * index.length);
+  const cornerTriangle = new Uint32Array(3 * index.length);
+  for (let k = 0; k < index.length; ++k) {
+    const v = index[k];
+    cornerPositions.set(map.positions.subarray(3 * v, 3 * v + 3), 3 * k);
+    const tri = k - (k % 3);
+    cornerTriangle.set(index.subarray(tri, tri + 3), 3 * k);
+  }
+
   return {
     vertexCount: nv,
     faceCount: nf,
@@ -84,11 +104,17 @@ export function packMap(map) {
     dirTex,
     colorTex,
     index,
+    cornerPositions,
+    cornerTriangle,
+    kdNodes,
+    sharedCount,
     shared: map.shared,
     viewpointRecords: map.counts.reduce((s, n) => s + n, 0),
   };
 }
 
 export function packedTransferables(p) {
-  return [p.positions, p.view, p.dirTex, p.colorTex, p.index].map((a) => a.buffer);
+  return [p.positions, p.view, p.dirTex, p.colorTex, p.index, p.cornerPositions, p.cornerTriangle, p.kdNodes]
+    .filter((a) => a)
+    .map((a) => a.buffer);
 }
