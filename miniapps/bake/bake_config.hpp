@@ -19,6 +19,8 @@ struct BakeConfig {
   int gather_rays = 0;
   std::uint64_t seed = 1;
   std::string summary, timings, checkpoint, restart;
+  std::string reference;         // compare the baked map with this map (errors in the summary)
+  bool trace_reference = false;  // write the traced reference instead of a bake
   Lookup lookup = Lookup::kKdTree;
   Balance balance = Balance::kCost;
   std::int64_t batch_size = 0;  // 0 = vertices / ranks, rounded up

@@ -1,11 +1,11 @@
 #include "chef.hpp"
 
-#include "map_reader.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
+#include "map_reader.hpp"
+#include "reference_tracer.hpp"
 #include "rtmini/bvh/traverse.hpp"
 #include "rtmini/geometry/offset.hpp"
 #include "rtmini/sampling/rng.hpp"
@@ -104,8 +104,8 @@ struct DiffuseGather {
       Ray ray;
       ray.org = offset_ray_origin(positions(v), n);
       for (int j = 0; j < rays_per_vertex; ++j) {
-        const std::uint32_t sample = kGatherStream + static_cast<std::uint32_t>(
-                                                         (iteration - 1) * rays_per_vertex + j);
+        const std::uint32_t sample =
+            kGatherStream + static_cast<std::uint32_t>((iteration - 1) * rays_per_vertex + j);
         float u1, u2;
         Rng(seed, static_cast<std::uint64_t>(v), sample).uniform2(0u, u1, u2);
         ray.dir = normalize(frame.to_world(cosine_hemisphere(Real(u1), Real(u2))));
@@ -138,7 +138,10 @@ struct MirrorIteration {
     std::int64_t lo = vbegin, hi = vend - 1;  // last vertex whose first item <= item
     while (lo < hi) {
       const std::int64_t mid = (lo + hi + 1) / 2;
-      if (color_offset(mid) <= item) lo = mid; else hi = mid - 1;
+      if (color_offset(mid) <= item)
+        lo = mid;
+      else
+        hi = mid - 1;
     }
     const std::int64_t v = lo;
     const std::int64_t first = color_offset(v);
@@ -193,10 +196,33 @@ Kokkos::View<int*, MemSpace> coherent_order(int n) {
   std::vector<int> order(n);
   for (int i = 0; i < n; ++i) order[i] = key[i].second;
   Kokkos::View<int*, MemSpace> d("rtmini::bake::view_order", n);
-  Kokkos::deep_copy(d, Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
-                           order.data(), order.size()));
+  Kokkos::deep_copy(d,
+                    Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
+                        order.data(), order.size()));
   return d;
 }
+
+struct TraceReference {
+  ReferenceTracer tracer;
+  Kokkos::View<std::int64_t*, MemSpace> color_offset;
+  Kokkos::View<Vec3*, MemSpace> views;
+  Kokkos::View<Vec3f*, MemSpace> out;
+  std::int64_t vbegin, vend;
+  int iterations;
+
+  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t item, std::int64_t& rays) const {
+    std::int64_t lo = vbegin, hi = vend - 1;  // last vertex whose first item <= item
+    while (lo < hi) {
+      const std::int64_t mid = (lo + hi + 1) / 2;
+      if (color_offset(mid) <= item)
+        lo = mid;
+      else
+        hi = mid - 1;
+    }
+    const int view = static_cast<int>(item - color_offset(lo));
+    out(item) = Vec3f(tracer.radiance(static_cast<int>(lo), views(view), iterations, rays));
+  }
+};
 
 }  // namespace
 
@@ -215,14 +241,118 @@ Chef::Chef(const BakeSceneDevice& scene, const BakeConfig& config, std::int64_t 
 }
 
 std::int64_t Chef::bake_base(std::int64_t begin, std::int64_t end) {
-  DirectLight k{scene_.mesh.accel, scene_.mesh.positions, scene_.normal,   scene_.diffuse,
-                scene_.emissive,   base_,                 scene_.mesh.tris, scene_.lights,
-                begin,             config_.shadow_samples, config_.seed};
+  DirectLight k{scene_.mesh.accel,      scene_.mesh.positions, scene_.normal,
+                scene_.diffuse,         scene_.emissive,       base_,
+                scene_.mesh.tris,       scene_.lights,         begin,
+                config_.shadow_samples, config_.seed};
   std::int64_t rays = 0;
   Kokkos::parallel_reduce("rtmini::bake::direct_light",
                           Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(begin, end), k,
                           rays);
   return rays;
+}
+
+std::int64_t Chef::trace_reference(std::int64_t begin, std::int64_t end,
+                                   Kokkos::View<Vec3f*, MemSpace> out) {
+  const ReferenceTracer tracer{scene_.mesh.accel,
+                               scene_.mesh.tri_vertices,
+                               scene_.color_offset,
+                               scene_.mesh.positions,
+                               scene_.normal,
+                               scene_.reflective,
+                               base_,
+                               Vec3(config_.background)};
+  std::int64_t item_begin = 0, item_end = 0;
+  Kokkos::deep_copy(item_begin, Kokkos::subview(scene_.color_offset, begin));
+  Kokkos::deep_copy(item_end, Kokkos::subview(scene_.color_offset, end));
+  TraceReference k{tracer, scene_.color_offset, scene_.viewpoints, out, begin,
+                   end,    config_.iterations};
+  std::int64_t rays = 0;
+  Kokkos::parallel_reduce(
+      "rtmini::bake::trace_reference",
+      Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>, Kokkos::Schedule<Kokkos::Dynamic>>(
+          item_begin, item_end),
+      k, rays);
+  return rays;
+}
+
+namespace {
+// The map along reference entry e (vertex e / ref_n, direction e % ref_n), as MapReader reads
+// one vertex: its single colour, or its viewpoints near the direction, weighted.
+template <class LookupT>
+struct MapAlong {
+  LookupT lookup;
+  Real radius;
+  Kokkos::View<std::int64_t*, MemSpace> offset;
+  Kokkos::View<const Vec3f*, MemSpace> map;
+  int ref_n;
+
+  KOKKOS_INLINE_FUNCTION Vec3 operator()(std::int64_t e, bool& view_dependent) const {
+    const std::int64_t v = e / ref_n, first = offset(v);
+    view_dependent = offset(v + 1) - first > 1;
+    if (!view_dependent) return Vec3(map(first));
+    const ViewNeighbors nb =
+        lookup.neighbors(fibonacci_point(static_cast<int>(e % ref_n), ref_n), radius);
+    Vec3 c(Real(0));
+    for (int k = 0; k < nb.count; ++k) c += Vec3(map(first + nb.index[k])) * nb.weight[k];
+    return c;
+  }
+};
+
+template <class LookupT>
+ErrorSums lookup_errors_with(const LookupT& lookup, Real radius,
+                             Kokkos::View<std::int64_t*, MemSpace> offset,
+                             Kokkos::View<const Vec3f*, MemSpace> map,
+                             Kokkos::View<const Vec3f*, MemSpace> reference, int ref_n) {
+  ErrorSums s;
+  const std::int64_t entries = static_cast<std::int64_t>(reference.extent(0));
+  s.entries = entries;
+  using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>;
+  const MapAlong<LookupT> read{lookup, radius, offset, map, ref_n};
+  double vd_count = 0;
+  Kokkos::parallel_reduce(
+      "rtmini::bake::lookup_errors", Policy(0, entries),
+      KOKKOS_LAMBDA(std::int64_t e, double& abs, double& sq, double& rel, double& ref,
+                    double& vd_sq, double& vd) {
+        bool dependent = false;
+        const Vec3 a = read(e, dependent), b = Vec3(reference(e));
+        const double da[3] = {double(a.x) - double(b.x), double(a.y) - double(b.y),
+                              double(a.z) - double(b.z)};
+        const double rb[3] = {double(b.x), double(b.y), double(b.z)};
+        for (int c = 0; c < 3; ++c) {
+          abs += da[c] < 0 ? -da[c] : da[c];
+          sq += da[c] * da[c];
+          rel += da[c] * da[c] / (rb[c] * rb[c] + 1e-2);
+          ref += rb[c];
+          if (dependent) vd_sq += da[c] * da[c];
+        }
+        if (dependent) vd += 1.0;
+      },
+      s.abs, s.sq, s.rel, s.ref, s.view_dependent_sq, vd_count);
+  s.view_dependent = static_cast<std::int64_t>(vd_count);
+  Kokkos::parallel_reduce(
+      "rtmini::bake::lookup_errors_max", Policy(0, entries),
+      KOKKOS_LAMBDA(std::int64_t e, double& m) {
+        bool dependent = false;
+        const Vec3 a = read(e, dependent), b = Vec3(reference(e));
+        const double d[3] = {double(a.x) - double(b.x), double(a.y) - double(b.y),
+                             double(a.z) - double(b.z)};
+        for (int c = 0; c < 3; ++c) {
+          const double ad = d[c] < 0 ? -d[c] : d[c];
+          if (ad > m) m = ad;
+        }
+      },
+      Kokkos::Max<double>(s.max_abs));
+  return s;
+}
+}  // namespace
+
+ErrorSums Chef::lookup_errors(Kokkos::View<const Vec3f*, MemSpace> map,
+                              Kokkos::View<const Vec3f*, MemSpace> reference, int ref_n) const {
+  const Real radius = fibonacci_radius(config_.viewpoints);
+  if (config_.lookup == Lookup::kKdTree)
+    return lookup_errors_with(kdtree_, radius, scene_.color_offset, map, reference, ref_n);
+  return lookup_errors_with(inverse_, radius, scene_.color_offset, map, reference, ref_n);
 }
 
 namespace {
@@ -235,13 +365,18 @@ std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, cons
                            Kokkos::View<const Vec3f*, MemSpace> prev,
                            Kokkos::View<Vec3f*, MemSpace> next) {
   const Vec3f bg = cfg.background;
-  MapReader<LookupT> reader{s.mesh.tri_vertices, s.color_offset, prev, s.emissive, lookup,
-                            fibonacci_radius(cfg.viewpoints), Vec3(bg)};
+  MapReader<LookupT> reader{s.mesh.tri_vertices,
+                            s.color_offset,
+                            prev,
+                            s.emissive,
+                            lookup,
+                            fibonacci_radius(cfg.viewpoints),
+                            Vec3(bg)};
   std::int64_t rays = 0;
   const bool with_gather = cfg.gather_rays > 0 && it > 0;
   if (with_gather) {
-    DiffuseGather<LookupT> g{s.mesh.accel, reader, s.mesh.positions, s.normal, s.diffuse, gather,
-                             cfg.gather_rays, it, cfg.seed};
+    DiffuseGather<LookupT> g{s.mesh.accel,    reader, s.mesh.positions, s.normal, s.diffuse, gather,
+                             cfg.gather_rays, it,     cfg.seed};
     std::int64_t r = 0;
     Kokkos::parallel_reduce("rtmini::bake::diffuse_gather",
                             Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(begin, end),
@@ -251,11 +386,10 @@ std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, cons
   std::int64_t item_begin = 0, item_end = 0;
   Kokkos::deep_copy(item_begin, Kokkos::subview(s.color_offset, begin));
   Kokkos::deep_copy(item_end, Kokkos::subview(s.color_offset, end));
-  MirrorIteration<LookupT> m{s.mesh.accel, reader,       s.mesh.positions, s.normal,
-                             s.diffuse,    s.reflective, base,             gather,
-                             s.viewpoints, order,          s.color_offset, cache, next,
-                             begin,        end,          item_begin,       cache_offset,
-                             it,           with_gather,  mode};
+  MirrorIteration<LookupT> m{
+      s.mesh.accel, reader, s.mesh.positions, s.normal, s.diffuse, s.reflective, base, gather,
+      s.viewpoints, order,  s.color_offset,   cache,    next,      begin,        end,  item_begin,
+      cache_offset, it,     with_gather,      mode};
   std::int64_t r = 0;
   Kokkos::parallel_reduce(
       "rtmini::bake::shade",

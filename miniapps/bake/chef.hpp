@@ -7,6 +7,7 @@
 
 #include "bake_config.hpp"
 #include "bake_scene.hpp"
+#include "map_errors.hpp"
 #include "rtmini/sampling/fibonacci_lookup.hpp"
 
 namespace rtmini::bake {
@@ -35,6 +36,17 @@ class Chef {
                               std::int64_t cache_offset, HitCacheMode cache,
                               Kokkos::View<const Vec3f*, MemSpace> prev,
                               Kokkos::View<Vec3f*, MemSpace> next);
+
+  // The traced reference (reference_tracer.hpp) of vertices [begin, end) into out (global item
+  // order): config.iterations mirror iterations, no map lookups. Needs bake_base first.
+  // Returns mirror rays traced.
+  std::int64_t trace_reference(std::int64_t begin, std::int64_t end,
+                               Kokkos::View<Vec3f*, MemSpace> out);
+
+  // Sums of the errors of `map` (all vertices) read along every direction of a reference with
+  // ref_n Fibonacci viewpoints (colours vertex-major) with this Chef's lookup.
+  ErrorSums lookup_errors(Kokkos::View<const Vec3f*, MemSpace> map,
+                          Kokkos::View<const Vec3f*, MemSpace> reference, int ref_n) const;
 
   // Per-vertex base colours (emission + direct light; filled for baked batches only).
   Kokkos::View<Vec3*, MemSpace> base() const { return base_; }

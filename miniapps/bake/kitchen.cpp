@@ -13,6 +13,7 @@
 #include "bakeshop_mpi_writer.hpp"
 #include "checkpoint.hpp"
 #include "chef.hpp"
+#include "map_errors.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/obj_reader.hpp"
 #include "rtmini/io/timings.hpp"
@@ -46,7 +47,7 @@ std::string parameter_hash(const BakeConfig& c) {
   std::ostringstream p;
   p << "bake-map-v1 N=" << c.viewpoints << " S=" << c.shadow_samples << " M=" << c.gather_rays
     << " seed=" << c.seed << " bg=" << c.background.x << "," << c.background.y << ","
-    << c.background.z << " real=" << sizeof(Real);
+    << c.background.z << " real=" << sizeof(Real) << (c.trace_reference ? " traced" : "");
   const std::string params = p.str();
   return hash_hex(fnv1a(params.data(), params.size(), fnv1a(bytes.data(), bytes.size())));
 }
@@ -64,6 +65,7 @@ MemoryEstimate estimate_memory(const Mesh& mesh, const BakeSceneHost& s, std::in
   m.host = 2 * s.colors() * col + my_items * col;                 // map, gathered, packed
   m.host += my_vertices * c.viewpoints * 60;                      // formatted output text
   if (root && !c.checkpoint.empty()) m.host += s.colors() * col;  // checkpoint copy
+  if (!c.reference.empty()) m.host += nv * c.viewpoints * col;    // the reference's colours
   if (c.cache_hits && iterations > 1) m.hit_cache = Chef::hit_cache_bytes(my_items);
   return m;
 }
@@ -108,6 +110,28 @@ std::uint64_t map_hash(const BakeSceneDevice& s, Kokkos::View<const Vec3f*, MemS
     total += h;
   }
   return total;
+}
+
+nlohmann::json error_json(const MapErrors& e) {
+  return {{"entries", e.entries},
+          {"mean_abs", e.mean_abs},
+          {"rmse", e.rmse},
+          {"rel_mse", e.rel_mse},
+          {"max_abs", e.max_abs},
+          {"mean_reference", e.mean_reference},
+          {"view_dependent_entries", e.view_dependent},
+          {"view_dependent_rmse", e.view_dependent_rmse},
+          {"view_independent_rmse", e.view_independent_rmse}};
+}
+
+void print_errors(const char* what, const MapErrors& e) {
+  std::printf(
+      "  reference, %s: mean |map - ref| %.6g, RMSE %.6g, relative MSE %.6g, max %.6g "
+      "(mean reference %.6g; RMSE %.6g over the %lld view-dependent of %lld colours, %.6g over "
+      "the others)\n",
+      what, e.mean_abs, e.rmse, e.rel_mse, e.max_abs, e.mean_reference, e.view_dependent_rmse,
+      static_cast<long long>(e.view_dependent), static_cast<long long>(e.entries),
+      e.view_independent_rmse);
 }
 
 struct IterationRecord {
@@ -249,7 +273,8 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
   timer.start("setup");
   const BakeSceneHost host = prepare_bake_scene(mesh, c.viewpoints, c.all_view_dependent);
   const bool needs_iterations = host.reflective_vertices > 0 || c.gather_rays > 0;
-  const int iterations = needs_iterations ? c.iterations : 0;
+  // The traced reference is one pass (it follows the K mirror bounces itself).
+  const int iterations = needs_iterations && !c.trace_reference ? c.iterations : 0;
   const std::vector<Batch> batches = make_batches(host, comm.size(), c.balance, c.batch_size);
   std::vector<VertexRange> my_ranges;
   std::vector<std::int64_t> my_cache_offset;
@@ -283,7 +308,9 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
                            {"hit_cache", c.cache_hits},
                            {"all_view_dependent", c.all_view_dependent},
                            {"checkpoint", c.checkpoint},
-                           {"restart", c.restart}};
+                           {"restart", c.restart},
+                           {"reference", c.reference},
+                           {"trace_reference", c.trace_reference}};
   report.parameters = params;
   report.scene = {
       {"vertices", host.vertices()},          {"faces", mesh.faces.size()},
@@ -301,6 +328,9 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
                 mesh.triangle_count(), host.lights.size());
     std::printf("  colour map: %lld entries (view-independent vertices keep one colour)\n",
                 static_cast<long long>(host.colors()));
+    if (c.trace_reference)
+      std::printf("  traced reference: %d mirror bounces traced per colour, no map lookups\n",
+                  needs_iterations ? c.iterations : 0);
     if (!needs_iterations && c.iterations > 0)
       std::printf("  note: no reflective vertex and no gather rays: iterations 1..%d skipped\n",
                   c.iterations);
@@ -327,6 +357,10 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
                        "checkpoint is at iteration " + std::to_string(restart_cp.iteration) +
                            ", beyond --iterations " + std::to_string(iterations));
   }
+  // Every rank reads and checks the reference (so all ranks agree on a bad one, exit 2)
+  // before anything is baked or written.
+  ReferenceMap reference;
+  if (!c.reference.empty()) reference = read_reference_map(c.reference, mesh);
   const BakeSceneDevice scene = upload_bake_scene(
       mesh, host, c.viewpoints, c.sah ? bvh::BuildQuality::kSah : bvh::BuildQuality::kLbvh);
   Chef chef(scene, c, my_items);
@@ -338,7 +372,13 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
   // Base colours of this rank's vertices (needed by every iteration, also after a restart).
   timer.start("base");
   std::int64_t rays = 0, work = 0;
-  for (const VertexRange& r : my_ranges) rays += chef.bake_base(r.begin, r.end);
+  if (c.trace_reference && comm.size() > 1) {
+    // The traced recursion reads the base colour of any vertex a mirror ray reaches: each
+    // rank computes all of them (the same counter-based samples, so the same colours).
+    rays += chef.bake_base(0, host.vertices());
+  } else {
+    for (const VertexRange& r : my_ranges) rays += chef.bake_base(r.begin, r.end);
+  }
   timer.stop();
 
   int first = 0;
@@ -377,7 +417,9 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
       const VertexRange r = my_ranges[k];
       const double cs = timer.now();
       const std::int64_t crays =
-          chef.bake_iteration(it, r.begin, r.end, my_cache_offset[k], mode, prev, next);
+          c.trace_reference
+              ? chef.trace_reference(r.begin, r.end, next)
+              : chef.bake_iteration(it, r.begin, r.end, my_cache_offset[k], mode, prev, next);
       Kokkos::fence();
       const std::int64_t ib = host.color_offset[r.begin], ie = host.color_offset[r.end];
       chunks.push_back({comm.rank(), it, ie - ib, crays, cs, timer.now()});
@@ -474,6 +516,26 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
   const WriteStats ws = write_baked_map(comm, c.output, baked, my_ranges);
   timer.stop();
   if (!iter_records.empty()) iter_records.back().write += ws.seconds;
+
+  timer.start("compare");
+  if (!c.reference.empty() && root) {
+    Kokkos::View<Vec3f*, MemSpace> ref("rtmini::bake::reference", reference.colors.size());
+    Kokkos::deep_copy(
+        ref, Kokkos::View<const Vec3f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
+                 reference.colors.data(), reference.colors.size()));
+    const MapErrors e = errors_from_sums(chef.lookup_errors(prev, ref, reference.viewpoints));
+    report.errors = error_json(e);
+    report.errors["reference"] = c.reference;
+    report.errors["reference_viewpoints"] = reference.viewpoints;
+    report.errors["lookup"] = to_string(c.lookup);
+    print_errors("map read along the reference's directions", e);
+    if (reference.viewpoints == c.viewpoints) {
+      const MapErrors st = compare_stored(map, host.color_offset, reference);
+      report.errors["stored"] = error_json(st);
+      print_errors("stored colours, viewpoint by viewpoint", st);
+    }
+  }
+  timer.stop();
 
   const std::uint64_t hash =
       comm.sum_wrap(map_hash(scene, prev, batches, comm.rank(), c.viewpoints));

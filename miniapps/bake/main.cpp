@@ -10,6 +10,7 @@
 #include "ao_mode.hpp"
 #include "bake_config.hpp"
 #include "kitchen.hpp"
+#include "reference_tracer.hpp"
 #include "rtmini/io/cli_values.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/report/app_main.hpp"
@@ -67,6 +68,11 @@ int parse(int argc, char** argv, BakeConfig& c, bool root) {
   app.add_option("--timings", c.timings, "per-rank timings (HDF5)");
   app.add_option("--checkpoint", c.checkpoint, "HDF5 checkpoint written after each iteration");
   app.add_option("--restart", c.restart, "resume from this checkpoint");
+  app.add_option("--reference", c.reference,
+                 "baked .bs map of the same scene and N to compare with (errors in the summary)");
+  app.add_flag("--trace-reference", c.trace_reference,
+               "write the reference map instead: every colour traced directly (K mirror bounces, "
+               "no map lookups)");
   app.add_option("--lookup", lookup, "viewpoint lookup: kdtree or sf (spherical Fibonacci)");
   app.add_option("--balance", balance,
                  "batch cuts: cost (default: equal work) or static (equal vertex counts)");
@@ -126,6 +132,16 @@ int parse(int argc, char** argv, BakeConfig& c, bool root) {
   if (!(c.time_limit_minutes >= 0))
     throw InputError("--time-limit must be >= 0 minutes (got " +
                      std::to_string(c.time_limit_minutes) + ")");
+  if (c.trace_reference) {
+    if (c.gather_rays > 0)
+      throw InputError("--trace-reference models no diffuse gather (use --gather-rays 0)");
+    if (!c.checkpoint.empty() || !c.restart.empty())
+      throw InputError("--trace-reference takes no --checkpoint or --restart");
+    if (c.iterations > kMaxReferenceIterations)
+      throw InputError("--trace-reference needs --iterations <= " +
+                       std::to_string(kMaxReferenceIterations) + " (up to 3^K rays per colour)");
+    c.cache_hits = false;
+  }
   if (!max_memory.empty()) c.max_memory = parse_byte_size("--max-memory", max_memory);
   if (!background.empty()) c.background = parse_color(background);
   if (c.output.empty()) c.output = default_output(c.input);

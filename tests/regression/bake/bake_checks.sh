@@ -34,6 +34,15 @@ check_all_colours() {
       exit (n == 0 || max > tol) }' "$1"
 }
 
+# json_error SUMMARY KEY: the value of errors.KEY in a --summary file (KEY may be a.b).
+json_error() {
+  python3 -c 'import json, sys
+value = json.load(open(sys.argv[1]))["errors"]
+for key in sys.argv[2].split("."):
+    value = value[key]
+print(value)' "$1" "$2"
+}
+
 case $case_name in
   regenerate)
     # The committed generated inputs equal a fresh generation.
@@ -144,6 +153,19 @@ PY
       negative_iterations) args=("$INPUTS/cube/cube.bs" --iterations -1) ;;
       zero_shadow_samples) args=("$INPUTS/cube/cube.bs" --shadow-samples 0) ;;
       bad_lookup) args=("$INPUTS/cube/cube.bs" --lookup octree) ;;
+      reference_vertices)
+        # A baked cube (8 vertices) as the reference of another scene.
+        "$BAKE" "$INPUTS/cube/cube.bs" -o ref.bs --viewpoints 10 >/dev/null 2>&1 || fail "cube bake"
+        args=("$INPUTS/cornell/cornell_box.bs" --viewpoints 10 --reference ref.bs)
+        ;;
+      reference_uneven)
+        # A baked cube whose first vertex lost a viewpoint line.
+        "$BAKE" "$INPUTS/cube/cube.bs" -o full.bs --viewpoints 10 >/dev/null 2>&1 || fail "cube bake"
+        awk 'NR != 2' full.bs >ref.bs
+        args=("$INPUTS/cube/cube.bs" --viewpoints 10 --reference ref.bs)
+        ;;
+      reference_raw) args=("$INPUTS/cube/cube.bs" --reference "$INPUTS/cube/cube.bs") ;;
+      trace_reference_gather) args=("$INPUTS/cube/cube.bs" --trace-reference --gather-rays 4) ;;
       *) fail "unknown bad-input kind $ranks" ;;
     esac
     "$BAKE" "${args[@]}" -o out.bs >out.txt 2>err.txt
@@ -155,6 +177,49 @@ PY
     [ ! -e out.bs ] || fail "output file left behind"
     if ls out.bs.tmp.* 2>/dev/null; then fail "temporary file left behind"; fi
     echo "exit 2, one line, no output file"
+    ;;
+  map_errors_self)
+    # A map compared with itself has no error (stored colours, viewpoint by viewpoint);
+    # another seed's map has some. The traced reference is byte-identical for 1 and $ranks ranks.
+    args=("$INPUTS/cornell/cornell_box.bs" --viewpoints 40 --iterations 3 --shadow-samples 16)
+    run "$ranks" "${args[@]}" --seed 7 -o map.bs >log1.txt 2>&1 || { cat log1.txt; fail "bake"; }
+    run "$ranks" "${args[@]}" --seed 7 -o again.bs --reference map.bs --summary self.json \
+      >log2.txt 2>&1 || { cat log2.txt; fail "bake --reference"; }
+    grep 'reference map.bs' log2.txt
+    [ "$(json_error self.json stored.entries)" = 2880 ] || fail "expected 72 x 40 entries"
+    [ "$(json_error self.json reference_viewpoints)" = 40 ] || fail "expected reference N = 40"
+    for key in mean_abs rmse rel_mse max_abs; do
+      [ "$(json_error self.json stored.$key)" = 0.0 ] ||
+        fail "self error $key = $(json_error self.json stored.$key)"
+    done
+    run "$ranks" "${args[@]}" --seed 8 -o other.bs --reference map.bs --summary other.json \
+      >log3.txt 2>&1 || { cat log3.txt; fail "bake --seed 8 --reference"; }
+    awk -v e="$(json_error other.json stored.rmse)" 'BEGIN { exit !(e > 0) }' ||
+      fail "another seed's map has no error"
+    run 1 "${args[@]}" --trace-reference -o ref1.bs >log4.txt 2>&1 || { cat log4.txt; fail "ref"; }
+    run "$ranks" "${args[@]}" --trace-reference -o refn.bs >log5.txt 2>&1 ||
+      { cat log5.txt; fail "ref on $ranks ranks"; }
+    cmp ref1.bs refn.bs || fail "traced reference differs between 1 and $ranks ranks"
+    echo "self error 0, seed 8 RMSE $(json_error other.json stored.rmse), reference identical on $ranks ranks"
+    ;;
+  map_errors_converge)
+    # Against one traced reference of N = 1000 (same base colours: same seed and shadow
+    # samples), the Cornell box map read along the reference's directions gets closer to it
+    # as its own N grows.
+    args=("$INPUTS/cornell/cornell_box.bs" --iterations 2 --shadow-samples 16 --seed 7)
+    "$BAKE" "${args[@]}" --viewpoints 1000 --trace-reference -o ref.bs >ref.txt 2>&1 ||
+      { cat ref.txt; fail "traced reference"; }
+    last=""
+    for n in 20 100 1000; do
+      "$BAKE" "${args[@]}" --viewpoints $n -o "map$n.bs" --reference ref.bs --summary "s$n.json" \
+        >"map$n.txt" 2>&1 || { cat "map$n.txt"; fail "bake N = $n"; }
+      e=$(json_error "s$n.json" rmse)
+      echo "N = $n: RMSE $e, view-dependent RMSE $(json_error "s$n.json" view_dependent_rmse)"
+      if [ -n "$last" ]; then
+        awk -v a="$e" -v b="$last" 'BEGIN { exit !(a < b) }' || fail "error did not fall at N = $n"
+      fi
+      last=$e
+    done
     ;;
   binary)
     # -o X.bsb writes the binary form of the very map -o X.bs writes as text: both load to
