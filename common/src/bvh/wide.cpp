@@ -32,7 +32,7 @@ std::vector<WideNode> collapse_to_wide(const std::vector<BvhNode>& binary) {
     Slot slots[kWidth];
     int n = 0;
     for (int k = 0; k < 2; ++k) slots[n++] = {binary[src].box(k), binary[src].child[k]};
-    // Open the internal child with the largest surface area until 4 children.
+    // Open the internal child with the largest surface area until kWidth children.
     while (n < kWidth) {
       int best = -1;
       Real best_area = -1;

@@ -10,11 +10,30 @@
 
 namespace rtmini {
 
+namespace {
+// The widest x86 SIMD level this translation unit was compiled for (RTMINI_HOST_ARCH).
+const char* host_simd() {
+#if defined(__AVX512F__)
+  return "avx512";
+#elif defined(__AVX2__)
+  return "avx2";
+#elif defined(__AVX__)
+  return "avx";
+#elif defined(__SSE4_2__)
+  return "sse4.2";
+#elif defined(__x86_64__)
+  return "sse2";
+#else
+  return "default";
+#endif
+}
+}  // namespace
+
 std::string build_banner() {
   std::ostringstream os;
   os << "rtmini " << version_string() << " (git " << git_hash() << ") Kokkos "
      << KOKKOS_VERSION / 10000 << "." << KOKKOS_VERSION / 100 % 100 << "." << KOKKOS_VERSION % 100
-     << " " << compat::backend_name() << ", precision " << (sizeof(Real) == 4 ? "float" : "double");
+     << " " << compat::backend_name() << ", host SIMD " << host_simd() << ", precision " << (sizeof(Real) == 4 ? "float" : "double");
 #ifdef RTMINI_HAVE_MPI
   char lib[MPI_MAX_LIBRARY_VERSION_STRING];
   int len = 0;

@@ -8,7 +8,7 @@
 
 namespace rtmini::bvh {
 
-// Adds the 4-wide copy used by host traversal when the tree lives in host memory.
+// Adds the 8-wide copy used by host traversal when the tree lives in host memory.
 template <class MemorySpace>
 void add_wide_nodes(Bvh<MemorySpace>& bvh) {
   if constexpr (Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemorySpace>::accessible) {

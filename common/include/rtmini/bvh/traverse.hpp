@@ -4,6 +4,9 @@
 // results match the brute-force reference exactly) and any hit for shadow/AO.
 #include <cstring>
 #include <type_traits>
+#if defined(__GNUC__) && !defined(__CUDACC__) && defined(__SSE__)
+#include <immintrin.h>
+#endif
 
 #include "rtmini/bvh/bvh.hpp"
 
@@ -104,7 +107,7 @@ KOKKOS_FORCEINLINE_FUNCTION bool intersect_leaf(const BvhT& bvh, std::uint32_t r
 }
 
 #if defined(__GNUC__) && !defined(__CUDACC__)
-// Four box tests at once with GCC/Clang vector extensions (SSE/AVX/NEON as available).
+// kWidth box tests at once with GCC/Clang vector extensions (SSE/AVX/NEON as available).
 typedef Real RealLanes __attribute__((vector_size(kWidth * sizeof(Real))));
 typedef std::conditional_t<sizeof(Real) == 4, std::int32_t, std::int64_t> LaneInt;
 typedef LaneInt IntLanes __attribute__((vector_size(kWidth * sizeof(Real))));
@@ -129,8 +132,25 @@ __attribute__((always_inline)) inline int wide_box_test(const WideNode& nd, bool
   far = far * slab_widening();
   const RealLanes vmax = RealLanes{} + tmax * slab_widening();
   far = vmax < far ? vmax : far;
-  const IntLanes hit = near <= far;
   std::memcpy(tn, &near, sizeof near);
+  // The lane mask in one instruction where the target has it, else lane by lane.
+#if defined(__AVX__)
+  if constexpr (sizeof(Real) == 4 && kWidth == 8) {
+    __m256 n8, f8;
+    std::memcpy(&n8, &near, sizeof n8);
+    std::memcpy(&f8, &far, sizeof f8);
+    return _mm256_movemask_ps(_mm256_cmp_ps(n8, f8, _CMP_LE_OQ));
+  }
+#endif
+#if defined(__SSE__)
+  if constexpr (sizeof(Real) == 4 && kWidth == 4) {
+    __m128 n4, f4;
+    std::memcpy(&n4, &near, sizeof n4);
+    std::memcpy(&f4, &far, sizeof f4);
+    return _mm_movemask_ps(_mm_cmple_ps(n4, f4));
+  }
+#endif
+  const IntLanes hit = near <= far;
   int mask = 0;
   for (int k = 0; k < kWidth; ++k) mask |= (hit[k] != 0 ? 1 : 0) << k;
   return mask;
@@ -163,7 +183,7 @@ KOKKOS_INLINE_FUNCTION int wide_box_test(const WideNode& nd, bool neg_x, bool ne
 }
 #endif
 
-// 4-wide traversal for host memory: the lane loops below vectorise. The near
+// Wide traversal for host memory: the lane loops below vectorise. The near
 // plane of each axis is chosen by the ray's direction sign, so an inverted
 // (empty) box always has near > far and unused lanes never hit.
 template <class BvhT, bool kAnyHit, bool kStats>
@@ -173,7 +193,7 @@ KOKKOS_INLINE_FUNCTION bool traverse_wide(const BvhT& bvh, const Ray& ray, Hit& 
   const bool neg_x = inv.x < 0, neg_y = inv.y < 0, neg_z = inv.z < 0;
   const Real ox = ray.org.x, oy = ray.org.y, oz = ray.org.z;
   Real tmax = ray.tmax;
-  constexpr int kWideStack = 3 * kStackSize / 2 + 8;
+  constexpr int kWideStack = (kWidth - 1) * kStackSize;  // pending siblings along one path
   std::uint32_t stack[kWideStack];
   int sp = 0;
   std::uint32_t node = 0;
@@ -199,7 +219,9 @@ KOKKOS_INLINE_FUNCTION bool traverse_wide(const BvhT& bvh, const Ray& ray, Hit& 
     if (inner > 0) {
       for (int k = 0; k < kWidth; ++k) {
         const std::uint32_t c = nd.child[k];
-        if (!(hitmask >> k & 1) || is_leaf(c) || tn[k] > tmax * slab_widening()) continue;
+        // Any hit: tmax has not moved since the box test (a hit returns at once).
+        if (!(hitmask >> k & 1) || is_leaf(c) || (!kAnyHit && tn[k] > tmax * slab_widening()))
+          continue;
         int j = m++;
         // Any hit: any blocker ends the ray, so the order is not worth sorting for.
         if (!kAnyHit)
