@@ -1,6 +1,7 @@
 #include <embree3/rtcore.h>
 
 #include <chrono>
+#include <limits>
 #include <stdexcept>
 
 #include "ray_buffer.hpp"
@@ -58,7 +59,8 @@ PeerResult trace_with_embree(const std::vector<Triangle>& tris, const std::vecto
       rh.ray.time = 0.f;
       if (any_hit) {
         rtcOccluded1(scene, &ctx, &rh.ray);
-        out.result[i] = rh.ray.tfar < 0.f ? 1 : 0;
+        // Embree marks an occluded ray with tfar = -inf; an empty segment (tmax < 0) is unoccluded.
+        out.result[i] = rh.ray.tfar == -std::numeric_limits<float>::infinity() ? 1 : 0;
       } else {
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         rtcIntersect1(scene, &ctx, &rh);
