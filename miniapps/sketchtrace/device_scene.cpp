@@ -72,6 +72,8 @@ DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality) {
   d.mesh_lights = to_device("rtmini::sketch::mesh_lights", lights);
   d.emissive_tris = to_device("rtmini::sketch::emissive_tris", tris);
   d.emissive_cdf = to_device("rtmini::sketch::emissive_cdf", cdf);
+  d.solid_balls = to_device("rtmini::sketch::solid_balls", scene.solid_balls);
+  d.num_solid_balls = static_cast<int>(scene.solid_balls.size());
   d.num_quads = static_cast<int>(scene.quads.size());
   d.num_points = static_cast<int>(scene.points.size());
   d.num_mesh_lights = static_cast<int>(lights.size());

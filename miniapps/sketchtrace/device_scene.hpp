@@ -18,7 +18,8 @@ struct DeviceScene {
   Kokkos::View<MeshLight*, MemSpace> mesh_lights;
   Kokkos::View<int*, MemSpace> emissive_tris;  // triangle ids grouped by light
   Kokkos::View<Real*, MemSpace> emissive_cdf;  // cumulative area within each light, in (0, 1]
-  int num_quads = 0, num_points = 0, num_mesh_lights = 0;
+  Kokkos::View<SolidBall*, MemSpace> solid_balls;
+  int num_quads = 0, num_points = 0, num_mesh_lights = 0, num_solid_balls = 0;
   bool any_secondary = false;  // some material reflects or transmits
   std::size_t triangles = 0;
   std::size_t bytes = 0;  // device memory estimate

@@ -63,6 +63,21 @@ inline constexpr int kShaftMinSamples = 8;
 inline constexpr Real kShadowRayReach = Real(1 - 1e-4);
 inline constexpr Real kShaftReach = Real(1 - 0.5e-4);
 
+// Whether a shadow segment [tmin, tmax] (unit direction) is blocked by the sphere around a
+// solid ball: it enters the inner ball and both of its ends lie outside the outer one.
+KOKKOS_FORCEINLINE_FUNCTION bool segment_blocked_by_ball(const Ray& r, const SolidBall& b) {
+  const Vec3 oc = r.org - b.center;
+  const Real half_b = dot(oc, r.dir);
+  const Real oc2 = dot(oc, oc);
+  const Real disc = half_b * half_b - (oc2 - b.inner * b.inner);
+  if (!(disc > Real(0))) return false;
+  const Real s = math::sqrt(disc);
+  if (!(-half_b - s < r.tmax && -half_b + s > r.tmin)) return false;
+  const Real outer2 = b.outer * b.outer;
+  const auto outside = [&](Real t) { return oc2 + t * (2 * half_b + t) > outer2; };  // |oc + t d|^2
+  return outside(r.tmin) && outside(r.tmax);
+}
+
 // Unoccluded shadow-ray test from the surface towards point q (light geometry at q is not a
 // blocker). With `blockers` (the shaft's, bvh/shaft.hpp) only those triangles are tested:
 // the same answer as a traversal, for rays inside that shaft.
@@ -83,6 +98,12 @@ KOKKOS_FORCEINLINE_FUNCTION bool visible(const Scene& scene, const Vec3& org, co
     ++c.rays;
     return !bvh::any_hit_blockers(scene.mesh.accel, *blockers, r, c.stats ? &c.tests : nullptr);
   }
+  // A segment through a solid ball crosses its sphere's triangles: the traversal's answer.
+  for (int b = 0; b < scene.num_solid_balls; ++b)
+    if (segment_blocked_by_ball(r, scene.solid_balls(b))) {
+      ++c.rays;
+      return false;
+    }
   return !trace_occluded(scene.mesh.accel, r, c);
 }
 

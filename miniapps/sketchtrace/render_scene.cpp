@@ -1,5 +1,6 @@
 #include "render_scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "rtmini/io/error.hpp"
@@ -53,7 +54,22 @@ int add_sphere(HostScene& s, const Vec3d& center, double radius, int level,
                const Material& material, const std::string& name) {
   const int mat = add_material(s.mesh, material);
   const int obj = add_object(s, name, {Vec3(center), Real(radius)}, false);
+  const std::size_t first_face = s.mesh.faces.size();
   append_icosphere(s.mesh, center, radius, level, mat, obj);
+  // The closed icosphere holds the ball around its centre out to its nearest face plane (a
+  // plane's distance bounds its triangle's from below) and lies within its farthest vertex's
+  // distance; the margins cover the float triangles.
+  double inner = radius, outer = 0;
+  for (std::size_t f = first_face; f < s.mesh.faces.size(); ++f) {
+    const Face& face = s.mesh.faces[f];
+    const Vec3d& a = s.mesh.positions[face.v[0]];
+    const Vec3d n = normalize(cross(s.mesh.positions[face.v[1]] - a,
+                                    s.mesh.positions[face.v[2]] - a));
+    inner = std::min(inner, std::fabs(dot(n, a - center)));
+    for (int k = 0; k < face.count; ++k)
+      outer = std::max(outer, length(s.mesh.positions[face.v[k]] - center));
+  }
+  s.solid_balls.push_back({Vec3(center), Real(inner * (1 - 1e-4)), Real(outer * (1 + 1e-4))});
   return obj;
 }
 

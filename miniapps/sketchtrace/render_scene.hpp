@@ -38,6 +38,15 @@ struct ObjectShading {
   Real radius;
 };
 
+// A generated sphere's closed triangle mesh lies between two concentric spheres: it holds
+// the ball of radius `inner` and is held by the ball of radius `outer`. A shadow segment with
+// both ends outside `outer` that enters `inner` crosses the triangles: it is blocked, and no
+// traversal is needed to know it.
+struct SolidBall {
+  Vec3 center;
+  Real inner, outer;
+};
+
 struct HostScene {
   std::string name;
   Mesh mesh;
@@ -45,6 +54,7 @@ struct HostScene {
   std::vector<PointLight> points;
   std::vector<ObjectShading> objects;      // one per mesh object
   std::vector<char> object_is_quad_light;  // excluded from the mesh-light list
+  std::vector<SolidBall> solid_balls;      // one per generated sphere
 };
 
 // Building blocks for generators and tests (build_scene uses them too). Each adds
