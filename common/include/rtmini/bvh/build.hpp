@@ -39,6 +39,36 @@ void collapse_zero_area(const ExecSpace& space, Bvh<MemorySpace>& bvh) {
   space.fence();
 }
 
+// Every child box grows outward by about four float ulps (relative 4.8e-7, plus 1e-30 at zero).
+// A ray with a zero direction component whose origin lies exactly in the plane of a box face
+// would otherwise get (face - origin) * (1 / 0) = 0 * huge = 0 as that slab's far distance and
+// miss a box whose triangles it hits on that face (issue 7); inside a padded box its origin is
+// strictly within the slab. The padding is conservative: the triangle test decides every hit.
+KOKKOS_INLINE_FUNCTION Real pad_below(Real x) { return x - (math::fabs(x) * Real(4.8e-7) + Real(1e-30)); }
+KOKKOS_INLINE_FUNCTION Real pad_above(Real x) { return x + (math::fabs(x) * Real(4.8e-7) + Real(1e-30)); }
+
+template <class ExecSpace, class MemorySpace>
+void pad_node_boxes(const ExecSpace& space, Bvh<MemorySpace>& bvh) {
+  auto nodes = bvh.nodes;
+  Kokkos::parallel_for(
+      "rtmini::bvh::build::pad_boxes",
+      Kokkos::RangePolicy<ExecSpace>(space, std::int64_t(0),
+                                     static_cast<std::int64_t>(nodes.extent(0))),
+      KOKKOS_LAMBDA(const std::int64_t i) {
+        BvhNode& n = nodes(i);
+        for (int k = 0; k < 2; ++k) {
+          if (n.child[k] == kEmptyLeaf) continue;  // its empty box stays empty
+          n.lo_x[k] = pad_below(n.lo_x[k]);
+          n.lo_y[k] = pad_below(n.lo_y[k]);
+          n.lo_z[k] = pad_below(n.lo_z[k]);
+          n.hi_x[k] = pad_above(n.hi_x[k]);
+          n.hi_y[k] = pad_above(n.hi_y[k]);
+          n.hi_z[k] = pad_above(n.hi_z[k]);
+        }
+      });
+  space.fence();
+}
+
 template <class ExecSpace, class MemorySpace = typename ExecSpace::memory_space>
 Bvh<MemorySpace> build(const ExecSpace& space, Kokkos::View<const Triangle*, MemorySpace> tris,
                        BuildQuality quality) {
@@ -53,6 +83,7 @@ Bvh<MemorySpace> build(const ExecSpace& space, Kokkos::View<const Triangle*, Mem
     Kokkos::Profiling::popRegion();
   }
   collapse_zero_area(space, out);
+  pad_node_boxes(space, out);
   add_wide_nodes(out);
   return out;
 }
