@@ -60,7 +60,10 @@ class ObjPrescan {
         if (f.size() < 2) fail("mtllib without a file name");
         for (std::size_t i = 1; i < f.size(); ++i) {
           const std::string mtl = directory_of(path_) + "/" + std::string(f[i]);
-          if (!std::ifstream(mtl) && missing_mtl_line_ == 0) {
+          if (std::ifstream(mtl)) {
+            if (std::find(mtl_files_.begin(), mtl_files_.end(), mtl) == mtl_files_.end())
+              mtl_files_.push_back(mtl);
+          } else if (missing_mtl_line_ == 0) {
             missing_mtl_line_ = line_;
             missing_mtl_ = mtl;
           }
@@ -79,6 +82,27 @@ class ObjPrescan {
   }
 
   const std::vector<std::pair<std::string, long>>& usemtl() const { return usemtl_; }
+  const std::vector<std::string>& mtl_files() const { return mtl_files_; }
+
+  // A material library: the numbers of the statements rtmini reads (colours Ka Kd Ks Ke Tf,
+  // scalars Ns Ni d Tr), so that a bad value is reported at its own file and line.
+  void run_mtl(std::string_view text) {
+    detail::LineCursor cursor(text);
+    std::string_view line;
+    while (cursor.next(line)) {
+      line_ = cursor.line_number();
+      const std::size_t hash = line.find('#');
+      if (hash != std::string_view::npos) line = line.substr(0, hash);
+      const auto f = detail::split_fields(line);
+      if (f.empty()) continue;
+      const bool colour = f[0] == "Ka" || f[0] == "Kd" || f[0] == "Ks" || f[0] == "Ke" || f[0] == "Tf";
+      const bool scalar = f[0] == "Ns" || f[0] == "Ni" || f[0] == "d" || f[0] == "Tr";
+      if (!colour && !scalar) continue;
+      if (colour && f.size() > 1 && (f[1] == "spectral" || f[1] == "xyz")) continue;
+      if (f.size() < 2) fail(std::string(f[0]) + " needs a value");
+      check_numbers(f, (std::string("material statement ") + std::string(f[0])).c_str());
+    }
+  }
 
  private:
   [[noreturn]] void fail(const std::string& reason) const {
@@ -124,6 +148,7 @@ class ObjPrescan {
   long line_ = 0;
   long nv_ = 0, nvt_ = 0, nvn_ = 0;
   std::vector<std::pair<std::string, long>> usemtl_;
+  std::vector<std::string> mtl_files_;
   long missing_mtl_line_ = 0;
   std::string missing_mtl_;
 };
@@ -154,6 +179,10 @@ Mesh read_obj(const std::string& path) {
   const std::string text = detail::read_text_file(path);
   ObjPrescan prescan(path);
   prescan.run(text);
+  for (const std::string& mtl : prescan.mtl_files()) {
+    const std::string mtl_text = detail::read_text_file(mtl);
+    ObjPrescan(mtl).run_mtl(mtl_text);
+  }
 
   tinyobj::ObjReaderConfig config;
   config.triangulate = false;

@@ -16,6 +16,7 @@ struct BadInput {
   const char* file;
   long line;
   const char* reason;  // a substring the message must contain after the prefix
+  const char* reported = nullptr;  // the file the message names, when not `file` (an MTL)
 };
 
 std::ostream& operator<<(std::ostream& os, const BadInput& b) { return os << b.file; }
@@ -41,7 +42,9 @@ TEST_P(BadInputTest, ReportsFileLineAndReason) {
     FAIL() << path << " was accepted";
   } catch (const InputError& e) {
     const std::string message = e.what();
-    const std::string prefix = path + ":" + std::to_string(bad.line) + ": ";
+    const std::string named =
+        bad.reported ? std::string(RTMINI_TEST_BAD_DIR) + "/" + bad.reported : path;
+    const std::string prefix = named + ":" + std::to_string(bad.line) + ": ";
     EXPECT_EQ(message.rfind(prefix, 0), 0u) << message;
     EXPECT_NE(message.find(bad.reason, prefix.size()), std::string::npos) << message;
   }
@@ -59,6 +62,7 @@ const BadInput kBadInputs[] = {
     {"obj_face_two_vertices.obj", 3, "face needs at least 3 vertices"},
     {"obj_bad_normal_index.obj", 5, "normal index 2 out of range"},
     {"obj_missing_mtl.obj", 1, "cannot open material library"},
+    {"obj_mtl_nan.obj", 4, "non-finite value 'nan' in material statement Ks", "obj_mtl_nan.mtl"},
     {"obj_unknown_material.obj", 6, "material 'blue' is not defined"},
     {"bs_empty.bs", 1, "empty file"},
     {"bs_missing_bang.bs", 6, "missing '!'"},
