@@ -39,7 +39,9 @@ struct Options {
   std::uint64_t seed = 1;
 };
 
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 // Primary camera that frames the mesh (used by primary, shadow and diffuse workloads).
 Kokkos::View<Ray*, Mem> primary_rays(const Aabb& box, int w, int h) {
@@ -71,8 +73,9 @@ Kokkos::View<Ray*, Mem> ao_rays(const DeviceMesh<Mem>& m, const Options& o, Real
                                 Kokkos::View<Real*, Mem>& area) {
   const int nt = static_cast<int>(m.tris.extent(0));
   const int S = o.samples_per_face, R = o.rays;
-  Kokkos::View<Ray*, Mem> rays(Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bench::ao_rays"),
-                               std::size_t(nt) * S * R);
+  Kokkos::View<Ray*, Mem> rays(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bench::ao_rays"),
+      std::size_t(nt) * S * R);
   area = Kokkos::View<Real*, Mem>("rtmini::bench::ao_area", nt);
   const auto tris = m.tris;
   const std::uint64_t seed = o.seed;
@@ -106,8 +109,9 @@ Kokkos::View<Ray*, Mem> ao_rays(const DeviceMesh<Mem>& m, const Options& o, Real
 }
 
 // Secondary rays from primary hits: shadow (any hit toward a point light) or diffuse (closest hit).
-Kokkos::View<Ray*, Mem> secondary_rays(const DeviceMesh<Mem>& m, const Kokkos::View<Ray*, Mem>& prim,
-                                       bool shadow, const Aabb& box, std::uint64_t seed) {
+Kokkos::View<Ray*, Mem> secondary_rays(const DeviceMesh<Mem>& m,
+                                       const Kokkos::View<Ray*, Mem>& prim, bool shadow,
+                                       const Aabb& box, std::uint64_t seed) {
   const int n = static_cast<int>(prim.extent(0));
   Kokkos::View<Ray*, Mem> out("rtmini::bench::secondary_rays", n);
   const auto accel = m.accel;
@@ -150,7 +154,8 @@ Mesh load_mesh(const std::string& spec) {
   const std::string prefix = "icosphere:";
   if (spec.rfind(prefix, 0) != 0) return read_mesh(spec);
   const int level = std::stoi(spec.substr(prefix.size()));
-  if (level < 0 || level > 10) throw InputError("icosphere level must be 0..10, got " + std::to_string(level));
+  if (level < 0 || level > 10)
+    throw InputError("icosphere level must be 0..10, got " + std::to_string(level));
   Mesh m;
   append_icosphere(m, {0, 0, 0}, 1.0, level, -1, 0);
   return m;
@@ -159,14 +164,17 @@ Mesh load_mesh(const std::string& spec) {
 int run(const Options& o) {
   const Mesh mesh = load_mesh(o.mesh);
   bvh::BuildQuality quality;
-  if (o.quality == "lbvh") quality = bvh::BuildQuality::kLbvh;
-  else if (o.quality == "sah") quality = bvh::BuildQuality::kSah;
-  else throw InputError("--quality must be lbvh or sah, got '" + o.quality + "'");
+  if (o.quality == "lbvh")
+    quality = bvh::BuildQuality::kLbvh;
+  else if (o.quality == "sah")
+    quality = bvh::BuildQuality::kSah;
+  else
+    throw InputError("--quality must be lbvh or sah, got '" + o.quality + "'");
   const bool any = o.workload == "ao" || o.workload == "shadow";
 
   std::cout << build_banner() << "\n";
-  std::cout << "threads " << compat::concurrency() << ", mesh " << o.mesh << ": " << mesh.positions.size()
-            << " vertices, " << mesh.triangle_count() << " triangles\n";
+  std::cout << "threads " << compat::concurrency() << ", mesh " << o.mesh << ": "
+            << mesh.positions.size() << " vertices, " << mesh.triangle_count() << " triangles\n";
 
   DeviceMesh<Mem> dm = upload_mesh(mesh, quality);
   // Build timings: the best of several builds of the already-uploaded triangles.
@@ -191,21 +199,25 @@ int run(const Options& o) {
   Kokkos::View<Ray*, Mem> rays;
   if (o.workload == "ao") {
     rays = ao_rays(dm, o, extent, area);
-    std::printf("workload ao: %d samples/triangle x %d cosine rays, offset 1e-4 x extent, tmax 10 x extent "
-                "(extent = bbox diagonal %.6g), any hit\n",
-                o.samples_per_face, o.rays, double(extent));
+    std::printf(
+        "workload ao: %d samples/triangle x %d cosine rays, offset 1e-4 x extent, tmax 10 x extent "
+        "(extent = bbox diagonal %.6g), any hit\n",
+        o.samples_per_face, o.rays, double(extent));
   } else if (o.workload == "primary") {
     rays = primary_rays(box, o.width, o.height);
     std::printf("workload primary: %dx%d camera rays, closest hit\n", o.width, o.height);
   } else if (o.workload == "shadow" || o.workload == "diffuse") {
-    rays = secondary_rays(dm, primary_rays(box, o.width, o.height), o.workload == "shadow", box, o.seed);
-    std::printf("workload %s: from %dx%d primary hits, %s\n", o.workload.c_str(), o.width, o.height,
-                o.workload == "shadow" ? "any hit toward a point light" : "cosine bounce, closest hit");
+    rays = secondary_rays(dm, primary_rays(box, o.width, o.height), o.workload == "shadow", box,
+                          o.seed);
+    std::printf(
+        "workload %s: from %dx%d primary hits, %s\n", o.workload.c_str(), o.width, o.height,
+        o.workload == "shadow" ? "any hit toward a point light" : "cosine bounce, closest hit");
   } else {
     throw InputError("--workload must be primary, shadow, ao or diffuse, got '" + o.workload + "'");
   }
   const long long nr = static_cast<long long>(rays.extent(0));
-  Kokkos::View<int*, Mem> result(Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bench::result"), nr);
+  Kokkos::View<int*, Mem> result(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bench::result"), nr);
   const auto accel = dm.accel;
   double best = 1e300;
   for (int rep = 0; rep < std::max(1, o.repeats); ++rep) {
@@ -213,14 +225,12 @@ int run(const Options& o) {
     const auto t0 = Clock::now();
     if (any) {
       Kokkos::parallel_for(
-          "rtmini::bench::trace_any", Kokkos::RangePolicy<Exec>(0, nr), KOKKOS_LAMBDA(long long i) {
-            result(i) = bvh::any_hit(accel, rays(i)) ? 1 : 0;
-          });
+          "rtmini::bench::trace_any", Kokkos::RangePolicy<Exec>(0, nr),
+          KOKKOS_LAMBDA(long long i) { result(i) = bvh::any_hit(accel, rays(i)) ? 1 : 0; });
     } else {
       Kokkos::parallel_for(
-          "rtmini::bench::trace_closest", Kokkos::RangePolicy<Exec>(0, nr), KOKKOS_LAMBDA(long long i) {
-            result(i) = bvh::closest_hit(accel, rays(i)).prim;
-          });
+          "rtmini::bench::trace_closest", Kokkos::RangePolicy<Exec>(0, nr),
+          KOKKOS_LAMBDA(long long i) { result(i) = bvh::closest_hit(accel, rays(i)).prim; });
     }
     Kokkos::fence();
     best = std::min(best, seconds_since(t0));
@@ -240,8 +250,10 @@ int run(const Options& o) {
         "rtmini::bench::stats", Kokkos::RangePolicy<Exec>(0, nr),
         KOKKOS_LAMBDA(long long i, double& nn, double& tt) {
           bvh::TraversalStats st;
-          if (any) bvh::any_hit(accel, rays(i), st);
-          else bvh::closest_hit(accel, rays(i), st);
+          if (any)
+            bvh::any_hit(accel, rays(i), st);
+          else
+            bvh::closest_hit(accel, rays(i), st);
           nn += st.nodes;
           tt += st.tests;
         },
@@ -258,7 +270,8 @@ int run(const Options& o) {
         "rtmini::bench::mean_ao", Kokkos::RangePolicy<Exec>(0, int(area.extent(0))),
         KOKKOS_LAMBDA(int t, double& n, double& d) {
           int hits = 0;
-          for (long long k = std::int64_t(t) * S * R; k < std::int64_t(t + 1) * S * R; ++k) hits += result(k);
+          for (long long k = std::int64_t(t) * S * R; k < std::int64_t(t + 1) * S * R; ++k)
+            hits += result(k);
           n += double(area(t)) * (1.0 - double(hits) / (S * R));
           d += double(area(t));
         },
@@ -278,11 +291,12 @@ int run(const Options& o) {
     for (long long i = 0; i < nr; ++i) agree += pr.result[i] == hres(i);
     const double peer_mrays = nr / pr.trace_seconds * 1e-6;
     std::printf("peer embree %s: build %.2f ms, trace %.4f s, %.2f Mrays/s; agreement %.5f%%\n",
-                pr.version.c_str(), pr.build_seconds * 1e3,
-                pr.trace_seconds, peer_mrays, 100.0 * agree / std::max(1LL, nr));
+                pr.version.c_str(), pr.build_seconds * 1e3, pr.trace_seconds, peer_mrays,
+                100.0 * agree / std::max(1LL, nr));
     std::printf("ratio rtmini/embree: %.3f\n", mrays / peer_mrays);
 #else
-    throw InputError("--peer embree: this build has no Embree (install libembree-dev and reconfigure)");
+    throw InputError(
+        "--peer embree: this build has no Embree (install libembree-dev and reconfigure)");
 #endif
   } else if (!o.peer.empty()) {
     throw InputError("--peer must be embree, got '" + o.peer + "'");
@@ -299,12 +313,23 @@ int main(int argc, char** argv) {
   CLI::App app{"rtmini-bvh-bench: BVH build and traversal throughput"};
   app.add_option("mesh", o.mesh, "OBJ or .bs mesh, or icosphere:L (20*4^L triangles)")->required();
   app.add_option("--workload", o.workload, "primary, shadow, ao or diffuse")->capture_default_str();
-  app.add_option("--quality", o.quality, "BVH build used for tracing: lbvh or sah")->capture_default_str();
-  app.add_option("--samples-per-face", o.samples_per_face, "AO sample points per triangle")->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--rays", o.rays, "AO rays per sample point")->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--width", o.width, "camera width (primary/shadow/diffuse)")->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--height", o.height, "camera height")->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--repeats", o.repeats, "timed repetitions (best is reported)")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--quality", o.quality, "BVH build used for tracing: lbvh or sah")
+      ->capture_default_str();
+  app.add_option("--samples-per-face", o.samples_per_face, "AO sample points per triangle")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--rays", o.rays, "AO rays per sample point")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--width", o.width, "camera width (primary/shadow/diffuse)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--height", o.height, "camera height")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--repeats", o.repeats, "timed repetitions (best is reported)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   app.add_option("--seed", o.seed, "random seed")->capture_default_str();
   app.add_option("--peer", o.peer, "trace the identical rays with a peer: embree");
   app.set_version_flag("--version", std::string(version_string()) + " (git " + git_hash() + ")");

@@ -20,10 +20,10 @@ PeerResult trace_with_embree(const std::vector<Triangle>& tris, const std::vecto
   RTCScene scene = rtcNewScene(device);
   RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   const std::size_t n = tris.size();
-  auto* v = static_cast<float*>(
-      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
-  auto* idx = static_cast<unsigned*>(
-      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n));
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
+  auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n));
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 p[3] = {tris[i].a, tris[i].b, tris[i].c};
     for (int k = 0; k < 3; ++k) {
@@ -50,8 +50,12 @@ PeerResult trace_with_embree(const std::vector<Triangle>& tris, const std::vecto
       RTCIntersectContext ctx;
       rtcInitIntersectContext(&ctx);
       RTCRayHit rh;
-      rh.ray.org_x = float(r.org.x); rh.ray.org_y = float(r.org.y); rh.ray.org_z = float(r.org.z);
-      rh.ray.dir_x = float(r.dir.x); rh.ray.dir_y = float(r.dir.y); rh.ray.dir_z = float(r.dir.z);
+      rh.ray.org_x = float(r.org.x);
+      rh.ray.org_y = float(r.org.y);
+      rh.ray.org_z = float(r.org.z);
+      rh.ray.dir_x = float(r.dir.x);
+      rh.ray.dir_y = float(r.dir.y);
+      rh.ray.dir_z = float(r.dir.z);
       rh.ray.tnear = float(r.tmin);
       rh.ray.tfar = float(r.tmax);
       rh.ray.mask = ~0u;
@@ -64,7 +68,8 @@ PeerResult trace_with_embree(const std::vector<Triangle>& tris, const std::vecto
       } else {
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         rtcIntersect1(scene, &ctx, &rh);
-        out.result[i] = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? -1 : static_cast<int>(rh.hit.primID);
+        out.result[i] =
+            rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? -1 : static_cast<int>(rh.hit.primID);
       }
     }
     const double dt = std::chrono::duration<double>(Clock::now() - s).count();

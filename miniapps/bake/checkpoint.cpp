@@ -31,7 +31,8 @@ Checkpoint read_checkpoint(const std::string& path, const std::string& expected_
   if (cp.parameter_hash != expected_hash)
     throw InputError(path, 0,
                      "checkpoint was written for different parameters or another scene "
-                     "(parameter hash " + cp.parameter_hash + ", this run " + expected_hash + ")");
+                     "(parameter hash " +
+                         cp.parameter_hash + ", this run " + expected_hash + ")");
   cp.iteration = static_cast<int>(f.int_attribute("/", "iteration"));
   cp.vertices = f.int_attribute("/", "vertices");
   cp.viewpoints = static_cast<int>(f.int_attribute("/", "viewpoints"));

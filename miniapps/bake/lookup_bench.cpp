@@ -28,8 +28,9 @@ double seconds_per_query(int queries, F&& f) {
     Kokkos::fence();
     const auto t0 = std::chrono::steady_clock::now();
     int sink = 0;
-    Kokkos::parallel_reduce("rtmini::bench::lookup", Kokkos::RangePolicy<Exec>(0, queries),
-                            KOKKOS_LAMBDA(int i, int& s) { s += f(i); }, sink);
+    Kokkos::parallel_reduce(
+        "rtmini::bench::lookup", Kokkos::RangePolicy<Exec>(0, queries),
+        KOKKOS_LAMBDA(int i, int& s) { s += f(i); }, sink);
     Kokkos::fence();
     const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (sink == -1) std::printf(" ");
@@ -43,11 +44,16 @@ void run(int n, int queries, int checked) {
   const auto kd = build_fibonacci_kdtree<Mem>(n);
   const auto sf = build_fibonacci_inverse<Mem>(n);
   const Real r = fibonacci_radius(n);
-  const double kd_near = seconds_per_query(queries, KOKKOS_LAMBDA(int i) { return kd.nearest(direction(i)); });
-  const double sf_near = seconds_per_query(queries, KOKKOS_LAMBDA(int i) { return sf.nearest(direction(i)); });
-  const double kd_nb = seconds_per_query(queries, KOKKOS_LAMBDA(int i) { return kd.neighbors(direction(i), r).count; });
-  const double sf_nb = seconds_per_query(queries, KOKKOS_LAMBDA(int i) { return sf.neighbors(direction(i), r).count; });
-  const double bf_near = seconds_per_query(checked, KOKKOS_LAMBDA(int i) { return brute_force_nearest(pts, direction(i)); });
+  const double kd_near = seconds_per_query(
+      queries, KOKKOS_LAMBDA(int i) { return kd.nearest(direction(i)); });
+  const double sf_near = seconds_per_query(
+      queries, KOKKOS_LAMBDA(int i) { return sf.nearest(direction(i)); });
+  const double kd_nb = seconds_per_query(
+      queries, KOKKOS_LAMBDA(int i) { return kd.neighbors(direction(i), r).count; });
+  const double sf_nb = seconds_per_query(
+      queries, KOKKOS_LAMBDA(int i) { return sf.neighbors(direction(i), r).count; });
+  const double bf_near = seconds_per_query(
+      checked, KOKKOS_LAMBDA(int i) { return brute_force_nearest(pts, direction(i)); });
   int kd_bad = 0, sf_bad = 0, kd_nb_bad = 0, sf_nb_bad = 0;
   double mean_count = 0;
   Kokkos::parallel_reduce(
@@ -69,10 +75,11 @@ void run(int n, int queries, int checked) {
         m += nb.count;
       },
       kd_bad, sf_bad, kd_nb_bad, sf_nb_bad, mean_count);
-  std::printf("| %6d | %7.1f | %7.1f | %8.1f | %7.1f | %7.1f | %5.2f | %d/%d | %d/%d | %d/%d | %d/%d |\n", n,
-              kd_near * 1e9, sf_near * 1e9, bf_near * 1e9, kd_nb * 1e9, sf_nb * 1e9,
-              mean_count / checked, kd_bad, checked, sf_bad, checked, kd_nb_bad, checked, sf_nb_bad,
-              checked);
+  std::printf(
+      "| %6d | %7.1f | %7.1f | %8.1f | %7.1f | %7.1f | %5.2f | %d/%d | %d/%d | %d/%d | %d/%d |\n",
+      n, kd_near * 1e9, sf_near * 1e9, bf_near * 1e9, kd_nb * 1e9, sf_nb * 1e9,
+      mean_count / checked, kd_bad, checked, sf_bad, checked, kd_nb_bad, checked, sf_nb_bad,
+      checked);
 }
 
 }  // namespace
@@ -82,10 +89,13 @@ int main(int argc, char** argv) {
   rtmini::Environment env(argc, argv);
   const int queries = argc > 1 ? std::atoi(argv[1]) : 1000000;
   std::printf("%s\n", rtmini::build_banner().c_str());
-  std::printf("%d random directions per lookup timing (best of 3, ns per query, all threads); "
-              "agreement with exhaustive search on 20000 of them\n\n", queries);
-  std::printf("| N | kd nearest | sf nearest | brute nearest | kd radius | sf radius | mean neighbours | "
-              "kd nearest wrong | sf nearest wrong | kd radius set wrong | sf radius set wrong |\n");
+  std::printf(
+      "%d random directions per lookup timing (best of 3, ns per query, all threads); "
+      "agreement with exhaustive search on 20000 of them\n\n",
+      queries);
+  std::printf(
+      "| N | kd nearest | sf nearest | brute nearest | kd radius | sf radius | mean neighbours | "
+      "kd nearest wrong | sf nearest wrong | kd radius set wrong | sf radius set wrong |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (int n : {20, 100, 1000, 10000, 100000}) rtmini::run(n, queries, 20000);
   return 0;

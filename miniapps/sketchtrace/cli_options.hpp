@@ -20,7 +20,7 @@ struct RunOptions {
   std::string balance = "static";     // load-balancing strategy (schedule.hpp)
   std::string cost_map;               // keep/reuse the probed cost map here
   bool progress = false;
-  bool comm_thread = true;       // bargain/steal: answer peers from a thread while rendering
+  bool comm_thread = true;      // bargain/steal: answer peers from a thread while rendering
   std::string reference;        // compare the colour image with this image (linear RMSE)
   double max_rmse = -1.0;       // exit 1 when the RMSE exceeds this (when >= 0)
   std::int64_t max_memory = 0;  // bytes; refuse runs estimated above this (0 = no limit)

@@ -25,7 +25,6 @@ Frame assemble_frame(const std::vector<PixelResult>& pixels, int width, int heig
 std::uint64_t hash_pixels(const std::vector<PixelResult>& pixels, std::int64_t first_index,
                           bool aov);
 
-
 // InputError unless the extension is .ppm, .png or .exr.
 void check_output_path(const std::string& path);
 

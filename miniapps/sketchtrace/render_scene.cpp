@@ -63,8 +63,8 @@ int add_sphere(HostScene& s, const Vec3d& center, double radius, int level,
   for (std::size_t f = first_face; f < s.mesh.faces.size(); ++f) {
     const Face& face = s.mesh.faces[f];
     const Vec3d& a = s.mesh.positions[face.v[0]];
-    const Vec3d n = normalize(cross(s.mesh.positions[face.v[1]] - a,
-                                    s.mesh.positions[face.v[2]] - a));
+    const Vec3d n =
+        normalize(cross(s.mesh.positions[face.v[1]] - a, s.mesh.positions[face.v[2]] - a));
     inner = std::min(inner, std::fabs(dot(n, a - center)));
     for (int k = 0; k < face.count; ++k)
       outer = std::max(outer, length(s.mesh.positions[face.v[k]] - center));

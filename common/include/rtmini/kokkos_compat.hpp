@@ -23,9 +23,23 @@ inline To bit_cast(const From& from) {
 }
 }  // namespace rtmini::compat
 namespace rtmini::math {
-using std::acos; using std::asin; using std::atan; using std::atan2; using std::ceil; using std::cos;
-using std::exp; using std::fabs; using std::floor; using std::fmax; using std::fmin; using std::log;
-using std::log2; using std::pow; using std::sin; using std::sqrt; using std::tan;
+using std::acos;
+using std::asin;
+using std::atan;
+using std::atan2;
+using std::ceil;
+using std::cos;
+using std::exp;
+using std::fabs;
+using std::floor;
+using std::fmax;
+using std::fmin;
+using std::log;
+using std::log2;
+using std::pow;
+using std::sin;
+using std::sqrt;
+using std::tan;
 }  // namespace rtmini::math
 #else
 #include <Kokkos_Core.hpp>
@@ -67,9 +81,13 @@ KOKKOS_INLINE_FUNCTION To bit_cast(const From& from) {
 }
 
 template <class T>
-KOKKOS_INLINE_FUNCTION T kmin(T a, T b) { return b < a ? b : a; }
+KOKKOS_INLINE_FUNCTION T kmin(T a, T b) {
+  return b < a ? b : a;
+}
 template <class T>
-KOKKOS_INLINE_FUNCTION T kmax(T a, T b) { return a < b ? b : a; }
+KOKKOS_INLINE_FUNCTION T kmax(T a, T b) {
+  return a < b ? b : a;
+}
 
 // Name of the default execution space, e.g. "OpenMP", "Cuda".
 inline const char* backend_name() { return Kokkos::DefaultExecutionSpace::name(); }
@@ -87,17 +105,41 @@ inline int concurrency() {
 // Device-callable math: Kokkos 3.4 keeps these in Kokkos::Experimental, 4.x in Kokkos.
 namespace rtmini::math {
 #if KOKKOS_VERSION >= 40000
-using Kokkos::acos; using Kokkos::atan2; using Kokkos::ceil; using Kokkos::cos; using Kokkos::exp;
-using Kokkos::fabs; using Kokkos::floor; using Kokkos::fmax; using Kokkos::fmin; using Kokkos::log;
-using Kokkos::pow; using Kokkos::sin; using Kokkos::sqrt; using Kokkos::tan; using Kokkos::asin;
-using Kokkos::log2; using Kokkos::atan;
+using Kokkos::acos;
+using Kokkos::asin;
+using Kokkos::atan;
+using Kokkos::atan2;
+using Kokkos::ceil;
+using Kokkos::cos;
+using Kokkos::exp;
+using Kokkos::fabs;
+using Kokkos::floor;
+using Kokkos::fmax;
+using Kokkos::fmin;
+using Kokkos::log;
+using Kokkos::log2;
+using Kokkos::pow;
+using Kokkos::sin;
+using Kokkos::sqrt;
+using Kokkos::tan;
 #else
-using Kokkos::Experimental::acos; using Kokkos::Experimental::atan2; using Kokkos::Experimental::ceil;
-using Kokkos::Experimental::cos; using Kokkos::Experimental::exp; using Kokkos::Experimental::fabs;
-using Kokkos::Experimental::floor; using Kokkos::Experimental::fmax; using Kokkos::Experimental::fmin;
-using Kokkos::Experimental::log; using Kokkos::Experimental::pow; using Kokkos::Experimental::sin;
-using Kokkos::Experimental::sqrt; using Kokkos::Experimental::tan; using Kokkos::Experimental::asin;
-using Kokkos::Experimental::log2; using Kokkos::Experimental::atan;
+using Kokkos::Experimental::acos;
+using Kokkos::Experimental::asin;
+using Kokkos::Experimental::atan;
+using Kokkos::Experimental::atan2;
+using Kokkos::Experimental::ceil;
+using Kokkos::Experimental::cos;
+using Kokkos::Experimental::exp;
+using Kokkos::Experimental::fabs;
+using Kokkos::Experimental::floor;
+using Kokkos::Experimental::fmax;
+using Kokkos::Experimental::fmin;
+using Kokkos::Experimental::log;
+using Kokkos::Experimental::log2;
+using Kokkos::Experimental::pow;
+using Kokkos::Experimental::sin;
+using Kokkos::Experimental::sqrt;
+using Kokkos::Experimental::tan;
 #endif
 }  // namespace rtmini::math
 #endif  // RTMINI_NO_KOKKOS
@@ -105,15 +147,23 @@ using Kokkos::Experimental::log2; using Kokkos::Experimental::atan;
 namespace rtmini::math {
 // Written out because 3.4 has no device isfinite/copysign; exact for IEEE types.
 template <class T>
-KOKKOS_INLINE_FUNCTION bool isfinite(T x) { return (x - x) == T(0); }
-KOKKOS_INLINE_FUNCTION bool signbit(float x) { return (compat::bit_cast<std::uint32_t>(x) >> 31) != 0u; }
-KOKKOS_INLINE_FUNCTION bool signbit(double x) { return (compat::bit_cast<std::uint64_t>(x) >> 63) != 0u; }
+KOKKOS_INLINE_FUNCTION bool isfinite(T x) {
+  return (x - x) == T(0);
+}
+KOKKOS_INLINE_FUNCTION bool signbit(float x) {
+  return (compat::bit_cast<std::uint32_t>(x) >> 31) != 0u;
+}
+KOKKOS_INLINE_FUNCTION bool signbit(double x) {
+  return (compat::bit_cast<std::uint64_t>(x) >> 63) != 0u;
+}
 template <class T>
 KOKKOS_INLINE_FUNCTION T copysign(T mag, T sgn) {
   const T m = mag < T(0) ? -mag : mag;
   return signbit(sgn) ? -m : m;
 }
 template <class T>
-KOKKOS_INLINE_FUNCTION T clamp(T x, T lo, T hi) { return x < lo ? lo : (x > hi ? hi : x); }
+KOKKOS_INLINE_FUNCTION T clamp(T x, T lo, T hi) {
+  return x < lo ? lo : (x > hi ? hi : x);
+}
 inline constexpr double kPi = 3.14159265358979323846;
 }  // namespace rtmini::math

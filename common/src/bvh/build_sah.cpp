@@ -50,7 +50,8 @@ int split_range(std::vector<Item>& items, int b, int e, const Aabb& box, int dep
     int counts[kBins] = {};
     const Real scale = Real(kBins) / ext[axis] * Real(0.999999);
     for (int i = b; i < e; ++i) {
-      const int k = std::min(kBins - 1, static_cast<int>((items[i].centroid[axis] - cb.lo[axis]) * scale));
+      const int k =
+          std::min(kBins - 1, static_cast<int>((items[i].centroid[axis] - cb.lo[axis]) * scale));
       bins[k].expand(items[i].box);
       ++counts[k];
     }
@@ -70,8 +71,9 @@ int split_range(std::vector<Item>& items, int b, int e, const Aabb& box, int dep
       acc.expand(bins[k]);
       cnt += counts[k];
       if (cnt == 0 || right_count[k + 1] == 0) continue;
-      const Real c = kTraversalCost * box.surface_area() + kTriangleCost * (cnt * acc.surface_area() +
-                                                                           right_count[k + 1] * right_area[k + 1]);
+      const Real c =
+          kTraversalCost * box.surface_area() +
+          kTriangleCost * (cnt * acc.surface_area() + right_count[k + 1] * right_area[k + 1]);
       if (c < best) {
         best = c;
         best_axis = axis;
@@ -94,7 +96,8 @@ int split_range(std::vector<Item>& items, int b, int e, const Aabb& box, int dep
   }
   const Real scale = Real(kBins) / ext[best_axis] * Real(0.999999);
   auto it = std::partition(items.begin() + b, items.begin() + e, [&](const Item& x) {
-    return std::min(kBins - 1, static_cast<int>((x.centroid[best_axis] - cb.lo[best_axis]) * scale)) <= best_bin;
+    return std::min(kBins - 1, static_cast<int>((x.centroid[best_axis] - cb.lo[best_axis]) *
+                                                scale)) <= best_bin;
   });
   return static_cast<int>(it - items.begin());
 }
@@ -107,7 +110,9 @@ HostBvh build_sah_host(const std::vector<Triangle>& input) {
   std::vector<Item> items(n);
   for (int i = 0; i < n; ++i) {
     Aabb b;
-    b.expand(input[i].a); b.expand(input[i].b); b.expand(input[i].c);
+    b.expand(input[i].a);
+    b.expand(input[i].b);
+    b.expand(input[i].c);
     items[i] = {b, (input[i].a + input[i].b + input[i].c) * (Real(1) / Real(3)), i};
   }
   Aabb dummy;

@@ -43,8 +43,9 @@ QualityReport measure_quality(const std::vector<BvhNode>& nodes, const Aabb& bou
 
 std::string QualityReport::to_string() const {
   std::ostringstream os;
-  os << "SAH cost " << sah_cost << ", depth " << max_depth << ", " << inner_nodes << " inner nodes, "
-     << leaves << " leaves (mean " << mean_leaf_size << ", max " << max_leaf_size << ")";
+  os << "SAH cost " << sah_cost << ", depth " << max_depth << ", " << inner_nodes
+     << " inner nodes, " << leaves << " leaves (mean " << mean_leaf_size << ", max "
+     << max_leaf_size << ")";
   return os.str();
 }
 

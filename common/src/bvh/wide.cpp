@@ -12,8 +12,12 @@ struct Slot {
 };
 
 void set_lane(WideNode& n, int k, const Aabb& b, std::uint32_t ref) {
-  n.lo_x[k] = b.lo.x; n.lo_y[k] = b.lo.y; n.lo_z[k] = b.lo.z;
-  n.hi_x[k] = b.hi.x; n.hi_y[k] = b.hi.y; n.hi_z[k] = b.hi.z;
+  n.lo_x[k] = b.lo.x;
+  n.lo_y[k] = b.lo.y;
+  n.lo_z[k] = b.lo.z;
+  n.hi_x[k] = b.hi.x;
+  n.hi_y[k] = b.hi.y;
+  n.hi_z[k] = b.hi.z;
   n.child[k] = ref;
 }
 
@@ -39,7 +43,10 @@ std::vector<WideNode> collapse_to_wide(const std::vector<BvhNode>& binary) {
       for (int k = 0; k < n; ++k) {
         if (is_leaf(slots[k].ref)) continue;
         const Real a = slots[k].box.surface_area();
-        if (a > best_area) { best_area = a; best = k; }
+        if (a > best_area) {
+          best_area = a;
+          best = k;
+        }
       }
       if (best < 0) break;
       const BvhNode& open = binary[slots[best].ref];

@@ -30,14 +30,7 @@ class ObjPrescan {
   explicit ObjPrescan(const std::string& path) : path_(path) {}
 
   void run(std::string_view text) {
-    detail::LineCursor cursor(text);
-    std::string_view line;
-    while (cursor.next(line)) {
-      line_ = cursor.line_number();
-      const std::size_t hash = line.find('#');
-      if (hash != std::string_view::npos) line = line.substr(0, hash);
-      const auto f = detail::split_fields(line);
-      if (f.empty()) continue;
+    for_each_statement(text, [&](const std::vector<std::string_view>& f) {
       if (f[0] == "v") {
         if (f.size() != 4 && f.size() != 5 && f.size() != 7)
           fail("vertex needs 3 coordinates (optionally w, or r g b), got " +
@@ -72,7 +65,7 @@ class ObjPrescan {
         if (f.size() != 2) fail("usemtl needs exactly one material name");
         usemtl_.emplace_back(std::string(f[1]), line_);
       }
-    }
+    });
     // A missing library matters only when a face asks for a material from it
     // (the shared dragon.obj names a dragon.mtl that does not exist and uses none).
     if (missing_mtl_line_ > 0 && !usemtl_.empty()) {
@@ -87,6 +80,21 @@ class ObjPrescan {
   // A material library: the numbers of the statements rtmini reads (colours Ka Kd Ks Ke Tf,
   // scalars Ns Ni d Tr), so that a bad value is reported at its own file and line.
   void run_mtl(std::string_view text) {
+    for_each_statement(text, [&](const std::vector<std::string_view>& f) {
+      const bool colour =
+          f[0] == "Ka" || f[0] == "Kd" || f[0] == "Ks" || f[0] == "Ke" || f[0] == "Tf";
+      const bool scalar = f[0] == "Ns" || f[0] == "Ni" || f[0] == "d" || f[0] == "Tr";
+      if (!colour && !scalar) return;
+      if (colour && f.size() > 1 && (f[1] == "spectral" || f[1] == "xyz")) return;
+      if (f.size() < 2) fail(std::string(f[0]) + " needs a value");
+      check_numbers(f, (std::string("material statement ") + std::string(f[0])).c_str());
+    });
+  }
+
+ private:
+  // Calls fn with the fields of every non-empty line (comments removed), line_ set.
+  template <class Fn>
+  void for_each_statement(std::string_view text, Fn&& fn) {
     detail::LineCursor cursor(text);
     std::string_view line;
     while (cursor.next(line)) {
@@ -94,17 +102,10 @@ class ObjPrescan {
       const std::size_t hash = line.find('#');
       if (hash != std::string_view::npos) line = line.substr(0, hash);
       const auto f = detail::split_fields(line);
-      if (f.empty()) continue;
-      const bool colour = f[0] == "Ka" || f[0] == "Kd" || f[0] == "Ks" || f[0] == "Ke" || f[0] == "Tf";
-      const bool scalar = f[0] == "Ns" || f[0] == "Ni" || f[0] == "d" || f[0] == "Tr";
-      if (!colour && !scalar) continue;
-      if (colour && f.size() > 1 && (f[1] == "spectral" || f[1] == "xyz")) continue;
-      if (f.size() < 2) fail(std::string(f[0]) + " needs a value");
-      check_numbers(f, (std::string("material statement ") + std::string(f[0])).c_str());
+      if (!f.empty()) fn(f);
     }
   }
 
- private:
   [[noreturn]] void fail(const std::string& reason) const {
     throw InputError(path_, line_, reason);
   }

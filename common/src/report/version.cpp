@@ -33,7 +33,8 @@ std::string build_banner() {
   std::ostringstream os;
   os << "rtmini " << version_string() << " (git " << git_hash() << ") Kokkos "
      << KOKKOS_VERSION / 10000 << "." << KOKKOS_VERSION / 100 % 100 << "." << KOKKOS_VERSION % 100
-     << " " << compat::backend_name() << ", host SIMD " << host_simd() << ", precision " << (sizeof(Real) == 4 ? "float" : "double");
+     << " " << compat::backend_name() << ", host SIMD " << host_simd() << ", precision "
+     << (sizeof(Real) == 4 ? "float" : "double");
 #ifdef RTMINI_HAVE_MPI
   char lib[MPI_MAX_LIBRARY_VERSION_STRING];
   int len = 0;

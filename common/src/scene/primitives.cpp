@@ -21,19 +21,22 @@ void add_face(Mesh& m, std::initializer_list<int> v, int material, int object) {
   m.faces.push_back(f);
 }
 void ensure_object(Mesh& m, int object) {
-  while (static_cast<int>(m.objects.size()) <= object) m.objects.push_back("object" + std::to_string(m.objects.size()));
+  while (static_cast<int>(m.objects.size()) <= object)
+    m.objects.push_back("object" + std::to_string(m.objects.size()));
 }
 }  // namespace
 
-void append_icosphere(Mesh& mesh, const Vec3d& center, double radius, int level, int material, int object) {
+void append_icosphere(Mesh& mesh, const Vec3d& center, double radius, int level, int material,
+                      int object) {
   ensure_object(mesh, object);
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<Vec3d> p = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                          {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<Vec3d> p = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
+                          {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
+                          {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
   std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                                        {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
                                        {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                       {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7}, {9, 8, 1}};
+                                       {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
   for (auto& q : p) q = normalize(q);
   for (int l = 0; l < level; ++l) {
     std::map<std::pair<int, int>, int> mid;
@@ -49,7 +52,8 @@ void append_icosphere(Mesh& mesh, const Vec3d& center, double radius, int level,
     std::vector<std::array<int, 3>> next;
     next.reserve(f.size() * 4);
     for (const auto& tri : f) {
-      const int a = midpoint(tri[0], tri[1]), b = midpoint(tri[1], tri[2]), c = midpoint(tri[2], tri[0]);
+      const int a = midpoint(tri[0], tri[1]), b = midpoint(tri[1], tri[2]),
+                c = midpoint(tri[2], tri[0]);
       next.push_back({tri[0], a, c});
       next.push_back({tri[1], b, a});
       next.push_back({tri[2], c, b});
@@ -59,10 +63,12 @@ void append_icosphere(Mesh& mesh, const Vec3d& center, double radius, int level,
   }
   const int base = static_cast<int>(mesh.positions.size());
   for (const auto& q : p) add_vertex(mesh, center + q * radius);
-  for (const auto& tri : f) add_face(mesh, {base + tri[0], base + tri[1], base + tri[2]}, material, object);
+  for (const auto& tri : f)
+    add_face(mesh, {base + tri[0], base + tri[1], base + tri[2]}, material, object);
 }
 
-void append_quad(Mesh& mesh, const Vec3d& corner, const Vec3d& u, const Vec3d& v, int material, int object) {
+void append_quad(Mesh& mesh, const Vec3d& corner, const Vec3d& u, const Vec3d& v, int material,
+                 int object) {
   append_grid(mesh, corner, u, v, 1, 1, material, object);
 }
 
@@ -80,13 +86,15 @@ void append_grid(Mesh& mesh, const Vec3d& corner, const Vec3d& u, const Vec3d& v
     }
 }
 
-void append_box(Mesh& mesh, const Vec3d& lo, const Vec3d& hi, int material, int object, bool inward) {
+void append_box(Mesh& mesh, const Vec3d& lo, const Vec3d& hi, int material, int object,
+                bool inward) {
   ensure_object(mesh, object);
   const int base = static_cast<int>(mesh.positions.size());
   for (int i = 0; i < 8; ++i)
     add_vertex(mesh, {(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z});
   // Outward-wound quads of the unit cube's corners (bit 0 = x, bit 1 = y, bit 2 = z).
-  const int q[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  const int q[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                       {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   for (const auto& f : q) {
     if (inward)
       add_face(mesh, {base + f[0], base + f[3], base + f[2], base + f[1]}, material, object);

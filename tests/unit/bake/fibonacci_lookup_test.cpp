@@ -1,9 +1,10 @@
 // Both viewpoint lookups (heap KD-tree, inverse spherical Fibonacci) against exhaustive search.
+#include "rtmini/sampling/fibonacci_lookup.hpp"
+
 #include <gtest/gtest.h>
 
 #include <utility>
 
-#include "rtmini/sampling/fibonacci_lookup.hpp"
 #include "rtmini/sampling/rng.hpp"
 #include "rtmini/sampling/sampling.hpp"
 

@@ -33,8 +33,8 @@ Kokkos::View<Triangle*, TestMemSpace> upload_triangles(const Mesh& mesh) {
 
 // Random rays: origins in a box 1.5x the scene, directions uniform; half of
 // them aimed at a random triangle's vertex or edge point (the hard cases).
-Kokkos::View<Ray*, TestMemSpace> random_rays(Kokkos::View<const Triangle*, TestMemSpace> tris, const Aabb& box,
-                                             int n, std::uint64_t seed) {
+Kokkos::View<Ray*, TestMemSpace> random_rays(Kokkos::View<const Triangle*, TestMemSpace> tris,
+                                             const Aabb& box, int n, std::uint64_t seed) {
   Kokkos::View<Ray*, TestMemSpace> rays("rays", n);
   const int nt = static_cast<int>(tris.extent(0));
   const Vec3 c = box.center(), e = box.extent() * Real(0.75);
@@ -51,7 +51,8 @@ Kokkos::View<Ray*, TestMemSpace> random_rays(Kokkos::View<const Triangle*, TestM
           const Triangle t = tris(int(b.v[0] % std::uint32_t(nt)));
           const int kind = int(b.v[1] % 3u);
           const Real s = Rng::to_unit(b.v[2]);
-          const Vec3 target = kind == 0 ? t.a : (kind == 1 ? t.a + (t.b - t.a) * s : t.b + (t.c - t.b) * s);
+          const Vec3 target =
+              kind == 0 ? t.a : (kind == 1 ? t.a + (t.b - t.a) * s : t.b + (t.c - t.b) * s);
           r.dir = normalize(target - r.org);
         }
         r.tmin = 0;
@@ -91,9 +92,9 @@ void expect_same(const Answers& x, const Answers& ref, const std::string& what) 
     const bool same = ha(i).prim == hb(i).prim && (ha(i).prim < 0 || ha(i).t == hb(i).t) &&
                       oa(i) == ob(i) && ob(i) == int(hb(i).valid());
     if (!same && ++mismatches <= 5)
-      ADD_FAILURE() << what << " ray " << i << ": bvh (" << ha(i).prim << ", t=" << ha(i).t << ", any "
-                    << oa(i) << ") vs reference (" << hb(i).prim << ", t=" << hb(i).t << ", any " << ob(i)
-                    << ")";
+      ADD_FAILURE() << what << " ray " << i << ": bvh (" << ha(i).prim << ", t=" << ha(i).t
+                    << ", any " << oa(i) << ") vs reference (" << hb(i).prim << ", t=" << hb(i).t
+                    << ", any " << ob(i) << ")";
   }
   EXPECT_EQ(mismatches, 0) << what;
   EXPECT_GT(hits, n / 20) << what << ": too few rays hit anything for the test to mean much";
@@ -105,7 +106,9 @@ void expect_same_hits(const Accel& accel, const Ref& ref, Kokkos::View<Ray*, Tes
   expect_same(trace_all(accel, rays), trace_all(ref, rays), what);
 }
 
-Mesh load_scene(const std::string& name) { return read_mesh(std::string(scenes_dir()) + "/" + name); }
+Mesh load_scene(const std::string& name) {
+  return read_mesh(std::string(scenes_dir()) + "/" + name);
+}
 
 // Rays straight up through the unit square (a free function: CUDA lambdas may
 // not live inside a test body).
@@ -138,7 +141,8 @@ TEST_P(BvhVsBruteForce, EveryHitEqual) {
 }
 
 INSTANTIATE_TEST_SUITE_P(SmallMeshes, BvhVsBruteForce,
-                         ::testing::Values("teapot.obj", "spot.obj", "cow.obj", "CornellBox-Original.obj"));
+                         ::testing::Values("teapot.obj", "spot.obj", "cow.obj",
+                                           "CornellBox-Original.obj"));
 
 // On the large meshes brute force is too slow for a million rays: the two
 // builders must agree with each other on 1M rays, and with brute force on 5K.
@@ -147,14 +151,19 @@ class BvhLargeMesh : public ::testing::TestWithParam<std::string> {};
 TEST_P(BvhLargeMesh, BuildersAgreeAndMatchBruteForce) {
   const Mesh mesh = load_scene(GetParam());
   auto tris = upload_triangles(mesh);
-  const auto lbvh = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, bvh::BuildQuality::kLbvh);
-  const auto sah = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, bvh::BuildQuality::kSah);
-  expect_same_hits(lbvh, sah, random_rays(tris, lbvh.bounds, 1000000, 11), GetParam() + " lbvh vs sah");
+  const auto lbvh =
+      bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, bvh::BuildQuality::kLbvh);
+  const auto sah =
+      bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, bvh::BuildQuality::kSah);
+  expect_same_hits(lbvh, sah, random_rays(tris, lbvh.bounds, 1000000, 11),
+                   GetParam() + " lbvh vs sah");
   const bvh::BruteForce<TestMemSpace> ref{tris};
-  expect_same_hits(sah, ref, random_rays(tris, sah.bounds, 5000, 13), GetParam() + " sah vs brute force");
+  expect_same_hits(sah, ref, random_rays(tris, sah.bounds, 5000, 13),
+                   GetParam() + " sah vs brute force");
 }
 
-INSTANTIATE_TEST_SUITE_P(LargeMeshes, BvhLargeMesh, ::testing::Values("stanford-bunny.obj", "dragon.obj"));
+INSTANTIATE_TEST_SUITE_P(LargeMeshes, BvhLargeMesh,
+                         ::testing::Values("stanford-bunny.obj", "dragon.obj"));
 
 TEST(Bvh, TinyAndDegenerateInputs) {
   // 0, 1, 2 and 9 triangles; zero-area and duplicate triangles; all centroids equal.
@@ -179,7 +188,8 @@ TEST(Bvh, TinyAndDegenerateInputs) {
       const auto accel = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, q);
       if (count == 0) continue;
       auto rays = axis_rays(2000);
-      expect_same_hits(accel, ref, rays, "degenerate n=" + std::to_string(count) + " " + bvh::to_string(q));
+      expect_same_hits(accel, ref, rays,
+                       "degenerate n=" + std::to_string(count) + " " + bvh::to_string(q));
     }
   }
 }
@@ -192,12 +202,15 @@ TEST(Bvh, QualityReportIsConsistent) {
     const auto r = bvh::measure_quality(accel);
     int prims = 0;
     for (int s = 1; s <= bvh::kMaxLeafSize; ++s) prims += s * r.leaf_size_histogram[s];
-    EXPECT_EQ(prims, int(tris.extent(0))) << bvh::to_string(q) << ": every triangle in exactly one leaf";
+    EXPECT_EQ(prims, int(tris.extent(0)))
+        << bvh::to_string(q) << ": every triangle in exactly one leaf";
     EXPECT_LE(r.max_depth, bvh::kStackSize);
     EXPECT_GT(r.sah_cost, 1.0);
   }
-  const auto lb = bvh::measure_quality(bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, bvh::BuildQuality::kLbvh));
-  const auto sa = bvh::measure_quality(bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, bvh::BuildQuality::kSah));
+  const auto lb = bvh::measure_quality(
+      bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, bvh::BuildQuality::kLbvh));
+  const auto sa = bvh::measure_quality(
+      bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, bvh::BuildQuality::kSah));
   EXPECT_LT(sa.sah_cost, lb.sah_cost) << "the SAH build must have the lower SAH cost";
 }
 

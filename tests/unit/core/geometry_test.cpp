@@ -19,7 +19,8 @@ bool hit(const Vec3& o, const Vec3& d, const Triangle& t, Real& tt) {
 TEST(Triangle, HitsBothWindingsAndReportsBarycentrics) {
   const Triangle t{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   Real tt, u, v;
-  ASSERT_TRUE(intersect_triangle(WatertightRay({Real(0.25), Real(0.5), 2}, {0, 0, -1}), t.a, t.b, t.c, 0, 10, tt, u, v));
+  ASSERT_TRUE(intersect_triangle(WatertightRay({Real(0.25), Real(0.5), 2}, {0, 0, -1}), t.a, t.b,
+                                 t.c, 0, 10, tt, u, v));
   EXPECT_FLOAT_EQ(tt, 2);
   EXPECT_FLOAT_EQ(u, Real(0.25));
   EXPECT_FLOAT_EQ(v, Real(0.5));

@@ -1,5 +1,7 @@
 // The counter-based generator: uniform, independent across keys, and the same
 // numbers whatever the thread count or execution order.
+#include "rtmini/sampling/rng.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,7 +9,6 @@
 
 #include "rtmini/report/hash.hpp"
 #include "rtmini/sampling/fibonacci.hpp"
-#include "rtmini/sampling/rng.hpp"
 #include "rtmini/sampling/sampling.hpp"
 #include "test_space.hpp"
 
@@ -58,7 +59,12 @@ TEST(Rng, UniformAndUncorrelated) {
     ASSERT_GE(x, 0.f);
     ASSERT_LT(x, 1.f);
     ++count[int(x * bins)];
-    sx += x; sy += y; sxx += x * x; syy += y * y; sxy += x * y; sdd += (x - 0.5) * (z - 0.5);
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    syy += y * y;
+    sxy += x * y;
+    sdd += (x - 0.5) * (z - 0.5);
   }
   double chi2 = 0;
   for (int c : count) chi2 += (c - n / double(bins)) * (c - n / double(bins)) / (n / double(bins));

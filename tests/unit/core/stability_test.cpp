@@ -63,7 +63,8 @@ class Stability : public ::testing::TestWithParam<Placement> {};
 
 TEST_P(Stability, NoAcneOnAnOpenPlane) {
   const Placement p = GetParam();
-  EXPECT_LT(acne_fraction(p.scale, p.offset, false, 400000), 1e-5) << "scale " << p.scale << " offset " << p.offset;
+  EXPECT_LT(acne_fraction(p.scale, p.offset, false, 400000), 1e-5)
+      << "scale " << p.scale << " offset " << p.offset;
   EXPECT_LT(acne_fraction(p.scale, p.offset, true, 400000), 1e-5)
       << "grazing, scale " << p.scale << " offset " << p.offset;
 }

@@ -35,7 +35,8 @@ long long count_escapes(const Mesh& mesh, const Vec3& inside, long long n, bvh::
           const Triangle t = tris(int(r.v[0] % std::uint32_t(nt)));
           const Real s = Rng::to_unit(r.v[1]);
           // Aim at a vertex, at a point on an edge, or at an edge's midpoint.
-          const Vec3 target = kind == 1 ? t.a : (kind == 2 ? t.a + (t.b - t.a) * s : (t.b + t.c) * Real(0.5));
+          const Vec3 target =
+              kind == 1 ? t.a : (kind == 2 ? t.a + (t.b - t.a) * s : (t.b + t.c) * Real(0.5));
           ray.dir = normalize(target - inside);
         }
         if (!bvh::closest_hit(accel, ray).valid()) ++esc;
@@ -52,8 +53,8 @@ struct Case {
 
 TEST(Watertight, IcosphereAtManyScales) {
   // 10.4M rays in all: 13 placements x 800K rays, both builders.
-  const Case cases[] = {{"unit", 1, 0},       {"tiny", 1e-4, 0},     {"huge", 1e4, 0},
-                        {"far", 1, 1e3},      {"far-huge", 1e3, 1e4}, {"off-center", 0.37, 11.3}};
+  const Case cases[] = {{"unit", 1, 0},  {"tiny", 1e-4, 0},      {"huge", 1e4, 0},
+                        {"far", 1, 1e3}, {"far-huge", 1e3, 1e4}, {"off-center", 0.37, 11.3}};
   long long total = 0, escaped = 0;
   for (const Case& c : cases) {
     for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah}) {

@@ -15,7 +15,7 @@ namespace {
 struct BadInput {
   const char* file;
   long line;
-  const char* reason;  // a substring the message must contain after the prefix
+  const char* reason;              // a substring the message must contain after the prefix
   const char* reported = nullptr;  // the file the message names, when not `file` (an MTL)
 };
 

@@ -36,9 +36,10 @@ TEST(SummaryJson, ParsesBackWithStableOrder) {
 
   std::vector<std::string> keys;
   for (const auto& item : j.items()) keys.push_back(item.key());
-  EXPECT_EQ(keys, (std::vector<std::string>{"app", "version", "git_hash", "backend", "ranks",
-                                            "threads", "scene", "parameters", "phases", "figure_of_merit",
-                                            "verification_hash", "peak_memory_bytes"}));
+  EXPECT_EQ(keys,
+            (std::vector<std::string>{"app", "version", "git_hash", "backend", "ranks", "threads",
+                                      "scene", "parameters", "phases", "figure_of_merit",
+                                      "verification_hash", "peak_memory_bytes"}));
   EXPECT_EQ(j["app"], "sketchtrace");
   EXPECT_EQ(j["ranks"], 4);
   EXPECT_EQ(j["scene"]["triangles"], 12);

@@ -45,7 +45,8 @@ TEST(SketchAnalytic, DiffusePlaneUnderSquareEmitterMatchesLambert) {
   double worst = 0;
   for (int y = 2; y < s.height; y += 5) {
     for (int x = 2; x < s.width; x += 5) {
-      const Ray r = cam.generate(Real(x + 0.5), Real(y + 0.5), Real(0.5), Real(0.5), Real(0), false, false);
+      const Ray r =
+          cam.generate(Real(x + 0.5), Real(y + 0.5), Real(0.5), Real(0.5), Real(0), false, false);
       const double t = -double(r.org.y) / double(r.dir.y);
       const Vec3d p = Vec3d(r.org) + Vec3d(r.dir) * t;
       const Vec3d at_light = Vec3d(r.org) + Vec3d(r.dir) * ((1.0 - r.org.y) / r.dir.y);

@@ -49,8 +49,8 @@ TEST(SketchEdges, SilhouetteIsDrawnOnceWithWidthAboutH) {
       }
     }
     const double per_crossing = integral / 2.0;
-    std::printf("h=%.0f: %d marked pixels on the row (2 crossings), integral per crossing %.3f\n", h, marked,
-                per_crossing);
+    std::printf("h=%.0f: %d marked pixels on the row (2 crossings), integral per crossing %.3f\n",
+                h, marked, per_crossing);
     // One-sided marking: a ring point at distance d < h from the boundary crosses it with
     // 3/8 (d < h/sqrt2) or 1/8 of the 8 rays: integral ~ 0.3 h; doubling would give ~0.6 h.
     EXPECT_NEAR(per_crossing, 0.30 * h, 0.08 * h);
@@ -67,7 +67,8 @@ TEST(SketchEdges, NoEdgesInsideASmoothSurface) {
   const auto px = render_all(scene, s);
   const int c = s.width / 2;
   for (int y = c - 10; y <= c + 10; ++y)
-    for (int x = c - 10; x <= c + 10; ++x) EXPECT_EQ(px[static_cast<std::size_t>(y) * s.width + x].edge, 0.f);
+    for (int x = c - 10; x <= c + 10; ++x)
+      EXPECT_EQ(px[static_cast<std::size_t>(y) * s.width + x].edge, 0.f);
 }
 
 TEST(SketchChunks, ResultDoesNotDependOnChunking) {

@@ -30,13 +30,14 @@ std::string error_of(const std::string& text) {
 }
 
 TEST(SketchSettings, ReadsEveryKey) {
-  const std::string path = write_temp("sketch_ok.toml",
-                                      "ambient = [0.1, 0.2, 0.3]\n[settings]\nwidth = 33\nheight = 22\nspp = 5\n"
-                                      "soft_shadows = false\nshadow_samples = 9\nbounces = 4\nglossy_samples = 3\n"
-                                      "indirect = true\nedge_thickness = 2.5\ncrease_angle = 45\n"
-                                      "depth_threshold = 0.2\nstencil_samples = 8\nsphere_subdivisions = 2\n"
-                                      "smooth = false\nbackground = [0.5, 0.5, 1]\nseed = 42\nbvh = \"lbvh\"\n"
-                                      "aov = [\"depth\", \"edge\"]\nstyle = \"color-pencil\"\nchunk_pixels = 7\n");
+  const std::string path =
+      write_temp("sketch_ok.toml",
+                 "ambient = [0.1, 0.2, 0.3]\n[settings]\nwidth = 33\nheight = 22\nspp = 5\n"
+                 "soft_shadows = false\nshadow_samples = 9\nbounces = 4\nglossy_samples = 3\n"
+                 "indirect = true\nedge_thickness = 2.5\ncrease_angle = 45\n"
+                 "depth_threshold = 0.2\nstencil_samples = 8\nsphere_subdivisions = 2\n"
+                 "smooth = false\nbackground = [0.5, 0.5, 1]\nseed = 42\nbvh = \"lbvh\"\n"
+                 "aov = [\"depth\", \"edge\"]\nstyle = \"color-pencil\"\nchunk_pixels = 7\n");
   RenderSettings s;
   apply_scene_settings(read_scene_file(path), s);
   EXPECT_EQ(s.width, 33);
@@ -63,13 +64,17 @@ TEST(SketchSettings, ReadsEveryKey) {
 }
 
 TEST(SketchSettings, BadValuesNameFileAndLine) {
-  EXPECT_NE(error_of("[settings]\nwidth = 10\nfoo = 1\n").find("sketch_settings.toml:3: unknown key 'foo'"),
+  EXPECT_NE(error_of("[settings]\nwidth = 10\nfoo = 1\n")
+                .find("sketch_settings.toml:3: unknown key 'foo'"),
             std::string::npos);
-  EXPECT_NE(error_of("[settings]\nwidth = 0\n").find(":2: 'width' in [settings] must be >= 1"), std::string::npos);
-  EXPECT_NE(error_of("[settings]\n\nshadow_samples = -4\n").find(":3: 'shadow_samples'"), std::string::npos);
+  EXPECT_NE(error_of("[settings]\nwidth = 0\n").find(":2: 'width' in [settings] must be >= 1"),
+            std::string::npos);
+  EXPECT_NE(error_of("[settings]\n\nshadow_samples = -4\n").find(":3: 'shadow_samples'"),
+            std::string::npos);
   EXPECT_NE(error_of("[settings]\nspp = 2.5\n").find(":2: 'spp' in [settings] must be an integer"),
             std::string::npos);
-  EXPECT_NE(error_of("[settings]\naov = [\"depth\", \"colour\"]\n").find(":2: 'aov'"), std::string::npos);
+  EXPECT_NE(error_of("[settings]\naov = [\"depth\", \"colour\"]\n").find(":2: 'aov'"),
+            std::string::npos);
   EXPECT_NE(error_of("[settings]\nstyle = \"oil\"\n").find(":2: 'style'"), std::string::npos);
 }
 

@@ -21,7 +21,8 @@ inline void add_floor(HostScene& scene, double half, float kd) {
   m.diffuse = Vec3f(kd);
   const int mat = add_scene_material(scene, m);
   const int obj = add_mesh_object(scene, "floor");
-  append_quad(scene.mesh, Vec3d(-half, 0, half), Vec3d(2 * half, 0, 0), Vec3d(0, 0, -2 * half), mat, obj);
+  append_quad(scene.mesh, Vec3d(-half, 0, half), Vec3d(2 * half, 0, 0), Vec3d(0, 0, -2 * half), mat,
+              obj);
 }
 
 inline double luminance(const PixelResult& p) { return (double(p.r) + p.g + p.b) / 3.0; }

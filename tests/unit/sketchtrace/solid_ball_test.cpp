@@ -41,7 +41,8 @@ BallCounts check_sphere(int level, int segments) {
           const Real rho = math::sqrt(math::fmax(Real(0), 1 - z * z));
           // Endpoints from inside the sphere (0.5 R) to 3 R away from its centre: segments
           // that start or end inside must not be called blocked by the ball.
-          end[k] = c + Vec3(rho * math::cos(phi), rho * math::sin(phi), z) * (R * (Real(0.5) + Real(2.5) * s));
+          end[k] = c + Vec3(rho * math::cos(phi), rho * math::sin(phi), z) *
+                           (R * (Real(0.5) + Real(2.5) * s));
         }
         Ray r;
         r.org = end[0];

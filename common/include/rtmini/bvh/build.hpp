@@ -23,20 +23,26 @@ void add_wide_nodes(Bvh<MemorySpace>& bvh) {
   }
 }
 
+// Runs fn(i) for every index of `view` on `space`, then fences.
+template <class ExecSpace, class ViewT, class Fn>
+void for_each_index(const ExecSpace& space, const char* label, const ViewT& view, const Fn& fn) {
+  Kokkos::parallel_for(label,
+                       Kokkos::RangePolicy<ExecSpace>(space, std::int64_t(0),
+                                                      static_cast<std::int64_t>(view.extent(0))),
+                       fn);
+  space.fence();
+}
+
 // Zero-area triangles become the point (a, a, a): the watertight test gives U = V = W = 0
 // there, so no ray hits them, whatever rounding the shear adds (issue 7, stability).
 template <class ExecSpace, class MemorySpace>
 void collapse_zero_area(const ExecSpace& space, Bvh<MemorySpace>& bvh) {
   auto tris = bvh.tris;
-  Kokkos::parallel_for(
-      "rtmini::bvh::build::collapse_zero_area",
-      Kokkos::RangePolicy<ExecSpace>(space, std::int64_t(0),
-                                     static_cast<std::int64_t>(tris.extent(0))),
-      KOKKOS_LAMBDA(const std::int64_t i) {
+  for_each_index(
+      space, "rtmini::bvh::build::collapse_zero_area", tris, KOKKOS_LAMBDA(const std::int64_t i) {
         const Triangle t = tris(i);
         if (is_zero_area(t.a, t.b, t.c)) tris(i) = Triangle{t.a, t.a, t.a};
       });
-  space.fence();
 }
 
 // Every child box grows outward by about four float ulps (relative 4.8e-7, plus 1e-30 at zero).
@@ -44,17 +50,18 @@ void collapse_zero_area(const ExecSpace& space, Bvh<MemorySpace>& bvh) {
 // would otherwise get (face - origin) * (1 / 0) = 0 * huge = 0 as that slab's far distance and
 // miss a box whose triangles it hits on that face (issue 7); inside a padded box its origin is
 // strictly within the slab. The padding is conservative: the triangle test decides every hit.
-KOKKOS_INLINE_FUNCTION Real pad_below(Real x) { return x - (math::fabs(x) * Real(4.8e-7) + Real(1e-30)); }
-KOKKOS_INLINE_FUNCTION Real pad_above(Real x) { return x + (math::fabs(x) * Real(4.8e-7) + Real(1e-30)); }
+KOKKOS_INLINE_FUNCTION Real pad_below(Real x) {
+  return x - (math::fabs(x) * Real(4.8e-7) + Real(1e-30));
+}
+KOKKOS_INLINE_FUNCTION Real pad_above(Real x) {
+  return x + (math::fabs(x) * Real(4.8e-7) + Real(1e-30));
+}
 
 template <class ExecSpace, class MemorySpace>
 void pad_node_boxes(const ExecSpace& space, Bvh<MemorySpace>& bvh) {
   auto nodes = bvh.nodes;
-  Kokkos::parallel_for(
-      "rtmini::bvh::build::pad_boxes",
-      Kokkos::RangePolicy<ExecSpace>(space, std::int64_t(0),
-                                     static_cast<std::int64_t>(nodes.extent(0))),
-      KOKKOS_LAMBDA(const std::int64_t i) {
+  for_each_index(
+      space, "rtmini::bvh::build::pad_boxes", nodes, KOKKOS_LAMBDA(const std::int64_t i) {
         BvhNode& n = nodes(i);
         for (int k = 0; k < 2; ++k) {
           if (n.child[k] == kEmptyLeaf) continue;  // its empty box stays empty
@@ -66,7 +73,6 @@ void pad_node_boxes(const ExecSpace& space, Bvh<MemorySpace>& bvh) {
           n.hi_z[k] = pad_above(n.hi_z[k]);
         }
       });
-  space.fence();
 }
 
 template <class ExecSpace, class MemorySpace = typename ExecSpace::memory_space>

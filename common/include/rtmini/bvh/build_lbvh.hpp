@@ -29,15 +29,18 @@ KOKKOS_INLINE_FUNCTION std::uint64_t morton_key(const Vec3& unit, std::uint32_t 
     const Real c = x < Real(0) ? Real(0) : (x > Real(1) ? Real(1) : x);
     return static_cast<std::uint64_t>(c * Real(1023));
   };
-  const std::uint64_t m = spread_bits_21(q(unit.x)) << 2 | spread_bits_21(q(unit.y)) << 1 |
-                          spread_bits_21(q(unit.z));
+  const std::uint64_t m =
+      spread_bits_21(q(unit.x)) << 2 | spread_bits_21(q(unit.y)) << 1 | spread_bits_21(q(unit.z));
   return m << 32 | index;
 }
 
 KOKKOS_INLINE_FUNCTION int clz64(std::uint64_t x) {
   int n = 0;
   if (x == 0) return 64;
-  while (!(x & 0x8000000000000000ULL)) { x <<= 1; ++n; }
+  while (!(x & 0x8000000000000000ULL)) {
+    x <<= 1;
+    ++n;
+  }
   return n;
 }
 
@@ -50,7 +53,8 @@ KOKKOS_INLINE_FUNCTION int delta(const KeyView& keys, int n, int i, int j) {
 }  // namespace detail
 
 template <class ExecSpace, class MemorySpace = typename ExecSpace::memory_space>
-Bvh<MemorySpace> build_lbvh(const ExecSpace& space, Kokkos::View<const Triangle*, MemorySpace> input) {
+Bvh<MemorySpace> build_lbvh(const ExecSpace& space,
+                            Kokkos::View<const Triangle*, MemorySpace> input) {
   Kokkos::Profiling::pushRegion("rtmini::bvh::build_lbvh");
   using Policy = Kokkos::RangePolicy<ExecSpace>;
   const int n = static_cast<int>(input.extent(0));
@@ -107,7 +111,8 @@ Bvh<MemorySpace> build_lbvh(const ExecSpace& space, Kokkos::View<const Triangle*
   bvh.bounds.hi = Vec3(smax[0], smax[1], smax[2]);
   const Vec3 lo(cmin[0], cmin[1], cmin[2]);
   const Vec3 ext(cmax[0] - cmin[0], cmax[1] - cmin[1], cmax[2] - cmin[2]);
-  const Vec3 inv_ext(ext.x > 0 ? 1 / ext.x : 0, ext.y > 0 ? 1 / ext.y : 0, ext.z > 0 ? 1 / ext.z : 0);
+  const Vec3 inv_ext(ext.x > 0 ? 1 / ext.x : 0, ext.y > 0 ? 1 / ext.y : 0,
+                     ext.z > 0 ? 1 / ext.z : 0);
 
   // 2. Morton keys, sorted.
   Kokkos::View<std::uint64_t*, MemorySpace> keys(
@@ -134,7 +139,9 @@ Bvh<MemorySpace> build_lbvh(const ExecSpace& space, Kokkos::View<const Triangle*
     Kokkos::parallel_for(
         "rtmini::bvh::build::single", Policy(space, 0, 1), KOKKOS_LAMBDA(int) {
           Aabb box;
-          box.expand(tris(0).a); box.expand(tris(0).b); box.expand(tris(0).c);
+          box.expand(tris(0).a);
+          box.expand(tris(0).b);
+          box.expand(tris(0).c);
           nodes(0).set_child(0, box, make_leaf(0, 1));
           nodes(0).set_child(1, Aabb(), kEmptyLeaf);
         });
@@ -191,7 +198,9 @@ Bvh<MemorySpace> build_lbvh(const ExecSpace& space, Kokkos::View<const Triangle*
       "rtmini::bvh::build::refit", Policy(space, 0, n), KOKKOS_LAMBDA(int k) {
         constexpr Real kTraversalCost = 1, kTriangleCost = 1;
         Aabb b;
-        b.expand(tris(k).a); b.expand(tris(k).b); b.expand(tris(k).c);
+        b.expand(tris(k).a);
+        b.expand(tris(k).b);
+        b.expand(tris(k).c);
         box(ni + k) = b;
         cost(ni + k) = kTriangleCost * b.surface_area();
         int node = parent(ni + k);

@@ -23,7 +23,9 @@ KOKKOS_INLINE_FUNCTION constexpr std::uint32_t make_leaf(std::uint32_t first, st
   return kLeafBit | (first << 3) | (count - 1u);
 }
 KOKKOS_INLINE_FUNCTION constexpr bool is_leaf(std::uint32_t c) { return (c & kLeafBit) != 0u; }
-KOKKOS_INLINE_FUNCTION constexpr std::uint32_t leaf_first(std::uint32_t c) { return (c & ~kLeafBit) >> 3; }
+KOKKOS_INLINE_FUNCTION constexpr std::uint32_t leaf_first(std::uint32_t c) {
+  return (c & ~kLeafBit) >> 3;
+}
 KOKKOS_INLINE_FUNCTION constexpr std::uint32_t leaf_count(std::uint32_t c) { return (c & 7u) + 1u; }
 
 struct alignas(16) BvhNode {
@@ -32,8 +34,12 @@ struct alignas(16) BvhNode {
   std::uint32_t child[2];
 
   KOKKOS_INLINE_FUNCTION void set_child(int k, const Aabb& box, std::uint32_t ref) {
-    lo_x[k] = box.lo.x; lo_y[k] = box.lo.y; lo_z[k] = box.lo.z;
-    hi_x[k] = box.hi.x; hi_y[k] = box.hi.y; hi_z[k] = box.hi.z;
+    lo_x[k] = box.lo.x;
+    lo_y[k] = box.lo.y;
+    lo_z[k] = box.lo.z;
+    hi_x[k] = box.hi.x;
+    hi_y[k] = box.hi.y;
+    hi_z[k] = box.hi.z;
     child[k] = ref;
   }
   KOKKOS_INLINE_FUNCTION Aabb box(int k) const {
@@ -44,12 +50,12 @@ struct alignas(16) BvhNode {
   }
 };
 
-
 // Device-resident BVH. tris and prim are in leaf order; prim maps a leaf slot
 // back to the caller's triangle index, which is what queries report.
 // 8-wide node for CPU traversal (see wide.hpp): the eight children's boxes as
-// structure-of-arrays lanes so one visit tests eight boxes with SIMD (AVX: one 256-bit op per plane;
-// 8 was 10 % faster than 4 on the dragon AO workload, 10.4 instead of 15.8 node visits per ray).
+// structure-of-arrays lanes so one visit tests eight boxes with SIMD (AVX: one 256-bit op per
+// plane; 8 was 10 % faster than 4 on the dragon AO workload, 10.4 instead of 15.8 node visits per
+// ray).
 inline constexpr int kWidth = 8;
 struct alignas(64) WideNode {
   Real lo_x[kWidth], lo_y[kWidth], lo_z[kWidth];

@@ -3,8 +3,8 @@
 // measurable: normalised SAH cost, depth, leaf-size statistics.
 #include <string>
 
-#include "rtmini/bvh/bvh.hpp"
 #include "rtmini/bvh/build_sah.hpp"
+#include "rtmini/bvh/bvh.hpp"
 
 namespace rtmini::bvh {
 

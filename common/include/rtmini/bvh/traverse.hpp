@@ -21,7 +21,8 @@ struct TraversalStats {
 namespace detail {
 
 template <class BvhT, bool kAnyHit, bool kStats>
-KOKKOS_INLINE_FUNCTION bool traverse(const BvhT& bvh, const Ray& ray, Hit& hit, TraversalStats* stats) {
+KOKKOS_INLINE_FUNCTION bool traverse(const BvhT& bvh, const Ray& ray, Hit& hit,
+                                     TraversalStats* stats) {
   if (bvh.num_prims == 0) return false;
   const WatertightRay wr(ray.org, ray.dir);
   const RaySlab rs(ray.org, ray.dir);
@@ -52,12 +53,18 @@ KOKKOS_INLINE_FUNCTION bool traverse(const BvhT& bvh, const Ray& ray, Hit& hit, 
         if (!intersect_triangle(wr, tri.a, tri.b, tri.c, ray.tmin, tmax, t, u, v)) continue;
         const int id = bvh.prim(i);
         if (kAnyHit) {
-          hit.t = t; hit.u = u; hit.v = v; hit.prim = id;
+          hit.t = t;
+          hit.u = u;
+          hit.v = v;
+          hit.prim = id;
           return true;
         }
         if (t < tmax || id < hit.prim || !found) {
           tmax = t;
-          hit.t = t; hit.u = u; hit.v = v; hit.prim = id;
+          hit.t = t;
+          hit.u = u;
+          hit.v = v;
+          hit.prim = id;
           found = true;
         }
       }
@@ -82,9 +89,9 @@ KOKKOS_INLINE_FUNCTION bool traverse(const BvhT& bvh, const Ray& ray, Hit& hit, 
 
 // Leaf triangles [first, first + count): updates hit/tmax; true when any-hit may stop.
 template <class BvhT, bool kAnyHit, bool kStats>
-KOKKOS_FORCEINLINE_FUNCTION bool intersect_leaf(const BvhT& bvh, std::uint32_t ref, const WatertightRay& wr,
-                                           const Ray& ray, Real& tmax, Hit& hit, bool& found,
-                                           TraversalStats* stats) {
+KOKKOS_FORCEINLINE_FUNCTION bool intersect_leaf(const BvhT& bvh, std::uint32_t ref,
+                                                const WatertightRay& wr, const Ray& ray, Real& tmax,
+                                                Hit& hit, bool& found, TraversalStats* stats) {
   const std::uint32_t first = leaf_first(ref), end = first + leaf_count(ref);
   for (std::uint32_t i = first; i < end; ++i) {
     const Triangle& tri = bvh.tris(i);
@@ -93,13 +100,19 @@ KOKKOS_FORCEINLINE_FUNCTION bool intersect_leaf(const BvhT& bvh, std::uint32_t r
     if (!intersect_triangle(wr, tri.a, tri.b, tri.c, ray.tmin, tmax, t, u, v)) continue;
     const int id = bvh.prim(i);
     if (kAnyHit) {
-      hit.t = t; hit.u = u; hit.v = v; hit.prim = id;
+      hit.t = t;
+      hit.u = u;
+      hit.v = v;
+      hit.prim = id;
       found = true;
       return true;
     }
     if (t < tmax || id < hit.prim || !found) {
       tmax = t;
-      hit.t = t; hit.u = u; hit.v = v; hit.prim = id;
+      hit.t = t;
+      hit.u = u;
+      hit.v = v;
+      hit.prim = id;
       found = true;
     }
   }
@@ -112,8 +125,10 @@ typedef Real RealLanes __attribute__((vector_size(kWidth * sizeof(Real))));
 typedef std::conditional_t<sizeof(Real) == 4, std::int32_t, std::int64_t> LaneInt;
 typedef LaneInt IntLanes __attribute__((vector_size(kWidth * sizeof(Real))));
 
-__attribute__((always_inline)) inline int wide_box_test(const WideNode& nd, bool neg_x, bool neg_y, bool neg_z, Real ox, Real oy, Real oz,
-                         const Vec3& inv, Real tmin, Real tmax, Real* tn) {
+__attribute__((always_inline)) inline int wide_box_test(const WideNode& nd, bool neg_x, bool neg_y,
+                                                        bool neg_z, Real ox, Real oy, Real oz,
+                                                        const Vec3& inv, Real tmin, Real tmax,
+                                                        Real* tn) {
   RealLanes lx, ly, lz, hx, hy, hz;
   std::memcpy(&lx, neg_x ? nd.hi_x : nd.lo_x, sizeof lx);
   std::memcpy(&hx, neg_x ? nd.lo_x : nd.hi_x, sizeof hx);
@@ -156,8 +171,9 @@ __attribute__((always_inline)) inline int wide_box_test(const WideNode& nd, bool
   return mask;
 }
 #else
-KOKKOS_INLINE_FUNCTION int wide_box_test(const WideNode& nd, bool neg_x, bool neg_y, bool neg_z, Real ox,
-                                         Real oy, Real oz, const Vec3& inv, Real tmin, Real tmax, Real* tn) {
+KOKKOS_INLINE_FUNCTION int wide_box_test(const WideNode& nd, bool neg_x, bool neg_y, bool neg_z,
+                                         Real ox, Real oy, Real oz, const Vec3& inv, Real tmin,
+                                         Real tmax, Real* tn) {
   const Real* nx = neg_x ? nd.hi_x : nd.lo_x;
   const Real* fx = neg_x ? nd.lo_x : nd.hi_x;
   const Real* ny = neg_y ? nd.hi_y : nd.lo_y;
@@ -187,9 +203,11 @@ KOKKOS_INLINE_FUNCTION int wide_box_test(const WideNode& nd, bool neg_x, bool ne
 // plane of each axis is chosen by the ray's direction sign, so an inverted
 // (empty) box always has near > far and unused lanes never hit.
 template <class BvhT, bool kAnyHit, bool kStats>
-KOKKOS_INLINE_FUNCTION bool traverse_wide(const BvhT& bvh, const Ray& ray, Hit& hit, TraversalStats* stats) {
+KOKKOS_INLINE_FUNCTION bool traverse_wide(const BvhT& bvh, const Ray& ray, Hit& hit,
+                                          TraversalStats* stats) {
   const WatertightRay wr(ray.org, ray.dir);
-  const Vec3 inv(safe_reciprocal(ray.dir.x), safe_reciprocal(ray.dir.y), safe_reciprocal(ray.dir.z));
+  const Vec3 inv(safe_reciprocal(ray.dir.x), safe_reciprocal(ray.dir.y),
+                 safe_reciprocal(ray.dir.z));
   const bool neg_x = inv.x < 0, neg_y = inv.y < 0, neg_z = inv.z < 0;
   const Real ox = ray.org.x, oy = ray.org.y, oz = ray.org.z;
   Real tmax = ray.tmax;
@@ -208,9 +226,13 @@ KOKKOS_INLINE_FUNCTION bool traverse_wide(const BvhT& bvh, const Ray& ray, Hit& 
     for (int k = 0; k < kWidth; ++k) {
       if (!(hitmask >> k & 1)) continue;
       const std::uint32_t c = nd.child[k];
-      if (!is_leaf(c)) { ++inner; continue; }
+      if (!is_leaf(c)) {
+        ++inner;
+        continue;
+      }
       if (c == kEmptyLeaf) continue;
-      if (intersect_leaf<BvhT, kAnyHit, kStats>(bvh, c, wr, ray, tmax, hit, found, stats)) return true;
+      if (intersect_leaf<BvhT, kAnyHit, kStats>(bvh, c, wr, ray, tmax, hit, found, stats))
+        return true;
     }
     // Inner children still within tmax, pushed far-to-near so the nearest is visited next.
     std::uint32_t ids[kWidth];
@@ -225,7 +247,11 @@ KOKKOS_INLINE_FUNCTION bool traverse_wide(const BvhT& bvh, const Ray& ray, Hit& 
         int j = m++;
         // Any hit: any blocker ends the ray, so the order is not worth sorting for.
         if (!kAnyHit)
-          while (j > 0 && ds[j - 1] < tn[k]) { ds[j] = ds[j - 1]; ids[j] = ids[j - 1]; --j; }
+          while (j > 0 && ds[j - 1] < tn[k]) {
+            ds[j] = ds[j - 1];
+            ids[j] = ids[j - 1];
+            --j;
+          }
         ds[j] = tn[k];
         ids[j] = c;
       }
@@ -244,7 +270,8 @@ KOKKOS_INLINE_FUNCTION bool traverse_wide(const BvhT& bvh, const Ray& ray, Hit& 
 template <class BvhT, bool kAnyHit, bool kStats>
 KOKKOS_INLINE_FUNCTION bool traverse_any_layout(const BvhT& bvh, const Ray& ray, Hit& hit,
                                                 TraversalStats* stats) {
-  if constexpr (Kokkos::SpaceAccessibility<Kokkos::HostSpace, typename BvhT::memory_space>::accessible) {
+  if constexpr (Kokkos::SpaceAccessibility<Kokkos::HostSpace,
+                                           typename BvhT::memory_space>::accessible) {
     if (bvh.wide.extent(0) > 0) return traverse_wide<BvhT, kAnyHit, kStats>(bvh, ray, hit, stats);
   }
   return traverse<BvhT, kAnyHit, kStats>(bvh, ray, hit, stats);

@@ -8,9 +8,17 @@ struct Aabb {
   Vec3 lo{Real(1e30)};
   Vec3 hi{Real(-1e30)};
 
-  KOKKOS_INLINE_FUNCTION void expand(const Vec3& p) { lo = vmin(lo, p); hi = vmax(hi, p); }
-  KOKKOS_INLINE_FUNCTION void expand(const Aabb& b) { lo = vmin(lo, b.lo); hi = vmax(hi, b.hi); }
-  KOKKOS_INLINE_FUNCTION bool empty() const { return !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z); }
+  KOKKOS_INLINE_FUNCTION void expand(const Vec3& p) {
+    lo = vmin(lo, p);
+    hi = vmax(hi, p);
+  }
+  KOKKOS_INLINE_FUNCTION void expand(const Aabb& b) {
+    lo = vmin(lo, b.lo);
+    hi = vmax(hi, b.hi);
+  }
+  KOKKOS_INLINE_FUNCTION bool empty() const {
+    return !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z);
+  }
   KOKKOS_INLINE_FUNCTION Vec3 extent() const { return empty() ? Vec3(0) : hi - lo; }
   KOKKOS_INLINE_FUNCTION Vec3 center() const { return (lo + hi) * Real(0.5); }
   KOKKOS_INLINE_FUNCTION Real surface_area() const {
@@ -53,12 +61,17 @@ KOKKOS_INLINE_FUNCTION bool slab_test(const RaySlab& r, const Vec3& lo, const Ve
                                       Real tmax, Real& tenter) {
   Real t0 = (lo.x - r.org.x) * r.inv.x, t1 = (hi.x - r.org.x) * r.inv.x;
   Real near = t0 < t1 ? t0 : t1, far = t0 < t1 ? t1 : t0;
-  t0 = (lo.y - r.org.y) * r.inv.y; t1 = (hi.y - r.org.y) * r.inv.y;
+  t0 = (lo.y - r.org.y) * r.inv.y;
+  t1 = (hi.y - r.org.y) * r.inv.y;
   Real n = t0 < t1 ? t0 : t1, f = t0 < t1 ? t1 : t0;
-  near = n > near ? n : near; far = f < far ? f : far;
-  t0 = (lo.z - r.org.z) * r.inv.z; t1 = (hi.z - r.org.z) * r.inv.z;
-  n = t0 < t1 ? t0 : t1; f = t0 < t1 ? t1 : t0;
-  near = n > near ? n : near; far = f < far ? f : far;
+  near = n > near ? n : near;
+  far = f < far ? f : far;
+  t0 = (lo.z - r.org.z) * r.inv.z;
+  t1 = (hi.z - r.org.z) * r.inv.z;
+  n = t0 < t1 ? t0 : t1;
+  f = t0 < t1 ? t1 : t0;
+  near = n > near ? n : near;
+  far = f < far ? f : far;
   near = tmin > near ? tmin : near;
   // Widen after clamping to tmax too: a closest hit found earlier sets tmax,
   // and a triangle lying on this box's face may be hit at t = near - 1 ulp.

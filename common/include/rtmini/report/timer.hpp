@@ -36,7 +36,9 @@ class PhaseTimer {
       if (p.first == name) s += p.second.second - p.second.first;
     return s;
   }
-  const std::vector<std::pair<std::string, std::pair<double, double>>>& phases() const { return phases_; }
+  const std::vector<std::pair<std::string, std::pair<double, double>>>& phases() const {
+    return phases_;
+  }
 
  private:
   Clock::time_point origin_;

@@ -220,10 +220,10 @@ FibonacciKdTree<MemorySpace> build_fibonacci_kdtree(int n) {
     }
     const int axis = max_dimension(hi_ - lo);
     const int mid = task.begin + detail::left_subtree_size(task.end - task.begin);
-    std::nth_element(ids.begin() + task.begin, ids.begin() + mid, ids.begin() + task.end,
-                     [&](int a, int b) {
-                       return pts[a][axis] < pts[b][axis] || (pts[a][axis] == pts[b][axis] && a < b);
-                     });
+    std::nth_element(
+        ids.begin() + task.begin, ids.begin() + mid, ids.begin() + task.end, [&](int a, int b) {
+          return pts[a][axis] < pts[b][axis] || (pts[a][axis] == pts[b][axis] && a < b);
+        });
     hp(task.node) = pts[ids[mid]];
     hi(task.node) = ids[mid];
     ha(task.node) = static_cast<std::uint8_t>(axis);
@@ -252,8 +252,8 @@ struct FibonacciInverse {
     const double z = math::fmax(-1.0, math::fmin(1.0, double(q.z)));
     const double phi = math::fmin(math::atan2(double(q.y), double(q.x)), pi);
     const double s2 = math::fmax(1.0 - z * z, 1e-300);
-    const double kk = math::floor(math::log(n * pi * 2.2360679774997896964 * s2) /
-                                  math::log(kPhi * kPhi));
+    const double kk =
+        math::floor(math::log(n * pi * 2.2360679774997896964 * s2) / math::log(kPhi * kPhi));
     const double k = math::fmax(2.0, kk);
     const double fk = math::pow(kPhi, k) / 2.2360679774997896964;
     const double F0 = math::floor(fk + 0.5), F1 = math::floor(fk * kPhi + 0.5);

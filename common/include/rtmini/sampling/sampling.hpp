@@ -16,7 +16,9 @@ struct Frame {
     b = Vec3(c, s + n.y * n.y * a, -n.y);
   }
   KOKKOS_INLINE_FUNCTION Vec3 to_world(const Vec3& l) const { return t * l.x + b * l.y + n * l.z; }
-  KOKKOS_INLINE_FUNCTION Vec3 to_local(const Vec3& w) const { return {dot(w, t), dot(w, b), dot(w, n)}; }
+  KOKKOS_INLINE_FUNCTION Vec3 to_local(const Vec3& w) const {
+    return {dot(w, t), dot(w, b), dot(w, n)};
+  }
 };
 
 // Cosine-weighted direction in the local frame (z up), pdf = cos(theta)/pi.
@@ -51,7 +53,11 @@ KOKKOS_INLINE_FUNCTION void uniform_triangle(Real r1, Real r2, Real& u, Real& v)
 
 // Light-weight integer hash (used to decorrelate stratum order etc.).
 KOKKOS_INLINE_FUNCTION std::uint32_t hash_u32(std::uint32_t x) {
-  x ^= x >> 16; x *= 0x7feb352dU; x ^= x >> 15; x *= 0x846ca68bU; x ^= x >> 16;
+  x ^= x >> 16;
+  x *= 0x7feb352dU;
+  x ^= x >> 15;
+  x *= 0x846ca68bU;
+  x ^= x >> 16;
   return x;
 }
 

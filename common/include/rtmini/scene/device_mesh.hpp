@@ -26,12 +26,13 @@ struct DeviceMesh {
 };
 
 inline DeviceMaterial to_device(const Material& m) {
-  return {Vec3(m.diffuse), Vec3(m.reflective), Vec3(m.emissive), Real(m.shininess), Real(m.ior),
-          Real(m.opacity)};
+  return {Vec3(m.diffuse),   Vec3(m.reflective), Vec3(m.emissive),
+          Real(m.shininess), Real(m.ior),        Real(m.opacity)};
 }
 
 template <class ExecSpace = Kokkos::DefaultExecutionSpace>
-DeviceMesh<typename ExecSpace::memory_space> upload_mesh(const Mesh& mesh, bvh::BuildQuality quality,
+DeviceMesh<typename ExecSpace::memory_space> upload_mesh(const Mesh& mesh,
+                                                         bvh::BuildQuality quality,
                                                          const ExecSpace& space = ExecSpace()) {
   using MS = typename ExecSpace::memory_space;
   DeviceMesh<MS> d;
@@ -43,7 +44,8 @@ DeviceMesh<typename ExecSpace::memory_space> upload_mesh(const Mesh& mesh, bvh::
   d.tri_face = Kokkos::View<int*, MS>("rtmini::scene::tri_face", nt);
   d.tri_material = Kokkos::View<int*, MS>("rtmini::scene::tri_material", nt);
   d.tri_object = Kokkos::View<int*, MS>("rtmini::scene::tri_object", nt);
-  d.materials = Kokkos::View<DeviceMaterial*, MS>("rtmini::scene::materials", mesh.materials.size());
+  d.materials =
+      Kokkos::View<DeviceMaterial*, MS>("rtmini::scene::materials", mesh.materials.size());
   auto hp = Kokkos::create_mirror_view(d.positions);
   auto ht = Kokkos::create_mirror_view(d.tris);
   auto hv = Kokkos::create_mirror_view(d.tri_vertices);

@@ -21,7 +21,9 @@ struct Material {
   float ior = 1.f;        // Ni
   float opacity = 1.f;    // d; < 1 makes the surface refractive
   bool is_emissive() const { return emissive.x > 0.f || emissive.y > 0.f || emissive.z > 0.f; }
-  bool is_reflective() const { return reflective.x > 0.f || reflective.y > 0.f || reflective.z > 0.f; }
+  bool is_reflective() const {
+    return reflective.x > 0.f || reflective.y > 0.f || reflective.z > 0.f;
+  }
 };
 
 // A polygon: 3 or 4 vertex indices (0-based), a material index (-1 = none),

@@ -8,13 +8,16 @@ namespace rtmini {
 
 // Icosahedron subdivided `level` times and projected onto the sphere:
 // 20 * 4^level triangles.
-void append_icosphere(Mesh& mesh, const Vec3d& center, double radius, int level, int material, int object);
+void append_icosphere(Mesh& mesh, const Vec3d& center, double radius, int level, int material,
+                      int object);
 
 // Axis-aligned box as 6 quads with outward normals (inward when `inward`, for rooms and furnaces).
-void append_box(Mesh& mesh, const Vec3d& lo, const Vec3d& hi, int material, int object, bool inward = false);
+void append_box(Mesh& mesh, const Vec3d& lo, const Vec3d& hi, int material, int object,
+                bool inward = false);
 
 // A quad corner, corner + u, corner + u + v, corner + v (normal = u x v).
-void append_quad(Mesh& mesh, const Vec3d& corner, const Vec3d& u, const Vec3d& v, int material, int object);
+void append_quad(Mesh& mesh, const Vec3d& corner, const Vec3d& u, const Vec3d& v, int material,
+                 int object);
 
 // A grid of quads over the parallelogram (corner, u, v), nu x nv cells, shared vertices.
 void append_grid(Mesh& mesh, const Vec3d& corner, const Vec3d& u, const Vec3d& v, int nu, int nv,
