@@ -120,6 +120,21 @@ struct DiffuseGather {
   }
 };
 
+// The vertex in [vbegin, vend) that owns colour item `item`: the last whose first item <= item.
+template <class Offsets>
+KOKKOS_INLINE_FUNCTION std::int64_t vertex_of_item(const Offsets& color_offset, std::int64_t vbegin,
+                                                   std::int64_t vend, std::int64_t item) {
+  std::int64_t lo = vbegin, hi = vend - 1;
+  while (lo < hi) {
+    const std::int64_t mid = (lo + hi + 1) / 2;
+    if (color_offset(mid) <= item)
+      lo = mid;
+    else
+      hi = mid - 1;
+  }
+  return lo;
+}
+
 template <class LookupT>
 struct MirrorIteration {
   Bvh accel;
@@ -135,15 +150,7 @@ struct MirrorIteration {
   HitCacheMode cache_mode;
 
   KOKKOS_INLINE_FUNCTION void operator()(std::int64_t item, std::int64_t& rays) const {
-    std::int64_t lo = vbegin, hi = vend - 1;  // last vertex whose first item <= item
-    while (lo < hi) {
-      const std::int64_t mid = (lo + hi + 1) / 2;
-      if (color_offset(mid) <= item)
-        lo = mid;
-      else
-        hi = mid - 1;
-    }
-    const std::int64_t v = lo;
+    const std::int64_t v = vertex_of_item(color_offset, vbegin, vend, item);
     const std::int64_t first = color_offset(v);
     Vec3 c = base(v);
     if (with_gather) c += diffuse(v) * gather(v);
@@ -211,16 +218,9 @@ struct TraceReference {
   int iterations;
 
   KOKKOS_INLINE_FUNCTION void operator()(std::int64_t item, std::int64_t& rays) const {
-    std::int64_t lo = vbegin, hi = vend - 1;  // last vertex whose first item <= item
-    while (lo < hi) {
-      const std::int64_t mid = (lo + hi + 1) / 2;
-      if (color_offset(mid) <= item)
-        lo = mid;
-      else
-        hi = mid - 1;
-    }
-    const int view = static_cast<int>(item - color_offset(lo));
-    out(item) = Vec3f(tracer.radiance(static_cast<int>(lo), views(view), iterations, rays));
+    const std::int64_t v = vertex_of_item(color_offset, vbegin, vend, item);
+    const int view = static_cast<int>(item - color_offset(v));
+    out(item) = Vec3f(tracer.radiance(static_cast<int>(v), views(view), iterations, rays));
   }
 };
 
