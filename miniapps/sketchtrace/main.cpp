@@ -422,6 +422,16 @@ int run(Communicator& comm, int argc, char** argv) {
   sink.finish();
   report.timer.stop();
   const double render_end = comm.max(loop_end);
+  {
+    // Report the reason any rank stopped for (rank 0 may only have heard that a peer stopped):
+    // the gravest that some rank saw (signal, then time limit, then --stop-after-chunks).
+    static const char* const kReasons[] = {"", "--stop-after-chunks", "time limit", "stop signal"};
+    int code = 0;
+    for (int k = 1; k < 4; ++k)
+      if (stop_reason == kReasons[k]) code = k;
+    code = static_cast<int>(comm.max(static_cast<double>(code)));
+    if (code > 0) stop_reason = kReasons[code];
+  }
   // A rank's completion is the end of its last dispatch (the paper's per-rank
   // completion plots); idle is the rest of the render span: waiting for work, for
   // messages, for the termination round and for the slowest rank.
