@@ -135,6 +135,32 @@ KOKKOS_INLINE_FUNCTION std::int64_t vertex_of_item(const Offsets& color_offset, 
   return lo;
 }
 
+// The colour items [first, end) of vertices [begin, end) (one per viewpoint, one per
+// view-independent vertex), read from the device offsets.
+struct ItemRange {
+  std::int64_t first = 0, end = 0;
+};
+inline ItemRange item_range(const Kokkos::View<std::int64_t*, MemSpace>& color_offset,
+                            std::int64_t vbegin, std::int64_t vend) {
+  ItemRange r;
+  Kokkos::deep_copy(r.first, Kokkos::subview(color_offset, vbegin));
+  Kokkos::deep_copy(r.end, Kokkos::subview(color_offset, vend));
+  return r;
+}
+
+// Runs the functor over the items with dynamic scheduling (vertices differ in cost: mirror
+// bounces, cache hits) and returns the rays it counted.
+template <class Functor>
+std::int64_t trace_items(const char* label, const ItemRange& items, const Functor& f) {
+  std::int64_t rays = 0;
+  Kokkos::parallel_reduce(
+      label,
+      Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>, Kokkos::Schedule<Kokkos::Dynamic>>(
+          items.first, items.end),
+      f, rays);
+  return rays;
+}
+
 template <class LookupT>
 struct MirrorIteration {
   Bvh accel;
@@ -262,18 +288,10 @@ std::int64_t Chef::trace_reference(std::int64_t begin, std::int64_t end,
                                scene_.reflective,
                                base_,
                                Vec3(config_.background)};
-  std::int64_t item_begin = 0, item_end = 0;
-  Kokkos::deep_copy(item_begin, Kokkos::subview(scene_.color_offset, begin));
-  Kokkos::deep_copy(item_end, Kokkos::subview(scene_.color_offset, end));
-  TraceReference k{tracer, scene_.color_offset, scene_.viewpoints, out, begin,
-                   end,    config_.iterations};
-  std::int64_t rays = 0;
-  Kokkos::parallel_reduce(
-      "rtmini::bake::trace_reference",
-      Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>, Kokkos::Schedule<Kokkos::Dynamic>>(
-          item_begin, item_end),
-      k, rays);
-  return rays;
+  const TraceReference k{tracer, scene_.color_offset, scene_.viewpoints, out, begin,
+                         end,    config_.iterations};
+  return trace_items("rtmini::bake::trace_reference", item_range(scene_.color_offset, begin, end),
+                     k);
 }
 
 namespace {
@@ -383,20 +401,13 @@ std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, cons
                             g, r);
     rays += r;
   }
-  std::int64_t item_begin = 0, item_end = 0;
-  Kokkos::deep_copy(item_begin, Kokkos::subview(s.color_offset, begin));
-  Kokkos::deep_copy(item_end, Kokkos::subview(s.color_offset, end));
+  const ItemRange items = item_range(s.color_offset, begin, end);
+  const std::int64_t item_begin = items.first;
   MirrorIteration<LookupT> m{
       s.mesh.accel, reader, s.mesh.positions, s.normal, s.diffuse, s.reflective, base, gather,
       s.viewpoints, order,  s.color_offset,   cache,    next,      begin,        end,  item_begin,
       cache_offset, it,     with_gather,      mode};
-  std::int64_t r = 0;
-  Kokkos::parallel_reduce(
-      "rtmini::bake::shade",
-      Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>, Kokkos::Schedule<Kokkos::Dynamic>>(
-          item_begin, item_end),
-      m, r);
-  return rays + r;
+  return rays + trace_items("rtmini::bake::shade", items, m);
 }
 }  // namespace
 
