@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/error.hpp"
 
 #ifdef RTMINI_HAVE_HDF5
@@ -97,6 +98,8 @@ Hdf5File Hdf5File::create(const std::string& path) {
   QuietErrors quiet;
   Hdf5File f;
   f.path_ = path;
+  check_replaceable(path);
+  remove_stale_temporaries(path);
   f.tmp_path_ = path + ".tmp." + std::to_string(::getpid());
   f.id_ = H5Fcreate(f.tmp_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (f.id_ < 0) throw IoError(path + ": cannot create HDF5 file");
@@ -168,20 +171,31 @@ void Hdf5File::close() noexcept {
 
 void Hdf5File::commit() {
   if (tmp_path_.empty()) return;
+  // The size HDF5 believes it wrote, checked against the file after close.
+  hsize_t size = 0;
+  const bool sized = H5Fget_filesize(id_, &size) >= 0;
   const bool closed = H5Fclose(id_) >= 0;
   id_ = -1;
   int status = 0;
+  std::string problem = "cannot close HDF5 file";
   if (rank_ == 0) {
-    if (!closed || std::rename(tmp_path_.c_str(), path_.c_str()) != 0) {
+    if (!closed || !sized) {
       std::remove(tmp_path_.c_str());
       status = 1;
+    } else {
+      try {
+        commit_temporary(tmp_path_, path_, static_cast<std::int64_t>(size));
+      } catch (const IoError& e) {
+        problem = e.what();
+        status = 1;
+      }
     }
   }
 #ifdef RTMINI_HAVE_MPI
   if (parallel_) MPI_Bcast(&status, 1, MPI_INT, 0, comm_);
 #endif
   tmp_path_.clear();
-  if (status != 0) throw IoError(path_ + ": cannot close HDF5 file or rename it into place");
+  if (status != 0) throw IoError(problem.rfind(path_, 0) == 0 ? problem : path_ + ": " + problem);
 }
 
 void Hdf5File::create_group(const std::string& path) {

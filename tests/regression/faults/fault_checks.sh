@@ -7,6 +7,12 @@
 #                        and on rank 0 only (MPMD launch: the other ranks get a good file)
 #   sketch_restart NP    sketchtrace --restart with a checkpoint of other parameters
 #   sketch_reference NP  sketchtrace --reference naming a file that does not exist
+#   outputs APP          every writer of APP into a missing directory, a read-only and a
+#                        full filesystem (small tmpfs mounts; skipped with a reason where
+#                        mounting is not allowed) and onto a fifo: exit 3, one line, no
+#                        final file, no temporary left, the fifo untouched; bake's MPI-IO
+#                        map with both Open MPI I/O components. Stale temporaries of dead
+#                        runs are removed, those of live processes kept.
 # Environment: SKETCH, BAKE (binaries), INPUTS, BAD (bad bake inputs), SKETCH_BAD,
 # MPIEXEC, NPFLAG.
 set -euo pipefail
@@ -43,6 +49,41 @@ expect_one_line() {
 }
 
 sketch_args=(--width 80 --height 60 --spp 1 --shadow-samples 2)
+
+mounts=()
+cleanup_mounts() {
+  local m
+  for m in "${mounts[@]}"; do umount "$m" 2>/dev/null || true; done
+}
+trap cleanup_mounts EXIT
+# try_mount DIR OPTIONS: a small tmpfs at DIR (false when mounting is not allowed here).
+try_mount() {
+  mkdir -p "$1"
+  if mount -t tmpfs -o "$2" tmpfs "$1" 2>/dev/null; then
+    mounts+=("$1")
+    return 0
+  fi
+  return 1
+}
+
+# output_case APP WHERE TARGET CMD...: CMD writes TARGET (inside WHERE) and must fail
+# with exit 3 and one line, leaving no file at TARGET (a fifo stays a fifo) and no
+# temporary in WHERE.
+output_case() {
+  local app=$1 where=$2 target=$3
+  shift 3
+  local was_fifo=0
+  [[ -p $target ]] && was_fifo=1
+  expect_one_line "$app" 3 "$(basename "$target")" "$@"
+  if ((was_fifo)); then
+    [[ -p $target ]] || fail "the fifo $target was replaced"
+  else
+    [[ ! -e $target ]] || fail "$target exists after a failed write"
+  fi
+  if [[ -d $where ]] && ls -A "$where" | grep -q '\.tmp\.'; then
+    fail "a temporary was left in $where: $(ls -A "$where")"
+  fi
+}
 bake_args=(--viewpoints 10)
 
 case $mode in
@@ -86,6 +127,65 @@ case $mode in
     expect_one_line sketchtrace 2 "nonexistent.exr" \
       "$MPIEXEC" "$NPFLAG" "$np" --oversubscribe "$SKETCH" "$INPUTS/two_spheres/two_spheres.toml" \
       "${sketch_args[@]}" --reference "$work/nonexistent.exr"
+    ;;
+  outputs)
+    app=$1
+    can_mount=1
+    if try_mount "$work/ro" ro,size=64k && try_mount "$work/full" size=64k; then
+      # Fill the filesystem to the last block.
+      dd if=/dev/zero of="$work/full/filler" bs=4k >/dev/null 2>&1 || true
+    else
+      can_mount=0
+      echo "SKIP read-only and full filesystem cases: mounting a tmpfs is not allowed here"
+    fi
+    mkdir -p "$work/fifo"
+    places=("$work/missing_dir")
+    ((can_mount)) && places+=("$work/ro" "$work/full")
+    if [[ $app == sketchtrace ]]; then
+      run=("$SKETCH" "$INPUTS/two_spheres/two_spheres.toml" "${sketch_args[@]}")
+      writers=("-o x.png" "-o x.exr" "-o x.ppm" "--summary x.json" "--timings x.h5"
+               "--checkpoint x.h5 --stop-after-chunks 2 --chunk-pixels 500")
+    else
+      run=("$BAKE" "$INPUTS/cube/cube.bs" "${bake_args[@]}")
+      writers=("-o x.bsb" "--summary x.json" "--timings x.h5" "--checkpoint x.h5")
+    fi
+    for w in "${writers[@]}"; do
+      read -r flag name rest <<<"$w"
+      # shellcheck disable=SC2086
+      for dir in "${places[@]}"; do
+        output_case "$app" "$dir" "$dir/$name" "${run[@]}" $flag "$dir/$name" $rest
+      done
+      [[ -p $work/fifo/$name ]] || mkfifo "$work/fifo/$name"
+      # shellcheck disable=SC2086
+      output_case "$app" "$work/fifo" "$work/fifo/$name" "${run[@]}" $flag "$work/fifo/$name" $rest
+    done
+    if [[ $app == bake ]]; then
+      # The text map is written collectively through MPI-IO: both components, 2 ranks.
+      for io in ompio romio321; do
+        for dir in "${places[@]}"; do
+          OMPI_MCA_io=$io output_case bake "$dir" "$dir/x.bs" \
+            "$MPIEXEC" "$NPFLAG" 2 --oversubscribe "$BAKE" "$INPUTS/cube/cube.bs" "${bake_args[@]}" -o "$dir/x.bs"
+        done
+        [[ -p $work/fifo/x.bs ]] || mkfifo "$work/fifo/x.bs"
+        OMPI_MCA_io=$io output_case bake "$work/fifo" "$work/fifo/x.bs" \
+          "$MPIEXEC" "$NPFLAG" 2 --oversubscribe "$BAKE" "$INPUTS/cube/cube.bs" "${bake_args[@]}" -o "$work/fifo/x.bs"
+      done
+    fi
+    # Stale temporaries: a dead run's is removed, a live process's and a directory kept.
+    mkdir -p "$work/stale"
+    sh -c 'exit 0' &
+    dead=$!
+    wait "$dead"
+    while kill -0 "$dead" 2>/dev/null; do sleep 0.1; done
+    out=$work/stale/x.png
+    [[ $app == bake ]] && out=$work/stale/x.bsb
+    echo stale >"$out.tmp.$dead"
+    echo live >"$out.tmp.$$"
+    mkdir "$out.tmp.1"
+    "${run[@]}" --summary "$work/stale/x.json" -o "$out" >/dev/null 2>&1 || fail "the stale-temporary run failed"
+    [[ ! -e $out.tmp.$dead ]] || fail "the dead run's temporary $out.tmp.$dead was kept"
+    [[ -f $out.tmp.$$ && -d $out.tmp.1 ]] || fail "a live process's temporary or a directory was removed"
+    echo "ok: stale temporaries"
     ;;
   *)
     fail "unknown mode $mode"
