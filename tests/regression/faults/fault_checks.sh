@@ -13,6 +13,10 @@
 #                        final file, no temporary left, the fifo untouched; bake's MPI-IO
 #                        map with both Open MPI I/O components. Stale temporaries of dead
 #                        runs are removed, those of live processes kept.
+#   corrupt APP          APP's checkpoint (and sketchtrace's cost map) with one bit flipped
+#                        in each dataset, truncated, and with single bytes changed across
+#                        the file: restart gives exit 2 and one line, or (a harmless byte)
+#                        exit 0 and the uninterrupted run's hash; never a crash.
 # Environment: SKETCH, BAKE (binaries), INPUTS, BAD (bad bake inputs), SKETCH_BAD,
 # MPIEXEC, NPFLAG.
 set -euo pipefail
@@ -186,6 +190,77 @@ case $mode in
     [[ ! -e $out.tmp.$dead ]] || fail "the dead run's temporary $out.tmp.$dead was kept"
     [[ -f $out.tmp.$$ && -d $out.tmp.1 ]] || fail "a live process's temporary or a directory was removed"
     echo "ok: stale temporaries"
+    ;;
+  corrupt)
+    app=$1
+    hash_of() { tail -n 1 "$1" | sed -n 's/.*verification \([0-9a-f]*\)$/\1/p'; }
+    # mutate SRC DST HOW [DATASET]: DST = SRC with one bit of DATASET's bytes flipped
+    # (HOW=flip), cut to half its size (HOW=truncate), or byte DATASET (an offset) inverted.
+    mutate() {
+      "$PY" - "$@" <<'PYEOF'
+import sys
+src, dst, how = sys.argv[1:4]
+data = bytearray(open(src, "rb").read())
+if how == "flip":
+    import h5py
+    with h5py.File(src, "r") as f:
+        d = f[sys.argv[4]].id
+        offset, size = d.get_offset(), d.get_storage_size()
+    data[offset + size // 2] ^= 0x10
+elif how == "truncate":
+    data = data[: len(data) // 2]
+else:
+    data[int(sys.argv[4])] ^= 0xFF
+open(dst, "wb").write(data)
+PYEOF
+    }
+    if [[ $app == sketchtrace ]]; then
+      run=("$SKETCH" "$INPUTS/two_spheres/two_spheres.toml" "${sketch_args[@]}" --chunk-pixels 500)
+      "${run[@]}" >full.txt
+      rc=0
+      "${run[@]}" --checkpoint ck.h5 --stop-after-chunks 2 >stop.txt 2>&1 || rc=$?
+      [[ $rc == 4 ]] || fail "the stopped run gave exit $rc"
+      datasets=(/pixels/done /pixels/raw)
+    else
+      run=("$BAKE" "$INPUTS/cube/cube.bs" "${bake_args[@]}" --iterations 3 -o out.bs)
+      "${run[@]}" >full.txt 2>/dev/null
+      rc=0
+      "${run[@]}" --checkpoint ck.h5 --stop-after-iteration 1 >stop.txt 2>&1 || rc=$?
+      [[ $rc == 4 ]] || fail "the stopped run gave exit $rc"
+      datasets=(/colors)
+    fi
+    full=$(hash_of full.txt)
+    [[ -n $full ]] || fail "no hash in the uninterrupted run"
+    for d in "${datasets[@]}"; do
+      mutate ck.h5 bad.h5 flip "$d"
+      expect_one_line "$app" 2 "bad.h5" "${run[@]}" --restart bad.h5
+    done
+    mutate ck.h5 bad.h5 truncate
+    expect_one_line "$app" 2 "bad.h5" "${run[@]}" --restart bad.h5
+    size=$(stat -c %s ck.h5)
+    refused=0 harmless=0
+    for k in $(seq 0 31); do
+      mutate ck.h5 bad.h5 byte $((k * size / 32 + 7))
+      rc=0
+      timeout -k 5 "$limit" "${run[@]}" --restart bad.h5 >out.txt 2>err.txt || rc=$?
+      if [[ $rc == 2 ]]; then
+        [[ $(grep -c "^$app" err.txt) == 1 ]] || { cat err.txt >&2; fail "byte $k: not one line"; }
+        refused=$((refused + 1))
+      elif [[ $rc == 0 && $(hash_of out.txt) == "$full" ]]; then
+        harmless=$((harmless + 1))
+      else
+        cat err.txt >&2
+        fail "byte $((k * size / 32 + 7)) changed: exit $rc, hash $(hash_of out.txt) (uninterrupted $full)"
+      fi
+    done
+    echo "ok: 32 single-byte changes: $refused refused, $harmless harmless"
+    if [[ $app == sketchtrace ]]; then
+      "${run[@]}" --balance metric --cost-map cm.h5 >/dev/null
+      mutate cm.h5 bad_cm.h5 flip /cost
+      expect_one_line sketchtrace 2 "bad_cm.h5" "${run[@]}" --balance metric --cost-map bad_cm.h5
+      mutate cm.h5 bad_cm.h5 truncate
+      expect_one_line sketchtrace 2 "bad_cm.h5" "${run[@]}" --balance metric --cost-map bad_cm.h5
+    fi
     ;;
   *)
     fail "unknown mode $mode"
