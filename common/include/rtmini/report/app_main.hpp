@@ -1,6 +1,6 @@
 #pragma once
 // The shared outer layer of every executable: MPI + Kokkos lifetime and the
-// exit-code contract (ARCHITECTURE §6). Bad input -> one line on stderr and 2;
+// exit-code contract (docs/architecture.md §6). Bad input -> one line on stderr and 2;
 // resource/I-O failure -> 3. Failures are collective (issue 17): a rank that
 // fails tells every rank (Communicator::notify_failure); ranks waiting in a
 // collective unwind with PeerFailure; then all ranks agree on the outcome and
