@@ -405,6 +405,7 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
   double idle = 0, completion = 0;
   int exit_code = kExitOk;
   timer.start("iterate");
+  int stopped_after = 0;
   for (int it = first; it <= iterations; ++it) {
     IterationRecord rec;
     const double t0 = timer.now();
@@ -503,11 +504,20 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
                      c.checkpoint.empty() ? "no --checkpoint given, progress is lost"
                                           : ("restart with --restart " + c.checkpoint).c_str());
       exit_code = kExitCheckpointed;
+      stopped_after = it;
       break;
     }
   }
   timer.stop();
-  if (exit_code != kExitOk) return exit_code;
+  if (exit_code != kExitOk) {
+    // A stopped run's last stdout line is still the contract's figure-of-merit
+    // line: the iterations a --restart has left to do.
+    report.fom_name = "iterations_missing";
+    report.fom_unit = "iterations";
+    report.fom_value = static_cast<double>(iterations - stopped_after);
+    report.finish(comm, c.summary);
+    return exit_code;
+  }
 
   timer.start("write");
   std::vector<Vec3f> dirs(static_cast<std::size_t>(c.viewpoints));

@@ -13,6 +13,7 @@
 
 #include "rtmini/io/error.hpp"
 #include "rtmini/parallel/communicator.hpp"
+#include "rtmini/report/stop_request.hpp"
 
 namespace rtmini {
 
@@ -23,6 +24,9 @@ inline double agreement_patience(const Communicator& comm) { return comm.is_root
 
 template <class Body>
 int app_main(const char* app, int argc, char** argv, Body&& body) {
+  // Before MPI and Kokkos start (seconds on a large job): a SIGTERM/SIGUSR1 in
+  // start-up then stops the run cleanly at its first check instead of killing it.
+  install_stop_handlers();
   Environment env(argc, argv);
   Communicator comm;
   int code = kExitOk;
