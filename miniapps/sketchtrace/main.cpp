@@ -30,6 +30,7 @@
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/timings.hpp"
 #include "rtmini/report/app_main.hpp"
+#include "rtmini/report/common_options.hpp"
 #include "rtmini/report/hash.hpp"
 #include "rtmini/report/image_metrics.hpp"
 #include "rtmini/report/run_report.hpp"
@@ -179,20 +180,17 @@ void write_timings_file(const std::string& path, const Communicator& comm, const
 }
 
 int run(Communicator& comm, int argc, char** argv) {
-  CLI::App app{"sketchtrace: distribution ray tracer with a hand-drawn post-process"};
+  CLI::App app{"sketchtrace: distribution ray tracer with a hand-drawn post-process",
+               "sketchtrace"};
+  CommonOptions common;
+  add_common_options(app, common);
   RunOptions opt;
   CliOverrides cli;
   cli.add_to(app, opt);
-  app.set_version_flag("--version", build_banner());
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) {
-      if (comm.is_root()) app.exit(e);
-      return kExitOk;
-    }
-    throw InputError(std::string("usage: ") + e.what() + " (see --help)");
-  }
+  if (const auto done = parse_command_line(app, argc, argv, common, comm.is_root())) return *done;
+  opt.summary = common.summary;
+  opt.timings = common.timings;
+  opt.progress = progress_wanted(common);
 
   RunReport report;
   report.app = "sketchtrace";
@@ -311,7 +309,7 @@ int run(Communicator& comm, int argc, char** argv) {
 
   install_stop_handlers();
   const bool checkpointing = !opt.checkpoint.empty();
-  const bool progress = opt.progress || isatty(STDERR_FILENO);
+  const bool progress = opt.progress;
   const double limit_s = opt.time_limit_minutes * 60.0;
   const double reserve = std::min(60.0, 0.05 * limit_s);  // for the final gather and checkpoint
   ResultSink sink(comm, order, frame_pixels, done,
