@@ -33,6 +33,7 @@
 #include "rtmini/report/common_options.hpp"
 #include "rtmini/report/hash.hpp"
 #include "rtmini/report/image_metrics.hpp"
+#include "rtmini/report/progress.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/report/stop_request.hpp"
 #include "rtmini/report/version.hpp"
@@ -101,17 +102,13 @@ std::int64_t dispatch_pixels(const RenderSettings& s, std::int64_t pixels, int r
                                   host ? 65536 : std::int64_t(1) << 20);
 }
 
-// "[######......]  42.0%  1.3 Mpx/s  ETA 0:00:12" on stderr, at most twice a second.
-void show_progress(double fraction, double rate, double now, double& last, bool final) {
-  if (!final && now - last < 0.5) return;
-  last = now;
-  const int width = 30, filled = static_cast<int>(fraction * width + 0.5);
-  const double eta = rate > 0 ? (1.0 - fraction) / rate : 0.0;
-  const long e = static_cast<long>(eta + 0.5);
-  std::fprintf(stderr, "\rsketchtrace: [%s%s] %5.1f%%  ETA %ld:%02ld:%02ld%s",
-               std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(),
-               100.0 * fraction, e / 3600, e / 60 % 60, e % 60, final ? "\n" : "");
-  std::fflush(stderr);
+// The progress line's cost of the pixels rank 0 has merged: the probe cost map's estimate per
+// pixel, so that cheap early pixels (sky, background) do not make the ETA optimistic.
+double merged_cost(const CostMap& cost, const std::vector<std::uint8_t>& done) {
+  double sum = 0;
+  for (std::size_t p = 0; p < done.size(); ++p)
+    if (done[p]) sum += cost.at(static_cast<std::int64_t>(p));
+  return sum;
 }
 
 struct BandRecord {
@@ -291,7 +288,10 @@ int run(Communicator& comm, int argc, char** argv) {
   const std::int64_t batch = dispatch_pixels(s, order.size(), comm.size());
 
   CostMap cost;
-  if (needs_cost_map(balance)) {
+  // The progress ETA weighs pixels by the probed cost too, so a run that shows progress on any
+  // rank probes even when its balance does not need the map (collective: all ranks probe).
+  const bool eta_probe = comm.max(opt.progress ? 1.0 : 0.0) > 0.5;
+  if (needs_cost_map(balance) || eta_probe) {
     report.timer.start("probe");
     bool reused = false;
     cost = make_cost_map(renderer, comm, s.width, s.height, opt.cost_map, signature, reused);
@@ -310,6 +310,11 @@ int run(Communicator& comm, int argc, char** argv) {
   install_stop_handlers();
   const bool checkpointing = !opt.checkpoint.empty();
   const bool progress = opt.progress;
+  ProgressLine progress_line("sketchtrace", "px", progress && comm.is_root());
+  const double restart_cost = progress_line.enabled() ? merged_cost(cost, done) : 0.0;
+  double total_cost = 0;
+  if (progress_line.enabled())
+    for (std::int64_t pos = 0; pos < order.size(); ++pos) total_cost += cost.at(order.pixel(pos));
   const double limit_s = opt.time_limit_minutes * 60.0;
   const double reserve = std::min(60.0, 0.05 * limit_s);  // for the final gather and checkpoint
   ResultSink sink(comm, order, frame_pixels, done,
@@ -321,7 +326,7 @@ int run(Communicator& comm, int argc, char** argv) {
   std::vector<std::int64_t> list;
   std::vector<PixelResult> out;
   std::int64_t rays = 0, tests = 0, rendered = 0;
-  double last_checkpoint = report.timer.now(), last_dispatch = 0.0, last_progress = 0.0;
+  double last_checkpoint = report.timer.now(), last_dispatch = 0.0;
   const double render_start = report.timer.now();
   bool stopping = false;
   std::string stop_reason;
@@ -401,11 +406,9 @@ int run(Communicator& comm, int argc, char** argv) {
         report.timer.stop();
         last_checkpoint = report.timer.now();
       }
-      if (progress) {
-        const double f = static_cast<double>(sink.merged()) /
-                         std::max<double>(1.0, static_cast<double>(order.size()));
-        show_progress(f, f / std::max(1e-9, t1 - render_start), t1, last_progress, false);
-      }
+      if (progress_line.due())
+        progress_line.update(static_cast<double>(sink.merged()), static_cast<double>(order.size()),
+                             merged_cost(cost, done) - restart_cost, total_cost);
     }
   }
   const double loop_end = report.timer.now();
@@ -439,9 +442,8 @@ int run(Communicator& comm, int argc, char** argv) {
   const double idle = std::max(0.0, (render_end - render_start) - busy);
   const std::int64_t missing =
       comm.sum(comm.is_root() ? order.size() - sink.merged() : std::int64_t(0));
-  if (comm.is_root() && progress)
-    show_progress(1.0 - static_cast<double>(missing) / std::max<double>(1.0, double(order.size())),
-                  0.0, report.timer.now(), last_progress, true);
+  progress_line.finish(static_cast<double>(order.size() - missing),
+                       static_cast<double>(order.size()));
   if (missing > 0 && comm.is_root() && checkpointing) {
     report.timer.start("checkpoint");
     write_checkpoint(opt.checkpoint, {s.width, s.height, signature, done, frame_pixels});
