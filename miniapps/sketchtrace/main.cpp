@@ -111,6 +111,35 @@ double merged_cost(const CostMap& cost, const std::vector<std::uint8_t>& done) {
   return sum;
 }
 
+// Seconds per pixel as a + b * probe cost, fitted by least squares to rank 0's dispatches. The
+// probe counts the rays of one camera sample; the constant part carries what it does not see
+// (anti-aliasing samples, the stencil, the per-pixel work of cheap background pixels), without
+// which the ETA over-weights the costly pixels still to come.
+class PixelCostFit {
+ public:
+  void add(double seconds, double pixels, double probe_cost) {
+    nn_ += pixels * pixels;
+    nc_ += pixels * probe_cost;
+    cc_ += probe_cost * probe_cost;
+    tn_ += seconds * pixels;
+    tc_ += seconds * probe_cost;
+  }
+  // Estimated seconds of `pixels` pixels whose probe costs sum to `probe_cost`.
+  double cost(double pixels, double probe_cost) const {
+    const double det = nn_ * cc_ - nc_ * nc_;
+    double a = det > 1e-12 * nn_ * cc_ ? (tn_ * cc_ - tc_ * nc_) / det : -1.0;
+    double b = det > 1e-12 * nn_ * cc_ ? (tc_ * nn_ - tn_ * nc_) / det : -1.0;
+    if (a < 0 || b < 0) {  // one term explains the data: fall back to the probe cost alone
+      a = 0;
+      b = cc_ > 0 ? tc_ / cc_ : 0.0;
+    }
+    return a * pixels + b * probe_cost;
+  }
+
+ private:
+  double nn_ = 0, nc_ = 0, cc_ = 0, tn_ = 0, tc_ = 0;
+};
+
 struct BandRecord {
   double start, end;
   std::int64_t pixels, rays;
@@ -312,9 +341,11 @@ int run(Communicator& comm, int argc, char** argv) {
   const bool progress = opt.progress;
   ProgressLine progress_line("sketchtrace", "px", progress && comm.is_root());
   const double restart_cost = progress_line.enabled() ? merged_cost(cost, done) : 0.0;
-  double total_cost = 0;
+  double total_probe_cost = 0;
   if (progress_line.enabled())
-    for (std::int64_t pos = 0; pos < order.size(); ++pos) total_cost += cost.at(order.pixel(pos));
+    for (std::int64_t pos = 0; pos < order.size(); ++pos)
+      total_probe_cost += cost.at(order.pixel(pos));
+  PixelCostFit pixel_cost;
   const double limit_s = opt.time_limit_minutes * 60.0;
   const double reserve = std::min(60.0, 0.05 * limit_s);  // for the final gather and checkpoint
   ResultSink sink(comm, order, frame_pixels, done,
@@ -406,9 +437,18 @@ int run(Communicator& comm, int argc, char** argv) {
         report.timer.stop();
         last_checkpoint = report.timer.now();
       }
-      if (progress_line.due())
-        progress_line.update(static_cast<double>(sink.merged()), static_cast<double>(order.size()),
-                             merged_cost(cost, done) - restart_cost, total_cost);
+      if (progress_line.enabled()) {
+        double probe = 0;
+        for (const std::int64_t p : list) probe += cost.at(p);
+        pixel_cost.add(t1 - t0, static_cast<double>(list.size()), probe);
+      }
+      if (progress_line.due()) {
+        const double merged = static_cast<double>(sink.merged());
+        const double total = static_cast<double>(order.size());
+        progress_line.update(merged, total,
+                             pixel_cost.cost(merged, merged_cost(cost, done) - restart_cost),
+                             pixel_cost.cost(total, total_probe_cost));
+      }
     }
   }
   const double loop_end = report.timer.now();
