@@ -414,10 +414,11 @@ class Environment {
     MPI_Init_thread(&argc, &argv, MPI_THREAD_SERIALIZED, &provided);
     mpi_thread_level() = provided;
 #endif
-    Kokkos::initialize(argc, argv);
   }
+  // Kokkos is started later, from the parsed options (report/common_options.hpp), and only
+  // when the program goes on past its command line.
   ~Environment() {
-    Kokkos::finalize();
+    if (Kokkos::is_initialized()) Kokkos::finalize();
 #ifdef RTMINI_HAVE_MPI
     MPI_Finalize();
 #endif
