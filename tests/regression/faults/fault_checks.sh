@@ -84,9 +84,10 @@ output_case() {
   else
     [[ ! -e $target ]] || fail "$target exists after a failed write"
   fi
-  if [[ -d $where ]] && ls -A "$where" | grep -q '\.tmp\.'; then
-    fail "a temporary was left in $where: $(ls -A "$where")"
-  fi
+  local left
+  for left in "$where"/*.tmp.*; do
+    if [[ -e $left ]]; then fail "a temporary was left in $where: $left"; fi
+  done
 }
 bake_args=(--viewpoints 10)
 
