@@ -119,6 +119,7 @@ Kokkos::View<Ray*, Mem> secondary_rays(const DeviceMesh<Mem>& m,
   Kokkos::View<Ray*, Mem> out("rtmini::bench::secondary_rays", n);
   const auto accel = m.accel;
   const auto tris = m.tris;
+  const Real bound = m.coordinate_bound;
   const Vec3 light = box.center() + Vec3(Real(0.3), 1, Real(0.5)) * box.diagonal();
   Kokkos::parallel_for(
       "rtmini::bench::gen_secondary", Kokkos::RangePolicy<Exec>(0, n), KOKKOS_LAMBDA(int i) {
@@ -133,7 +134,8 @@ Kokkos::View<Ray*, Mem> secondary_rays(const DeviceMesh<Mem>& m,
           const Triangle tri = tris(h.prim);
           Vec3 nrm = triangle_normal(tri.a, tri.b, tri.c);
           if (dot(nrm, pr.dir) > 0) nrm = -nrm;
-          const Vec3 p = offset_ray_origin(barycentric_point(tri.a, tri.b, tri.c, h.u, h.v), nrm);
+          const Vec3 p =
+              offset_ray_origin(barycentric_point(tri.a, tri.b, tri.c, h.u, h.v), nrm, bound);
           r.org = p;
           if (shadow) {
             const Vec3 d = light - p;

@@ -88,7 +88,10 @@ Kokkos::View<T*, MemSpace> upload(const char* label, const std::vector<T>& host)
 BakeSceneDevice upload_bake_scene(const Mesh& mesh, const BakeSceneHost& host, int viewpoints,
                                   bvh::BuildQuality quality) {
   BakeSceneDevice d;
-  d.mesh = upload_mesh(mesh, quality);
+  // The kernels' frame is centred on the mesh (geometry/offset.hpp); the output keeps the
+  // host mesh's world positions.
+  d.mesh = upload_mesh(mesh, quality, Kokkos::DefaultExecutionSpace(),
+                       bounds_of(mesh.positions).centre());
   d.normal = upload("rtmini::bake::normal", host.normal);
   d.diffuse = upload("rtmini::bake::diffuse", host.diffuse);
   d.reflective = upload("rtmini::bake::reflective", host.reflective);

@@ -28,13 +28,14 @@ struct DirectLight {
   std::int64_t begin;
   int samples;
   std::uint64_t seed;
+  Real coordinate_bound = 0;  // DeviceMesh::coordinate_bound, for offset_ray_origin
 
   KOKKOS_INLINE_FUNCTION void operator()(std::int64_t v, std::int64_t& rays) const {
     Vec3 c = emissive(v);
     const Vec3 n = normal(v), kd = diffuse(v);
     if (max_component(kd) > Real(0) && length_squared(n) > Real(0)) {
       const Vec3 p = positions(v);
-      const Vec3 org = offset_ray_origin(p, n);
+      const Vec3 org = offset_ray_origin(p, n, coordinate_bound);
       const int grid = static_cast<int>(math::sqrt(Real(samples)) + Real(1e-3));
       Vec3 irradiance(Real(0));
       for (int l = 0; l < static_cast<int>(lights.extent(0)); ++l) {
@@ -65,7 +66,7 @@ struct DirectLight {
           const Vec3 wi = to * (Real(1) / math::sqrt(d2));
           const Real cos_p = dot(n, wi), cos_l = -dot(light.normal, wi);
           if (cos_p <= Real(0) || cos_l <= Real(0)) continue;
-          const Vec3 target = offset_ray_origin(q, light.normal);
+          const Vec3 target = offset_ray_origin(q, light.normal, coordinate_bound);
           const Vec3 seg = target - org;
           const Real len = length(seg);
           Ray ray;
@@ -95,6 +96,7 @@ struct DiffuseGather {
   Kokkos::View<Vec3*, MemSpace> positions, normal, diffuse, gather;
   int rays_per_vertex, iteration;
   std::uint64_t seed;
+  Real coordinate_bound = 0;  // DeviceMesh::coordinate_bound, for offset_ray_origin
 
   KOKKOS_INLINE_FUNCTION void operator()(std::int64_t v, std::int64_t& rays) const {
     const Vec3 n = normal(v);
@@ -102,7 +104,7 @@ struct DiffuseGather {
     if (max_component(diffuse(v)) > Real(0) && length_squared(n) > Real(0)) {
       const Frame frame(n);
       Ray ray;
-      ray.org = offset_ray_origin(positions(v), n);
+      ray.org = offset_ray_origin(positions(v), n, coordinate_bound);
       for (int j = 0; j < rays_per_vertex; ++j) {
         const std::uint32_t sample =
             kGatherStream + static_cast<std::uint32_t>((iteration - 1) * rays_per_vertex + j);
@@ -174,6 +176,7 @@ struct MirrorIteration {
   int iteration;
   bool with_gather;
   HitCacheMode cache_mode;
+  Real coordinate_bound = 0;  // DeviceMesh::coordinate_bound, for offset_ray_origin
 
   KOKKOS_INLINE_FUNCTION void operator()(std::int64_t item, std::int64_t& rays) const {
     const std::int64_t v = vertex_of_item(color_offset, vbegin, vend, item);
@@ -196,7 +199,7 @@ struct MirrorIteration {
         hit.v = Real(h.v);
       } else {
         Ray ray;
-        ray.org = offset_ray_origin(positions(v), n);
+        ray.org = offset_ray_origin(positions(v), n, coordinate_bound);
         ray.dir = r;
         hit = bvh::closest_hit(accel, ray);
         ++rays;
@@ -270,7 +273,7 @@ std::int64_t Chef::bake_base(std::int64_t begin, std::int64_t end) {
   DirectLight k{scene_.mesh.accel,      scene_.mesh.positions, scene_.normal,
                 scene_.diffuse,         scene_.emissive,       base_,
                 scene_.mesh.tris,       scene_.lights,         begin,
-                config_.shadow_samples, config_.seed};
+                config_.shadow_samples, config_.seed,          scene_.mesh.coordinate_bound};
   std::int64_t rays = 0;
   Kokkos::parallel_reduce("rtmini::bake::direct_light",
                           Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(begin, end), k,
@@ -287,7 +290,8 @@ std::int64_t Chef::trace_reference(std::int64_t begin, std::int64_t end,
                                scene_.normal,
                                scene_.reflective,
                                base_,
-                               Vec3(config_.background)};
+                               Vec3(config_.background),
+                               scene_.mesh.coordinate_bound};
   const TraceReference k{tracer, scene_.color_offset, scene_.viewpoints, out, begin,
                          end,    config_.iterations};
   return trace_items("rtmini::bake::trace_reference", item_range(scene_.color_offset, begin, end),
@@ -393,8 +397,11 @@ std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, cons
   std::int64_t rays = 0;
   const bool with_gather = cfg.gather_rays > 0 && it > 0;
   if (with_gather) {
-    DiffuseGather<LookupT> g{s.mesh.accel,    reader, s.mesh.positions, s.normal, s.diffuse, gather,
-                             cfg.gather_rays, it,     cfg.seed};
+    DiffuseGather<LookupT> g{s.mesh.accel,     reader,
+                             s.mesh.positions, s.normal,
+                             s.diffuse,        gather,
+                             cfg.gather_rays,  it,
+                             cfg.seed,         s.mesh.coordinate_bound};
     std::int64_t r = 0;
     Kokkos::parallel_reduce("rtmini::bake::diffuse_gather",
                             Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(begin, end),
@@ -403,10 +410,13 @@ std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, cons
   }
   const ItemRange items = item_range(s.color_offset, begin, end);
   const std::int64_t item_begin = items.first;
-  MirrorIteration<LookupT> m{
-      s.mesh.accel, reader, s.mesh.positions, s.normal, s.diffuse, s.reflective, base, gather,
-      s.viewpoints, order,  s.color_offset,   cache,    next,      begin,        end,  item_begin,
-      cache_offset, it,     with_gather,      mode};
+  MirrorIteration<LookupT> m{s.mesh.accel, reader,         s.mesh.positions,
+                             s.normal,     s.diffuse,      s.reflective,
+                             base,         gather,         s.viewpoints,
+                             order,        s.color_offset, cache,
+                             next,         begin,          end,
+                             item_begin,   cache_offset,   it,
+                             with_gather,  mode,           s.mesh.coordinate_bound};
   return rays + trace_items("rtmini::bake::shade", items, m);
 }
 }  // namespace

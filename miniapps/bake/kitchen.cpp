@@ -271,6 +271,7 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
   timer.stop();
   if (mesh.positions.empty() || mesh.faces.empty())
     throw InputError(c.input, 0, "the scene has no vertices or no faces");
+  check_representable(bounds_of(mesh.positions), bounds_of(mesh.positions).centre(), c.input);
 
   timer.start("setup");
   const BakeSceneHost host = prepare_bake_scene(mesh, c.viewpoints, c.all_view_dependent);

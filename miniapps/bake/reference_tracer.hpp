@@ -27,6 +27,7 @@ struct ReferenceTracer {
   Kokkos::View<Vec3*, MemSpace> positions, normal, reflective;
   Kokkos::View<Vec3*, MemSpace> base;  // per vertex: emission + direct light (iteration 0)
   Vec3 background;
+  Real coordinate_bound;  // DeviceMesh::coordinate_bound, for offset_ray_origin
 
   // Colour of vertex v along camera direction d after `iterations` mirror iterations; adds the
   // mirror rays traced to `rays`. A vertex without a reflective part has its base colour.
@@ -49,7 +50,7 @@ struct ReferenceTracer {
       const Vec3 n = normal(node.vertex);
       const Vec3 weight = node.weight * reflective(node.vertex);
       Ray ray;
-      ray.org = offset_ray_origin(positions(node.vertex), n);
+      ray.org = offset_ray_origin(positions(node.vertex), n, coordinate_bound);
       ray.dir = mirror_direction(node.dir, n);
       const Hit hit = bvh::closest_hit(accel, ray);
       ++rays;

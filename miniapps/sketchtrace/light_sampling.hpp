@@ -81,7 +81,7 @@ KOKKOS_FORCEINLINE_FUNCTION bool segment_blocked_by_ball(const Ray& r, const Sol
 // Unoccluded shadow-ray test from the surface towards point q (light geometry at q is not a
 // blocker). With `blockers` (the shaft's, bvh/shaft.hpp) only those triangles are tested:
 // the same answer as a traversal, for rays inside that shaft.
-// `org` is the shading point's shadow-ray origin, offset_ray_origin(p, ng).
+// `org` is the shading point's shadow-ray origin, offset_ray_origin(p, ng, bound).
 template <class Scene>
 KOKKOS_FORCEINLINE_FUNCTION bool visible(const Scene& scene, const Vec3& org, const Vec3& q,
                                          TraceCounter& c,
@@ -130,7 +130,7 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_irradiance(const Scene& scene, const Surface&
   const int samples = plan.soft ? plan.samples : 1;
   const Real inv_samples = Real(1) / Real(samples);
   int light = 0;
-  const Vec3 org = offset_ray_origin(s.p, s.ng);
+  const Vec3 org = offset_ray_origin(s.p, s.ng, s.coordinate_bound);
   const bvh::ShaftBlockers* blockers = nullptr;
   auto area_sample = [&](const Vec3& q, const Vec3& nl, const Vec3& le, Real area) {
     const Vec3 w = q - s.p;

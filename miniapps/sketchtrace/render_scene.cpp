@@ -33,7 +33,35 @@ void bounds_of(const Mesh& mesh, Vec3d& lo, Vec3d& hi) {
   if (mesh.positions.empty()) lo = hi = Vec3d(0.0);
 }
 
+// World-space bounds of the meshes, spheres and lights of a scene file.
+Bounds3d placed_bounds(const Mesh& mesh, const SceneDescription& desc) {
+  Bounds3d b = bounds_of(mesh.positions);
+  for (const SphereDesc& sp : desc.spheres) {
+    b.add(sp.center - Vec3d(sp.radius));
+    b.add(sp.center + Vec3d(sp.radius));
+  }
+  for (const LightDesc& l : desc.lights) {
+    if (l.type == LightType::kQuad) {
+      b.add(l.corner);
+      b.add(l.corner + l.edge_u + l.edge_v);
+    } else if (l.type == LightType::kPoint) {
+      b.add(l.position);
+    } else {
+      b.add(l.center - Vec3d(l.radius));
+      b.add(l.center + Vec3d(l.radius));
+    }
+  }
+  return b;
+}
+
 }  // namespace
+
+CameraDesc to_render_frame(const CameraDesc& camera, const Vec3d& origin) {
+  CameraDesc c = camera;
+  c.position -= origin;
+  c.look_at -= origin;
+  return c;
+}
 
 void add_quad_light(HostScene& s, const Vec3d& corner, const Vec3d& u, const Vec3d& v,
                     const Vec3f& emission) {
@@ -99,23 +127,30 @@ HostScene build_scene(const std::string& input, const SceneDescription* desc,
     if (fallback < 0) fallback = add_material(s.mesh, Material{});
     f.material = fallback;
   }
+  // The render frame: the bounding-box centre of everything placed goes to the origin, in
+  // double, before any coordinate is rounded to Real (geometry/offset.hpp says why).
+  const Bounds3d placed = desc ? placed_bounds(s.mesh, *desc) : bounds_of(s.mesh.positions);
+  s.origin = placed.centre();
+  check_representable(placed, s.origin, input);
+  for (Vec3d& p : s.mesh.positions) p -= s.origin;
   const int level = settings.sphere_subdivisions;
   if (desc) {
     for (std::size_t i = 0; i < desc->spheres.size(); ++i) {
       const SphereDesc& sp = desc->spheres[i];
-      add_sphere(s, sp.center, sp.radius, level, sp.material, "sphere" + std::to_string(i));
+      add_sphere(s, sp.center - s.origin, sp.radius, level, sp.material,
+                 "sphere" + std::to_string(i));
     }
     for (const LightDesc& l : desc->lights) {
       if (l.type == LightType::kQuad) {
-        add_quad_light(s, l.corner, l.edge_u, l.edge_v, l.emission);
+        add_quad_light(s, l.corner - s.origin, l.edge_u, l.edge_v, l.emission);
       } else if (l.type == LightType::kPoint) {
-        s.points.push_back({Vec3(l.position), Vec3(l.intensity)});
+        s.points.push_back({Vec3(l.position - s.origin), Vec3(l.intensity)});
       } else {
         Material m;
         m.name = "sphere_light";
         m.diffuse = Vec3f(0.f);
         m.emissive = l.emission;
-        add_sphere(s, l.center, l.radius, level, m, "sphere_light");
+        add_sphere(s, l.center - s.origin, l.radius, level, m, "sphere_light");
       }
     }
   }
@@ -134,7 +169,9 @@ HostScene build_scene(const std::string& input, const SceneDescription* desc,
     if (settings.ambient.x == 0.f && settings.ambient.y == 0.f && settings.ambient.z == 0.f)
       settings.ambient = Vec3f(0.05f);
   }
-  if (!settings.has_camera) settings.camera = frame_bounds(lo, hi, settings.camera.fov_deg);
+  // The camera stays in world coordinates (the CLI may still move it); see to_render_frame.
+  if (!settings.has_camera)
+    settings.camera = frame_bounds(lo + s.origin, hi + s.origin, settings.camera.fov_deg);
   if (s.mesh.faces.empty()) throw InputError(input, 0, "the scene has no geometry");
   return s;
 }

@@ -9,6 +9,7 @@
 
 #include "render_settings.hpp"
 #include "rtmini/scene/mesh.hpp"
+#include "rtmini/scene/recentre.hpp"
 
 namespace rtmini::sketch {
 
@@ -55,7 +56,13 @@ struct HostScene {
   std::vector<ObjectShading> objects;      // one per mesh object
   std::vector<char> object_is_quad_light;  // excluded from the mesh-light list
   std::vector<SolidBall> solid_balls;      // one per generated sphere
+  // Everything above is in the render frame: world position = frame position + origin
+  // (the bounding-box centre of the scene file's geometry and lights; geometry/offset.hpp).
+  Vec3d origin{0.0};
 };
+
+// A world-space camera in the render frame of a scene whose frame sits at `origin`.
+CameraDesc to_render_frame(const CameraDesc& camera, const Vec3d& origin);
 
 // Building blocks for generators and tests (build_scene uses them too). Each adds
 // a new object; the quad light is also visible geometry.

@@ -68,7 +68,7 @@ std::string feature_names(unsigned f) {
 
 Renderer::Renderer(const HostScene& scene, const RenderSettings& s) {
   scene_ = upload_scene(scene, s.bvh);
-  camera_ = make_camera(s.camera, s.width, s.height);
+  camera_ = make_camera(to_render_frame(s.camera, scene.origin), s.width, s.height);
   params_.width = s.width;
   params_.height = s.height;
   params_.spp = s.spp;

@@ -21,7 +21,8 @@ struct Surface {
   Vec3 ns;  // shading normal, same side as ng
   int material = 0;
   int object = -1;
-  bool front = true;  // the ray hit the side the winding calls outside
+  bool front = true;          // the ray hit the side the winding calls outside
+  Real coordinate_bound = 0;  // the scene's, for offset_ray_origin
 };
 
 template <class Scene>
@@ -31,6 +32,7 @@ KOKKOS_INLINE_FUNCTION Surface surface_at(const Scene& scene, const Ray& ray, co
   const int tri = hit.prim;
   const Triangle& t = scene.mesh.tris(tri);
   s.p = barycentric_point(t.a, t.b, t.c, hit.u, hit.v);
+  s.coordinate_bound = scene.mesh.coordinate_bound;
   const Vec3 ng = triangle_normal(t.a, t.b, t.c);
   s.object = scene.mesh.tri_object(tri);
   s.material = scene.mesh.tri_material(tri);
@@ -111,20 +113,20 @@ KOKKOS_INLINE_FUNCTION bool sample_continuation(const DeviceMaterial& m, const S
     Vec3 d = reflect(dir, s.ns);
     if (is_glossy(m.shininess)) d = phong_lobe(d, m.shininess, u1, u2);
     if (dot(d, s.ng) <= Real(0)) return false;
-    next.org = offset_ray_origin(s.p, s.ng);
+    next.org = offset_ray_origin(s.p, s.ng, s.coordinate_bound);
     next.dir = d;
     weight = w_r * (total / p_r);
   } else if (pick < p_r + p_t) {
     Vec3 d = refracted;
     if (is_glossy(m.shininess)) d = phong_lobe(d, m.shininess, u1, u2);
     if (dot(d, s.ng) >= Real(0)) return false;
-    next.org = offset_ray_origin(s.p, -s.ng);
+    next.org = offset_ray_origin(s.p, -s.ng, s.coordinate_bound);
     next.dir = d;
     weight = w_t * (total / p_t);
   } else {
     const Vec3 d = Frame(s.ns).to_world(cosine_hemisphere(u1, u2));
     if (dot(d, s.ng) <= Real(0)) return false;
-    next.org = offset_ray_origin(s.p, s.ng);
+    next.org = offset_ray_origin(s.p, s.ng, s.coordinate_bound);
     next.dir = d;
     weight = w_d * (total / p_d);
     diffuse = true;

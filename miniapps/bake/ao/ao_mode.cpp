@@ -11,6 +11,7 @@
 #include "rtmini/report/hash.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/report/version.hpp"
+#include "rtmini/scene/recentre.hpp"
 #include "vertex_mapping.hpp"
 
 namespace rtmini {
@@ -25,6 +26,27 @@ std::uint64_t ao_hash(const std::vector<float>& values) {
     h += hash_term(i, static_cast<std::uint64_t>(q));
   }
   return h;
+}
+
+// The per-sample-point mean visibility (the AO value another tracer can be compared with) and
+// its Monte-Carlo standard error: each point's k of R rays are binomial, so the mean of n points
+// has variance sum p_i (1 - p_i) / (R n^2), estimated with p_i = 1 - k_i / R.
+struct SampleMean {
+  double mean = 0, std_error = 0;
+};
+SampleMean mean_visibility(const std::vector<std::uint16_t>& occluded, int rays) {
+  SampleMean m;
+  if (occluded.empty()) return m;
+  double sum = 0, var = 0;
+  for (const std::uint16_t k : occluded) {
+    const double p = 1.0 - static_cast<double>(k) / rays;
+    sum += p;
+    var += p * (1.0 - p) / rays;
+  }
+  const double n = static_cast<double>(occluded.size());
+  m.mean = sum / n;
+  m.std_error = std::sqrt(var) / n;
+  return m;
 }
 
 nlohmann::json parameters_json(const ao::AoOptions& o) {
@@ -64,10 +86,23 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
   report.parameters = parameters_json(o);
 
   report.timer.start("load");
-  ao::AoScene scene = ao::load_ao_scene(o.input);
-  ao::replicate_instances(scene, o.instances, o.ground_axis % 3);
+  ao::AoScene world = ao::load_ao_scene(o.input);
+  ao::replicate_instances(world, o.instances, o.ground_axis % 3);
+  // Traced in a frame centred on the scene (outputs use `world`), refused where the precision
+  // cannot hold it (geometry/offset.hpp).
+  const ao::Bounds world_bounds = world.scene_bounds();
+  Bounds3d placed;
+  if (!world_bounds.empty()) {
+    placed.add(world_bounds.lo);
+    placed.add(world_bounds.hi);
+  }
+  check_representable(placed, placed.centre(), o.input);
+  const ao::AoScene scene = ao::recentred(world, placed.centre());
   const ao::Bounds bounds = scene.receiver_bounds();
-  const double extent = bounds.max_extent();
+  // The scene scale of the AO seed: the maximum extent of the whole scene, blockers included
+  // (a small receiver under a large blocker must reach it).
+  const ao::Bounds all = scene.scene_bounds();
+  const double extent = all.max_extent();
   report.timer.stop();
   const ao::GroundPlane ground = o.ground_plane
                                      ? ao::make_ground_plane(bounds.lo, bounds.hi, o.ground_axis,
@@ -135,6 +170,8 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
   ts.seed = o.seed;
   ts.offset = static_cast<Real>(o.ray_distance_scale * extent);
   ts.max_distance = static_cast<Real>(o.hit_distance_scale * extent);
+  ts.coordinate_bound =
+      static_cast<Real>(std::max(max_component(vabs(all.lo)), max_component(vabs(all.hi))));
   // Contiguous sample ranges per rank; the counts are integers, so the gathered
   // array (and everything after it) is identical for any rank count.
   const std::int64_t first = total * comm.rank() / comm.size();
@@ -145,9 +182,10 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
   report.timer.start("gather");
   const std::vector<std::uint16_t> occluded = comm.gatherv(mine, 0);
   report.timer.stop();
+  const SampleMean mean_ao = root ? mean_visibility(occluded, o.rays) : SampleMean{};
 
   ao::AoResult result;
-  result.scene = &scene;
+  result.scene = &world;
   result.plan = &plan;
   ao::LeastSquaresStats lsq;
   // Rank 0 maps, solves and writes; the others time the same (empty) phases so
@@ -195,6 +233,8 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
         std::printf("    %d singular system(s): weighted average used there\n", lsq.fallbacks);
     }
     std::printf("Write output ...             %10.2f ms\n", 1e3 * t[8]);
+    std::printf("Mean AO over %lld sample points: %.6f +- %.6f (Monte-Carlo standard error)\n",
+                static_cast<long long>(total), mean_ao.mean, mean_ao.std_error);
     std::printf("Whole bake (wall) ...        %10.2f ms\n", 1e3 * run_time);
     std::fflush(stdout);
   }
@@ -208,7 +248,9 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
                   {"receiver_vertices", plan.total_vertices()},
                   {"samples", total},
                   {"rays", static_cast<std::int64_t>(total) * o.rays},
-                  {"scene_scale", extent}};
+                  {"scene_scale", extent},
+                  {"mean_ao", mean_ao.mean},
+                  {"mean_ao_std_error", mean_ao.std_error}};
   report.fom_name = "ao_rays_per_second";
   report.fom_unit = "rays/s";
   report.fom_value = t[4] > 0 ? total_rays / t[4] : 0.0;

@@ -81,6 +81,37 @@ Bounds AoScene::receiver_bounds() const {
   return b;
 }
 
+Bounds AoScene::scene_bounds() const {
+  Bounds b;
+  for (int i = 0; i < static_cast<int>(instances.size()); ++i) {
+    const Bounds ib = instance_bounds(i);
+    if (!ib.empty()) {
+      b.expand(ib.lo);
+      b.expand(ib.hi);
+    }
+  }
+  return b;
+}
+
+AoScene recentred(const AoScene& scene, const Vec3d& world_origin) {
+  AoScene out = scene;
+  std::vector<Vec3d> centre(out.meshes.size(), Vec3d(0.0));
+  for (std::size_t m = 0; m < out.meshes.size(); ++m) {
+    Bounds b;
+    for (const Vec3d& p : out.meshes[m].positions) b.expand(p);
+    if (b.empty()) continue;
+    centre[m] = (b.lo + b.hi) * 0.5;
+    for (Vec3d& p : out.meshes[m].positions) p -= centre[m];
+  }
+  // world = L (p' + c) + t - o = L p' + (L c + t - o)
+  for (AoInstance& in : out.instances) {
+    const Vec3d t = in.xform.vector(centre[in.mesh]) +
+                    Vec3d(in.xform.m[0][3], in.xform.m[1][3], in.xform.m[2][3]) - world_origin;
+    for (int i = 0; i < 3; ++i) in.xform.m[i][3] = t[i];
+  }
+  return out;
+}
+
 AoMesh make_ao_mesh(const Mesh& mesh, const std::string& name) {
   AoMesh out;
   out.name = name;

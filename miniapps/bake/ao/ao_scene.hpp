@@ -39,9 +39,16 @@ struct AoScene {
   std::vector<int> receivers() const;  // instance ids that receive samples, in order
   Bounds receiver_bounds() const;      // world bounds of the receivers (sets the scene scale)
   Bounds instance_bounds(int instance) const;
+  Bounds scene_bounds() const;  // world bounds of every instance, blockers included
 };
 
 AoMesh make_ao_mesh(const Mesh& mesh, const std::string& name);
+
+// The same scene in the tracing frame (geometry/offset.hpp): each mesh's object space centred
+// on its own bounds and the world centred on `world_origin`, composed into the instance
+// transforms, all in double. Object-space BVHs and world rays then round relative to the
+// scene's size, not its distance from the origin. Outputs keep the original scene.
+AoScene recentred(const AoScene& scene, const Vec3d& world_origin);
 
 // .obj/.bs: one mesh, one identity instance (the sample's OBJ loader flattens).
 // .toml: io/scene_file.hpp layout; [[meshes]] naming the same file share one

@@ -13,14 +13,14 @@ using DynamicPolicy = Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dy
 void trace_pass(const OcclusionQuery& query, const Kokkos::View<Vec3*, MemSpace>& pos,
                 const Kokkos::View<Vec3*, MemSpace>& nrm, const Kokkos::View<Vec3*, MemSpace>& dirs,
                 const Kokkos::View<std::uint16_t*, MemSpace>& hits, std::int64_t n, int k0, int k1,
-                Real offset, Real max_distance) {
+                Real offset, Real max_distance, Real coordinate_bound) {
   Kokkos::parallel_for(
       "rtmini::bake::ao::trace", DynamicPolicy(0, n), KOKKOS_LAMBDA(std::int64_t i) {
         const Vec3 normal = nrm(i);
         if (length_squared(normal) == Real(0)) return;  // degenerate triangle: zero weight later
         const Frame frame(normal);
         Ray ray;
-        ray.org = offset_ray_origin(pos(i), normal) + normal * offset;
+        ray.org = offset_ray_origin(pos(i), normal, coordinate_bound) + normal * offset;
         ray.tmin = Real(0);
         ray.tmax = max_distance;
         int count = 0;
@@ -50,7 +50,8 @@ void trace_all_passes(const OcclusionQuery& query, const Kokkos::View<Vec3*, Mem
   for (int p = 0; p < s.passes; ++p) {
     const int k0 = static_cast<int>(static_cast<std::int64_t>(s.rays) * p / s.passes);
     const int k1 = static_cast<int>(static_cast<std::int64_t>(s.rays) * (p + 1) / s.passes);
-    trace_pass(query, pos, nrm, dirs, hits, n, k0, k1, s.offset, s.max_distance);
+    trace_pass(query, pos, nrm, dirs, hits, n, k0, k1, s.offset, s.max_distance,
+               s.coordinate_bound);
   }
 }
 

@@ -17,8 +17,9 @@ struct TraceSettings {
   int passes = 1;
   std::int64_t batch = 2000000;
   std::uint64_t seed = 1;
-  Real offset = 0;        // along the normal, world units
-  Real max_distance = 1;  // world units
+  Real offset = 0;            // along the normal, world units
+  Real max_distance = 1;      // world units
+  Real coordinate_bound = 1;  // largest |world coordinate|, for offset_ray_origin
 };
 
 // Per-ray-index local directions (z = normal): ray k uses stratum k of an n x n

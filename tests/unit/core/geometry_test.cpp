@@ -62,15 +62,21 @@ TEST(Aabb, SlabTestIsConservativeForAxisParallelRaysOnTheBoundary) {
   EXPECT_FALSE(slab_test(RaySlab({Real(0.5), Real(0.5), -1}, {0, 0, 1}), lo, hi, 0, Real(0.5), tn));
 }
 
-TEST(Offset, ScalesWithMagnitudeAndLeavesTheSurface) {
-  for (double mag : {1e-6, 1e-2, 1.0, 1e3, 1e5, 1e6}) {
+TEST(Offset, ScalesWithTheCoordinateBoundAndLeavesTheSurface) {
+  for (double mag : {1e-10, 1e-6, 1e-2, 1.0, 1e3, 1e5, 1e6, 1e10}) {
     const Vec3 p(Real(mag), Real(-mag), Real(0.5 * mag));
     const Vec3 n = normalize(Vec3(1, 1, 1));
-    const Vec3 q = offset_ray_origin(p, n);
+    const Vec3 q = offset_ray_origin(p, n, Real(2 * mag));
     const Vec3 d = q - p;
     EXPECT_GT(dot(d, n), 0) << mag;
-    EXPECT_LT(length(d), Real(1e-3) * Real(mag) + Real(1e-4)) << mag;
+    // gamma(32) 2 mag along n, plus one ulp per component.
+    EXPECT_LT(length(d), Real(4) * offset_distance(Real(2 * mag))) << mag;
   }
+  // A point at the origin of a scene of size 1e-6 moves by a distance of that size's order,
+  // not by an absolute step.
+  const Vec3 q = offset_ray_origin(Vec3(0), Vec3(0, 0, 1), Real(1e-6));
+  EXPECT_GT(q.z, Real(0));
+  EXPECT_LT(q.z, Real(1e-11));
 }
 
 TEST(Primitives, BoxAndIcosphereFaceOutward) {

@@ -26,7 +26,10 @@ double acne_fraction(double scale, double offset, bool grazing, long long n) {
   // A tilted plane: its vertices are not axis-aligned, so rounding is exercised.
   const Vec3d u = Vec3d(2, 0.3, 0.1) * scale, v = Vec3d(-0.2, 0.1, 2) * scale;
   append_grid(m, corner, u, v, 32, 32, -1, 0);
-  const auto dm = upload_mesh<TestExecSpace>(m, bvh::BuildQuality::kSah);
+  // Recentred as the apps do (geometry/offset.hpp).
+  const auto dm = upload_mesh<TestExecSpace>(m, bvh::BuildQuality::kSah, TestExecSpace(),
+                                             bounds_of(m.positions).centre());
+  const Real bound = dm.coordinate_bound;
   const auto accel = dm.accel;
   const auto tris = dm.tris;
   const int nt = static_cast<int>(tris.extent(0));
@@ -42,7 +45,7 @@ double acne_fraction(double scale, double offset, bool grazing, long long n) {
         uniform_triangle(Rng::to_unit(r.v[1]), Rng::to_unit(r.v[2]), bu, bv);
         const Vec3 p = barycentric_point(t.a, t.b, t.c, bu, bv);
         Ray ray;
-        ray.org = offset_ray_origin(p, normal);
+        ray.org = offset_ray_origin(p, normal, bound);
         const Frame f(normal);
         Vec3 local = cosine_hemisphere(Rng::to_unit(r.v[3]), Rng::to_unit(rng.block(1).v[0]));
         if (grazing) local = normalize(Vec3(local.x, local.y, Real(1e-3) * (Real(0.5) + local.z)));
@@ -74,11 +77,12 @@ TEST_P(Stability, NoLeaksThroughSharedEdges) {
   Mesh m;
   const Vec3d c(p.offset, -0.5 * p.offset, 0.25 * p.offset);
   append_icosphere(m, c, p.scale, 4, -1, 0);
-  const auto dm = upload_mesh<TestExecSpace>(m, bvh::BuildQuality::kLbvh);
+  const Vec3d origin = bounds_of(m.positions).centre();
+  const auto dm = upload_mesh<TestExecSpace>(m, bvh::BuildQuality::kLbvh, TestExecSpace(), origin);
   const auto accel = dm.accel;
   const auto tris = dm.tris;
   const int nt = static_cast<int>(tris.extent(0));
-  const Vec3 inside(c + Vec3d(0.2, -0.1, 0.05) * p.scale);
+  const Vec3 inside(c - origin + Vec3d(0.2, -0.1, 0.05) * p.scale);
   long long escapes = 0;
   Kokkos::parallel_reduce(
       "test::leaks", Kokkos::RangePolicy<TestExecSpace>(0, 300000),
@@ -96,11 +100,12 @@ TEST_P(Stability, NoLeaksThroughSharedEdges) {
   EXPECT_EQ(escapes, 0) << "scale " << p.scale << " offset " << p.offset;
 }
 
-// Scaled at the origin from 1e-6 to 1e6, and moved 1e5 away at unit and 1e3 scale.
+// Scaled at the origin from 1e-6 to 1e6, and moved 1e5 and 1e9 away at unit and 1e3 scale
+// (recentring makes the distance free).
 INSTANTIATE_TEST_SUITE_P(Extremes, Stability,
                          ::testing::Values(Placement{1e-6, 0}, Placement{1e-3, 0}, Placement{1, 0},
                                            Placement{1e3, 0}, Placement{1e6, 0}, Placement{1, 1e5},
-                                           Placement{1e3, 1e5}));
+                                           Placement{1e3, 1e5}, Placement{1, 1e9}));
 
 }  // namespace
 }  // namespace rtmini::test

@@ -5,6 +5,7 @@
 
 #include "rtmini/bvh/build.hpp"
 #include "rtmini/scene/mesh.hpp"
+#include "rtmini/scene/recentre.hpp"
 
 namespace rtmini {
 
@@ -23,6 +24,10 @@ struct DeviceMesh {
   Kokkos::View<int*, MemorySpace> tri_object;
   Kokkos::View<DeviceMaterial*, MemorySpace> materials;
   bvh::Bvh<MemorySpace> accel;
+  // The kernels' frame: world position = device position + origin (geometry/offset.hpp).
+  Vec3d origin{0.0};
+  // The largest |coordinate| of any vertex in that frame: sizes ray-origin offsets.
+  Real coordinate_bound = 0;
 };
 
 inline DeviceMaterial to_device(const Material& m) {
@@ -33,7 +38,8 @@ inline DeviceMaterial to_device(const Material& m) {
 template <class ExecSpace = Kokkos::DefaultExecutionSpace>
 DeviceMesh<typename ExecSpace::memory_space> upload_mesh(const Mesh& mesh,
                                                          bvh::BuildQuality quality,
-                                                         const ExecSpace& space = ExecSpace()) {
+                                                         const ExecSpace& space = ExecSpace(),
+                                                         const Vec3d& origin = Vec3d(0.0)) {
   using MS = typename ExecSpace::memory_space;
   DeviceMesh<MS> d;
   const TriangleList tl = triangulate(mesh);
@@ -53,7 +59,10 @@ DeviceMesh<typename ExecSpace::memory_space> upload_mesh(const Mesh& mesh,
   auto hm = Kokkos::create_mirror_view(d.tri_material);
   auto ho = Kokkos::create_mirror_view(d.tri_object);
   auto hmat = Kokkos::create_mirror_view(d.materials);
-  for (std::size_t i = 0; i < nv; ++i) hp(i) = Vec3(mesh.positions[i]);
+  // Moved in double, then rounded once.
+  for (std::size_t i = 0; i < nv; ++i) hp(i) = Vec3(mesh.positions[i] - origin);
+  d.origin = origin;
+  d.coordinate_bound = Real(bounds_of(mesh.positions).bound_about(origin));
   for (std::size_t t = 0; t < nt; ++t) {
     const auto& v = tl.vertices[t];
     const Face& f = mesh.faces[tl.face[t]];
