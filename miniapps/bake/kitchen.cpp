@@ -370,14 +370,16 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
       rays += crays;
       work += ie - ib;
       entries_done += ie - ib;
+      eta.batch_done(timer.now() - cs);
       if (progress_line.due()) {
         const double spent = timer.now() - iterate_start;
         const double left =
-            eta.remaining(timer.now() - t0, entries_done, my_items,
+            eta.remaining(static_cast<int>(mode), my_ranges.size(),
                           modes_after(it, iterations, cache_filled || mode == HitCacheMode::kFill));
-        progress_line.update(static_cast<double>((it - first) * my_items + entries_done),
-                             static_cast<double>((iterations - first + 1) * my_items), spent,
-                             spent + left);
+        if (left >= 0)
+          progress_line.update(static_cast<double>((it - first) * my_items + entries_done),
+                               static_cast<double>((iterations - first + 1) * my_items), spent,
+                               spent + left);
       }
       if (device_resident) continue;
       Kokkos::deep_copy(
@@ -388,7 +390,7 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
     }
     if (mode == HitCacheMode::kFill) cache_filled = true;
     const double t1 = timer.now();
-    eta.iteration_done(static_cast<int>(mode), t1 - t0);
+    eta.iteration_done(static_cast<int>(mode));
     rec.trace = t1 - t0;
     completion = t1;
     // All-gather: every rank gets every batch's colours (the seed's MPI_Allgather step).
