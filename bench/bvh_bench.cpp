@@ -16,6 +16,7 @@
 #include "rtmini/report/app_main.hpp"
 #include "rtmini/report/common_options.hpp"
 #include "rtmini/report/hash.hpp"
+#include "rtmini/report/rank_timings.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/report/version.hpp"
 #include "rtmini/sampling/rng.hpp"
@@ -352,6 +353,10 @@ int bench_main(Communicator& comm, int argc, char** argv) {
                        {"repeats", o.repeats},
                        {"seed", o.seed}};
   const int code = run(o, report);
+  // Phases only: the program has no dispatch loop of its own to record.
+  if (!common.timings.empty())
+    write_rank_timings(common.timings, comm, report.timer, RankTimings{},
+                       {"rtmini-bvh-bench", "", o.mesh, report.parameters.dump(), {}});
   report.finish(comm, common.summary);
   return code;
 }

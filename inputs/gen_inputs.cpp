@@ -15,6 +15,7 @@
 #include "rtmini/report/app_main.hpp"
 #include "rtmini/report/common_options.hpp"
 #include "rtmini/report/hash.hpp"
+#include "rtmini/report/rank_timings.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/scene/primitives.hpp"
 
@@ -247,6 +248,10 @@ int gen_inputs(Communicator& comm, int argc, char** argv) {
   report.fom_unit = "faces";
   report.fom_value = static_cast<double>(m.faces.size());
   report.verification_hash = mesh_hash(m);
+  // Phases only: the program has no dispatch loop of its own to record.
+  if (!common.timings.empty())
+    write_rank_timings(common.timings, comm, report.timer, RankTimings{},
+                       {"rtmini-gen-inputs", "", scene, report.parameters.dump(), {}});
   report.finish(comm, common.summary);
   return kExitOk;
 }

@@ -1,39 +1,68 @@
 #pragma once
-// The remaining time of bake's iterate phase, from measured costs: the iterations differ in cost
-// by hit-cache mode (the base map, the iteration that fills the cache and the ones that reuse it
-// trace very different ray counts), so a remaining iteration is estimated by the last measured
-// iteration of its own mode (or the last one of any mode until its mode has run), and the
-// current iteration by its own rate over the colour entries done so far.
+// The remaining time of bake's iterate phase, from measured costs. A rank traces the same
+// batches in every iteration, but their costs differ widely (a batch of view-dependent vertices
+// traces N colours' rays, one of diffuse vertices a single colour's), and whole iterations
+// differ by hit-cache mode (the base map, the iteration that fills the cache, the ones that
+// reuse it). So the rest of the current iteration is the rest of the last iteration of the
+// same mode, batch by batch, scaled by how fast this iteration has been so far (linear in
+// batches while its mode is new: batches are cut to about equal work, colour entries are not
+// a measure of it, since the gather rays go per vertex); each later iteration costs the last
+// measured one of its mode, or, for a mode not seen yet, this iteration's projected total.
 #include <cstdint>
 #include <map>
+#include <numeric>
 #include <vector>
 
 namespace rtmini::bake {
 
 class IterationEta {
  public:
-  // Call when an iteration of mode `mode` (any integer label) ends after `seconds`.
-  void iteration_done(int mode, double seconds) {
-    last_of_mode_[mode] = seconds;
-    last_ = seconds;
+  void batch_done(double seconds) { current_.push_back(seconds); }
+  void iteration_done(int mode) {
+    last_of_mode_[mode] = current_;
+    current_.clear();
   }
-  // Estimated seconds left: `done`/`total` entries of the current iteration took `spent` s so
-  // far; `upcoming_modes` lists the modes of the iterations after it.
-  template <class Modes>
-  double remaining(double spent, std::int64_t done, std::int64_t total,
-                   const Modes& upcoming_modes) const {
-    double left =
-        done > 0 ? spent * static_cast<double>(total - done) / static_cast<double>(done) : last_;
-    for (const int m : upcoming_modes) {
-      const auto it = last_of_mode_.find(m);
-      left += it != last_of_mode_.end() ? it->second : last_;
+  // Seconds left: the current iteration (mode `mode`, `batches` batches on this rank) and the
+  // iterations after it, whose modes are `upcoming`; negative when there is no estimate yet.
+  double remaining(int mode, std::size_t batches, const std::vector<int>& upcoming) const {
+    const double spent = sum(current_, 0, current_.size());
+    const std::vector<double>* ref = reference(mode);
+    double left = 0;
+    if (ref && ref->size() > current_.size()) {
+      const double ref_done = sum(*ref, 0, current_.size());
+      const double ref_left = sum(*ref, current_.size(), ref->size());
+      left = ref_done > 0 ? ref_left * spent / ref_done : ref_left;
+    } else if (current_.size() >= 2) {
+      // The first batch of an iteration also pays its setup (measured: ~15x a later batch on
+      // cornell_big), so the rest is extrapolated from the batches after it.
+      const double per_batch =
+          sum(current_, 1, current_.size()) / static_cast<double>(current_.size() - 1);
+      left = per_batch * static_cast<double>(batches - current_.size());
+    } else if (current_.size() < batches) {
+      return -1.0;  // only the setup-laden first batch is known: no honest estimate yet
+    }
+    const double this_iteration = spent + left;
+    for (const int m : upcoming) {
+      const std::vector<double>* r = reference(m);
+      left += r ? sum(*r, 0, r->size()) : this_iteration;
     }
     return left;
   }
 
  private:
-  std::map<int, double> last_of_mode_;
-  double last_ = 0;
+  static double sum(const std::vector<double>& v, std::size_t a, std::size_t b) {
+    return std::accumulate(v.begin() + static_cast<std::ptrdiff_t>(a),
+                           v.begin() + static_cast<std::ptrdiff_t>(b), 0.0);
+  }
+  // Only an iteration of the same mode is a fair reference: the base map's batches cost in a
+  // different proportion (no gather rays, no mirror bounces) than the iterations after it.
+  const std::vector<double>* reference(int mode) const {
+    const auto it = last_of_mode_.find(mode);
+    return it != last_of_mode_.end() ? &it->second : nullptr;
+  }
+
+  std::vector<double> current_;
+  std::map<int, std::vector<double>> last_of_mode_;
 };
 
 // Modes (0 = no cache, 1 = fill, 2 = use: chef.hpp's HitCacheMode order) of iterations

@@ -20,6 +20,7 @@
 #include "rtmini/io/timings.hpp"
 #include "rtmini/report/hash.hpp"
 #include "rtmini/report/progress.hpp"
+#include "rtmini/report/rank_timings.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/report/stop_request.hpp"
 #include "rtmini/report/version.hpp"
@@ -151,81 +152,17 @@ void write_timings_file(const Communicator& comm, const BakeConfig& c, const Pha
                         const std::vector<IterationRecord>& iters,
                         const std::vector<ChunkRecord>& chunks, double completion, double idle,
                         std::int64_t rays, std::int64_t work, const std::string& params_json) {
-  const int ranks = comm.size();
-  std::vector<double> my_start, my_end;
-  for (const auto& name : phase_names) {
-    double s = -1, e = -1;
-    for (const auto& p : timer.phases()) {
-      if (p.first != name) continue;
-      if (s < 0) s = p.second.first;
-      e = p.second.second;
-    }
-    my_start.push_back(s);
-    my_end.push_back(e);
-  }
-  std::vector<double> it_trace, it_gather, it_write;
-  std::vector<std::int64_t> it_bytes;
-  for (const auto& r : iters) {
-    it_trace.push_back(r.trace);
-    it_gather.push_back(r.allgather);
-    it_write.push_back(r.write);
-    it_bytes.push_back(r.allgather_bytes);
-  }
-  std::vector<double> chunk_times;
-  std::vector<std::int64_t> chunk_ints;
-  for (const auto& ch : chunks) {
-    chunk_times.push_back(ch.start);
-    chunk_times.push_back(ch.end);
-    chunk_ints.insert(chunk_ints.end(), {ch.rank, ch.iteration, ch.work_units, ch.rays});
-  }
-  std::vector<double> rank_d{completion, idle};
-  std::vector<std::int64_t> rank_i{comm.messages_sent(), comm.bytes_sent(), rays, work};
-  const auto g_start = comm.gatherv(my_start), g_end = comm.gatherv(my_end);
-  const auto g_trace = comm.gatherv(it_trace), g_gather = comm.gatherv(it_gather);
-  const auto g_write = comm.gatherv(it_write);
-  const auto g_bytes = comm.gatherv(it_bytes);
-  const auto g_ct = comm.gatherv(chunk_times);
-  const auto g_ci = comm.gatherv(chunk_ints);
-  const auto g_rd = comm.gatherv(rank_d);
-  const auto g_ri = comm.gatherv(rank_i);
-  if (!comm.is_root()) return;
-  TimingsData t;
-  t.app = "bake";
-  t.version = version_string();
-  t.git_hash = git_hash();
-  t.backend = compat::backend_name();
-  t.strategy = to_string(c.balance);
-  t.scene = c.input;
-  t.parameters = params_json;
-  t.ranks = ranks;
-  t.threads = compat::concurrency();
-  t.phase_names = phase_names;
-  t.phase_start = g_start;
-  t.phase_end = g_end;
-  for (std::size_t i = 0; i + 1 < g_ct.size(); i += 2) {
-    t.chunk_start.push_back(g_ct[i]);
-    t.chunk_end.push_back(g_ct[i + 1]);
-  }
-  for (std::size_t i = 0; i + 3 < g_ci.size(); i += 4) {
-    t.chunk_rank.push_back(g_ci[i]);
-    t.chunk_iteration.push_back(g_ci[i + 1]);
-    t.chunk_work_units.push_back(g_ci[i + 2]);
-    t.chunk_rays.push_back(g_ci[i + 3]);
-  }
-  for (int r = 0; r < ranks; ++r) {
-    t.rank_completion_time.push_back(g_rd[2 * r]);
-    t.rank_idle_time.push_back(g_rd[2 * r + 1]);
-    t.rank_messages_sent.push_back(g_ri[4 * r]);
-    t.rank_bytes_sent.push_back(g_ri[4 * r + 1]);
-    t.rank_rays.push_back(g_ri[4 * r + 2]);
-    t.rank_work_units.push_back(g_ri[4 * r + 3]);
-  }
-  t.iterations = static_cast<int>(iters.size());
-  t.iteration_trace_time = g_trace;
-  t.iteration_allgather_time = g_gather;
-  t.iteration_write_time = g_write;
-  t.iteration_allgather_bytes = g_bytes;
-  write_timings(c.timings, t);
+  RankTimings mine;
+  for (const auto& ch : chunks)
+    mine.chunks.push_back({ch.iteration, ch.work_units, ch.rays, ch.start, ch.end});
+  for (const auto& r : iters)
+    mine.iterations.push_back({r.trace, r.allgather, r.write, r.allgather_bytes});
+  mine.completion = completion;
+  mine.idle = idle;
+  mine.rays = rays;
+  mine.work_units = work;
+  write_rank_timings(c.timings, comm, timer, mine,
+                     {"bake", to_string(c.balance), c.input, params_json, phase_names});
 }
 
 }  // namespace
@@ -435,14 +372,16 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
       rays += crays;
       work += ie - ib;
       entries_done += ie - ib;
+      eta.batch_done(timer.now() - cs);
       if (progress_line.due()) {
         const double spent = timer.now() - iterate_start;
         const double left =
-            eta.remaining(timer.now() - t0, entries_done, my_items,
+            eta.remaining(static_cast<int>(mode), my_ranges.size(),
                           modes_after(it, iterations, cache_filled || mode == HitCacheMode::kFill));
-        progress_line.update(static_cast<double>((it - first) * my_items + entries_done),
-                             static_cast<double>((iterations - first + 1) * my_items), spent,
-                             spent + left);
+        if (left >= 0)
+          progress_line.update(static_cast<double>((it - first) * my_items + entries_done),
+                               static_cast<double>((iterations - first + 1) * my_items), spent,
+                               spent + left);
       }
       if (device_resident) continue;
       Kokkos::deep_copy(
@@ -453,7 +392,7 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
     }
     if (mode == HitCacheMode::kFill) cache_filled = true;
     const double t1 = timer.now();
-    eta.iteration_done(static_cast<int>(mode), t1 - t0);
+    eta.iteration_done(static_cast<int>(mode));
     rec.trace = t1 - t0;
     completion = t1;
     // All-gather: every rank gets every batch's colours (the seed's MPI_Allgather step).

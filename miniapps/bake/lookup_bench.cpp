@@ -8,6 +8,7 @@
 #include "rtmini/parallel/communicator.hpp"
 #include "rtmini/report/app_main.hpp"
 #include "rtmini/report/common_options.hpp"
+#include "rtmini/report/rank_timings.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/report/version.hpp"
 #include "rtmini/sampling/fibonacci_lookup.hpp"
@@ -120,6 +121,10 @@ int lookup_bench(Communicator& comm, int argc, char** argv) {
   report.fom_name = "sweep time";
   report.fom_unit = "s";
   report.fom_value = seconds;
+  // Phases only: the program has no dispatch loop of its own to record.
+  if (!common.timings.empty())
+    write_rank_timings(common.timings, comm, report.timer, RankTimings{},
+                       {"rtmini-bake-lookup-bench", "", "", report.parameters.dump(), {}});
   report.finish(comm, common.summary);
   return kExitOk;
 }

@@ -34,6 +34,7 @@
 #include "rtmini/report/hash.hpp"
 #include "rtmini/report/image_metrics.hpp"
 #include "rtmini/report/progress.hpp"
+#include "rtmini/report/rank_timings.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/report/stop_request.hpp"
 #include "rtmini/report/version.hpp"
@@ -150,59 +151,472 @@ void write_timings_file(const std::string& path, const Communicator& comm, const
                         const std::vector<BandRecord>& bands, double completion, double idle,
                         std::int64_t rays, std::int64_t pixels, const std::string& scene_name,
                         const std::string& strategy) {
-  std::vector<std::string> names;
-  std::map<std::string, std::pair<double, double>> span;
-  for (const auto& ph : report.timer.phases()) {
-    if (!span.count(ph.first)) {
-      names.push_back(ph.first);
-      span[ph.first] = ph.second;
+  RankTimings mine;
+  for (const BandRecord& b : bands)
+    mine.chunks.push_back({b.iteration, b.pixels, b.rays, b.start, b.end});
+  mine.completion = completion;
+  mine.idle = idle;
+  mine.rays = rays;
+  mine.work_units = pixels;
+  write_rank_timings(path, comm, report.timer, mine,
+                     {"sketchtrace", strategy, scene_name, report.parameters.dump(), {}});
+}
+
+// One run's state, handed from phase to phase (read, plan, trace, gather, write, report).
+struct RunState {
+  explicit RunState(Communicator& c) : comm(c) {}
+  Communicator& comm;
+  RunOptions opt;
+  RunReport report;
+  RenderSettings s;
+  Balance balance = Balance::kStatic;
+  std::unique_ptr<HostScene> scene;
+  std::unique_ptr<Renderer> renderer;
+  std::vector<std::uint8_t> done;         // rank 0: per-pixel done mask
+  std::vector<PixelResult> frame_pixels;  // rank 0: the whole image
+  std::string signature;                  // what a checkpoint must match
+  std::unique_ptr<PixelOrder> order;
+  std::int64_t batch = 0;  // pixels per dispatch
+  CostMap cost;
+  bool root() const { return comm.is_root(); }
+  std::size_t pixels_total() const { return static_cast<std::size_t>(s.width) * s.height; }
+};
+
+// What the render loop leaves for the phases after it.
+struct TraceResult {
+  std::vector<BandRecord> records;
+  std::int64_t rays = 0, tests = 0, rendered = 0, missing = 0;
+  double render_start = 0, loop_end = 0, render_end = 0, completion = 0, idle = 0;
+  bool stopping = false;
+  std::string stop_reason;
+};
+
+// Read: settings from the scene file and the command line, then the scene itself.
+void read_inputs(RunState& r, const CliOverrides& cli) {
+  RunOptions& opt = r.opt;
+  r.report.timer.start("load");
+  std::unique_ptr<SceneDescription> desc;
+  if (extension(opt.input) == ".toml") {
+    desc = std::make_unique<SceneDescription>(read_scene_file(opt.input));
+    apply_scene_settings(*desc, r.s);
+  } else if (!std::ifstream(opt.input)) {
+    throw InputError(opt.input + ": cannot open the input");
+  }
+  cli.apply(r.s);
+  opt.max_memory = cli.max_memory();
+  validate_settings(r.s, "command line");
+  if (!opt.output.empty()) check_output_path(opt.output);
+#ifndef RTMINI_SKETCH_HAVE_NPR
+  if (r.s.style != "none")
+    throw InputError("--style " + r.s.style + ": this build has no hand-drawn passes");
+#endif
+  r.balance = parse_balance(opt.balance);
+  if (!(opt.time_limit_minutes >= 0))
+    throw InputError("--time-limit must be >= 0 minutes (got " +
+                     std::to_string(opt.time_limit_minutes) + ")");
+  if (!(opt.checkpoint_interval > 0)) throw InputError("--checkpoint-interval must be > 0 seconds");
+  r.scene = std::make_unique<HostScene>(build_scene(opt.input, desc.get(), r.s));
+  cli.apply_camera(r.s);
+  validate_settings(r.s, "command line");
+  r.report.timer.stop();
+  r.report.parameters = parameters_json(r.s);
+}
+
+// Upload: the device scene, and what the summary says about it.
+void upload_scene(RunState& r) {
+  r.report.timer.start("upload");
+  r.renderer = std::make_unique<Renderer>(*r.scene, r.s);
+  r.report.timer.stop();
+  const DeviceScene& ds = r.renderer->scene();
+  r.report.scene = {{"input", r.opt.input},
+                    {"triangles", ds.triangles},
+                    {"vertices", r.scene->mesh.positions.size()},
+                    {"objects", r.scene->mesh.objects.size()},
+                    {"materials", r.scene->mesh.materials.size()},
+                    {"quad_lights", ds.num_quads},
+                    {"mesh_lights", ds.num_mesh_lights},
+                    {"point_lights", ds.num_points}};
+}
+
+// The banner and the memory estimate; false (every rank alike) when over --max-memory.
+bool memory_fits(const RunState& r) {
+  const DeviceScene& ds = r.renderer->scene();
+  // Rank 0 holds the scene and the whole frame (pixel results, output planes, the
+  // done flags); other ranks only the scene, so rank 0's total is the maximum.
+  const double frame_bytes =
+      static_cast<double>(r.pixels_total()) * (sizeof(PixelResult) + 11 * sizeof(float) + 1);
+  const double peak_bytes = static_cast<double>(ds.bytes) + frame_bytes;
+  if (r.root()) {
+    std::printf("%s\n", build_banner().c_str());
+    std::printf("sketchtrace: input %s, output %s\n", r.opt.input.c_str(),
+                r.opt.output.empty() ? "(none)" : r.opt.output.c_str());
+    std::printf("  parameters: %s\n", r.report.parameters.dump().c_str());
+    std::printf("  scene: %s\n", r.report.scene.dump().c_str());
+    std::printf("  kernel features: %s%s, ranks %d, threads per rank %d\n",
+                feature_names(r.renderer->features()).c_str(),
+                r.s.general_kernel ? " (forced general kernel)" : "", r.comm.size(),
+                compat::concurrency());
+    std::printf(
+        "  memory estimate (max over ranks): %.1f MiB (scene %.1f MiB per rank, frame %.1f MiB on "
+        "rank 0)\n",
+        peak_bytes / 1048576.0, static_cast<double>(ds.bytes) / 1048576.0, frame_bytes / 1048576.0);
+    std::fflush(stdout);
+  }
+  // Every rank computes the same estimate, so all refuse together (exit 3, as bake does).
+  if (r.opt.max_memory > 0 && peak_bytes > static_cast<double>(r.opt.max_memory)) {
+    if (r.root())
+      std::fprintf(stderr,
+                   "sketchtrace: estimated memory %.1f MiB exceeds --max-memory %.1f MiB; lower "
+                   "the resolution\n",
+                   peak_bytes / 1048576.0, static_cast<double>(r.opt.max_memory) / 1048576.0);
+    return false;
+  }
+  return true;
+}
+
+// Restart: rank 0 reads the finished pixels, every rank learns which to skip.
+void read_restart(RunState& r) {
+  if (r.root()) {
+    r.frame_pixels.assign(r.pixels_total(), PixelResult{});
+    r.done.assign(r.pixels_total(), 0);
+  }
+  r.signature = r.report.parameters.dump() + "|" + r.opt.input;
+  if (r.opt.restart.empty()) return;
+  if (r.root()) {
+    Checkpoint c = read_checkpoint(r.opt.restart);
+    if (c.width != r.s.width || c.height != r.s.height || c.signature != r.signature)
+      throw InputError(r.opt.restart +
+                       ": checkpoint was written with different parameters or scene");
+    r.done = std::move(c.done);
+    r.frame_pixels = std::move(c.pixels);
+  }
+  r.comm.broadcast(r.done);
+}
+
+// Plan: the pixels left, the dispatch size and, where needed, the probed cost map.
+void plan(RunState& r) {
+  read_restart(r);
+  r.order = std::make_unique<PixelOrder>(r.s.width, r.s.height, r.done);
+  if (!r.root()) r.done.clear();
+  r.batch = dispatch_pixels(r.s, r.order->size(), r.comm.size());
+  // The progress ETA weighs pixels by the probed cost too, so a run that shows progress on any
+  // rank probes even when its balance does not need the map (collective: all ranks probe).
+  const bool eta_probe = r.comm.max(r.opt.progress ? 1.0 : 0.0) > 0.5;
+  if (needs_cost_map(r.balance) || eta_probe) {
+    r.report.timer.start("probe");
+    bool reused = false;
+    r.cost = make_cost_map(*r.renderer, r.comm, r.s.width, r.s.height, r.opt.cost_map, r.signature,
+                           reused);
+    r.report.timer.stop();
+    if (r.root())
+      std::printf("  cost map: %s (%d x %d probes)\n",
+                  reused ? ("reused " + r.opt.cost_map).c_str() : "probed", r.cost.grid_w,
+                  r.cost.grid_h);
+  }
+  r.report.parameters["balance"] = to_string(r.balance);
+  if (r.root()) {
+    std::printf("  balance: %s, %lld pixels to render, %lld per dispatch\n", to_string(r.balance),
+                static_cast<long long>(r.order->size()), static_cast<long long>(r.batch));
+    std::fflush(stdout);
+  }
+}
+
+// Rank 0's progress line: pixels merged so far, weighted by the fitted per-pixel cost.
+class RenderProgress {
+ public:
+  explicit RenderProgress(const RunState& r)
+      : r_(r), line_("sketchtrace", "px", r.opt.progress && r.root()) {
+    if (!line_.enabled()) return;
+    restart_cost_ = merged_cost(r.cost, r.done);
+    for (std::int64_t pos = 0; pos < r.order->size(); ++pos)
+      total_probe_cost_ += r.cost.at(r.order->pixel(pos));
+  }
+  void dispatched(const std::vector<std::int64_t>& pixels, double seconds, std::int64_t merged) {
+    if (!line_.enabled()) return;
+    double probe = 0;
+    for (const std::int64_t p : pixels) probe += r_.cost.at(p);
+    fit_.add(seconds, static_cast<double>(pixels.size()), probe);
+    if (!line_.due()) return;
+    const double m = static_cast<double>(merged), total = static_cast<double>(r_.order->size());
+    line_.update(m, total, fit_.cost(m, merged_cost(r_.cost, r_.done) - restart_cost_),
+                 fit_.cost(total, total_probe_cost_));
+  }
+  void finish(double done, double total) { line_.finish(done, total); }
+
+ private:
+  const RunState& r_;
+  ProgressLine line_;
+  PixelCostFit fit_;
+  double restart_cost_ = 0, total_probe_cost_ = 0;
+};
+
+// --comm-thread: peers' steal requests and loads are answered while this rank renders,
+// instead of between dispatches. MPI calls take turns under mpi_mutex(): the main thread
+// holds it except while a dispatch renders.
+class CommThread {
+ public:
+  CommThread(bool on, Scheduler& scheduler) : on_(on), lock_(mpi_mutex(), std::defer_lock) {
+    if (!on_) return;
+    lock_.lock();
+    worker_ = std::thread([this, &scheduler]() {
+      while (!quit_.load()) {
+        {
+          const std::lock_guard<std::mutex> g(mpi_mutex());
+          scheduler.progress();
+        }
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+      }
+    });
+  }
+  void rendering() {
+    if (on_) lock_.unlock();
+  }
+  void rendered() {
+    if (on_) lock_.lock();
+  }
+  void stop() {
+    if (!on_) return;
+    quit_ = true;
+    lock_.unlock();
+    worker_.join();
+    on_ = false;
+  }
+  ~CommThread() { stop(); }
+
+ private:
+  bool on_;
+  std::unique_lock<std::mutex> lock_;
+  std::atomic<bool> quit_{false};
+  std::thread worker_;
+};
+
+bool use_comm_thread(RunState& r, const Scheduler& scheduler) {
+  const bool on = r.opt.comm_thread && scheduler.has_progress() && mpi_serialized_threads();
+  r.report.parameters["comm_thread"] = on;
+  if (scheduler.has_progress() && r.root()) {
+    std::printf("  communication thread: %s\n",
+                on                  ? "on"
+                : r.opt.comm_thread ? "off (MPI did not grant MPI_THREAD_SERIALIZED)"
+                                    : "off (--comm-thread off)");
+    std::fflush(stdout);
+  }
+  return on;
+}
+
+// Gather: the schedule's and the sink's last messages, and the run-wide stop reason.
+void gather(RunState& r, Scheduler& scheduler, ResultSink& sink, TraceResult& t) {
+  r.report.timer.start("gather");
+  scheduler.finish(t.stopping);
+  sink.finish();
+  r.report.timer.stop();
+  t.render_end = r.comm.max(t.loop_end);
+  // Report the reason any rank stopped for (rank 0 may only have heard that a peer stopped):
+  // the gravest that some rank saw (signal, then time limit, then --stop-after-chunks).
+  static const char* const kReasons[] = {"", "--stop-after-chunks", "time limit", "stop signal"};
+  int code = 0;
+  for (int k = 1; k < 4; ++k)
+    if (t.stop_reason == kReasons[k]) code = k;
+  code = static_cast<int>(r.comm.max(static_cast<double>(code)));
+  if (code > 0) t.stop_reason = kReasons[code];
+  // A rank's completion is the end of its last dispatch (the paper's per-rank
+  // completion plots); idle is the rest of the render span: waiting for work, for
+  // messages, for the termination round and for the slowest rank.
+  t.completion = t.records.empty() ? t.render_start : t.records.back().end;
+  double busy = 0;
+  for (const BandRecord& b : t.records) busy += b.end - b.start;
+  t.idle = std::max(0.0, (t.render_end - t.render_start) - busy);
+  t.missing = r.comm.sum(r.root() ? r.order->size() - sink.merged() : std::int64_t(0));
+}
+
+void save_checkpoint(RunState& r) {
+  r.report.timer.start("checkpoint");
+  write_checkpoint(r.opt.checkpoint, {r.s.width, r.s.height, r.signature, r.done, r.frame_pixels});
+  r.report.timer.stop();
+}
+
+// Trace: dispatches until the schedule runs dry or a stop is asked for, then gather.
+TraceResult trace(RunState& r) {
+  install_stop_handlers();
+  const RunOptions& opt = r.opt;
+  const bool checkpointing = !opt.checkpoint.empty();
+  RenderProgress progress(r);
+  const double limit_s = opt.time_limit_minutes * 60.0;
+  const double reserve = std::min(60.0, 0.05 * limit_s);  // for the final gather and checkpoint
+  ResultSink sink(r.comm, *r.order, r.frame_pixels, r.done,
+                  checkpointing ? opt.checkpoint_interval : (opt.progress ? 1.0 : 0.0));
+  const std::unique_ptr<Scheduler> scheduler = make_scheduler(
+      r.balance, r.comm, *r.order, needs_cost_map(r.balance) ? &r.cost : nullptr, r.batch);
+  TraceResult t;
+  std::vector<PosRange> ranges;
+  std::vector<std::int64_t> list;
+  std::vector<PixelResult> out;
+  double last_checkpoint = r.report.timer.now(), last_dispatch = 0.0;
+  t.render_start = r.report.timer.now();
+  auto should_stop = [&]() {
+    if (stop_requested())
+      t.stop_reason = "stop signal";
+    else if (limit_s > 0 && r.report.timer.now() + 2.0 * last_dispatch + reserve > limit_s)
+      t.stop_reason = "time limit";
+    else if (opt.stop_after_chunks >= 0 &&
+             static_cast<int>(t.records.size()) >= opt.stop_after_chunks)
+      t.stop_reason = "--stop-after-chunks";
+    else
+      return false;
+    return true;
+  };
+  CommThread comm_thread(use_comm_thread(r, *scheduler), *scheduler);
+  r.report.timer.start("render");
+  for (;;) {
+    if (should_stop()) {
+      t.stopping = true;
+      break;
     }
-    span[ph.first].second = ph.second.second;
+    if (!scheduler->next(ranges, should_stop)) {
+      t.stopping = !t.stop_reason.empty();
+      break;
+    }
+    list.clear();
+    for (const PosRange& pr : ranges)
+      for (std::int64_t pos = pr.begin; pos < pr.end; ++pos) list.push_back(r.order->pixel(pos));
+    const double t0 = r.report.timer.now();
+    comm_thread.rendering();
+    r.renderer->render_pixels(list, out);
+    comm_thread.rendered();
+    const double t1 = r.report.timer.now();
+    last_dispatch = t1 - t0;
+    std::int64_t chunk_rays = 0;
+    for (const PixelResult& p : out) {
+      chunk_rays += p.rays;
+      t.tests += static_cast<std::int64_t>(p.tests);
+    }
+    t.rays += chunk_rays;
+    t.rendered += static_cast<std::int64_t>(out.size());
+    t.records.push_back({t0, t1, static_cast<std::int64_t>(out.size()), chunk_rays,
+                         static_cast<std::int64_t>(t.records.size())});
+    sink.add(ranges, out, t1);
+    sink.poll(t1);
+    if (r.root() && checkpointing && t1 - last_checkpoint >= opt.checkpoint_interval) {
+      save_checkpoint(r);
+      last_checkpoint = r.report.timer.now();
+    }
+    if (r.root()) progress.dispatched(list, t1 - t0, sink.merged());
   }
-  std::vector<double> starts, ends;
-  for (const auto& n : names) {
-    starts.push_back(span[n].first);
-    ends.push_back(span[n].second);
+  t.loop_end = r.report.timer.now();
+  r.report.timer.stop();
+  comm_thread.stop();
+  gather(r, *scheduler, sink, t);
+  const double size = static_cast<double>(r.order->size());
+  progress.finish(size - static_cast<double>(t.missing), size);
+  if (t.missing > 0 && r.root() && checkpointing) save_checkpoint(r);
+  return t;
+}
+
+// The figure of merit (rays per second over the render span) and the optional --stats line.
+void report_rates(RunState& r, const TraceResult& t) {
+  const std::int64_t total_rays = r.comm.sum(t.rays);
+  const std::int64_t total_tests = r.comm.sum(t.tests);
+  const double render_time = t.render_end - t.render_start;
+  r.report.fom_name = "ray_rate";
+  r.report.fom_unit = "Mrays/s";
+  r.report.fom_value = render_time > 0 ? static_cast<double>(total_rays) / render_time * 1e-6 : 0.0;
+  const std::size_t triangles = r.renderer->scene().triangles;
+  if (r.root()) {
+    std::printf("  render: %.3f s (max over ranks), %lld rays, %.3f Mrays/s\n", render_time,
+                static_cast<long long>(total_rays), r.report.fom_value);
+    if (r.s.stats && total_rays > 0) {
+      const double per_ray = static_cast<double>(total_tests) / static_cast<double>(total_rays);
+      std::printf(
+          "  stats: %.2f ray-triangle tests per ray; brute force %zu (%.5f of brute force, "
+          "1/%.0f)\n",
+          per_ray, triangles, per_ray / static_cast<double>(triangles),
+          static_cast<double>(triangles) / std::max(per_ray, 1e-9));
+    }
   }
-  const auto all_starts = comm.gatherv(starts), all_ends = comm.gatherv(ends);
-  const auto all_bands = comm.gatherv(bands);
-  std::vector<std::int64_t> band_rank(bands.size(), comm.rank());
-  const auto all_band_rank = comm.gatherv(band_rank);
-  const std::vector<double> mine_d = {completion, idle};
-  const std::vector<std::int64_t> mine_i = {comm.messages_sent(), comm.bytes_sent(), rays, pixels};
-  const auto all_d = comm.gatherv(mine_d);
-  const auto all_i = comm.gatherv(mine_i);
-  if (!comm.is_root()) return;
-  TimingsData t;
-  t.app = "sketchtrace";
-  t.version = version_string();
-  t.git_hash = git_hash();
-  t.backend = compat::backend_name();
-  t.strategy = strategy;
-  t.scene = scene_name;
-  t.parameters = report.parameters.dump();
-  t.ranks = comm.size();
-  t.threads = compat::concurrency();
-  t.phase_names = names;
-  t.phase_start = all_starts;
-  t.phase_end = all_ends;
-  for (std::size_t i = 0; i < all_bands.size(); ++i) {
-    t.chunk_rank.push_back(all_band_rank[i]);
-    t.chunk_iteration.push_back(all_bands[i].iteration);
-    t.chunk_work_units.push_back(all_bands[i].pixels);
-    t.chunk_rays.push_back(all_bands[i].rays);
-    t.chunk_start.push_back(all_bands[i].start);
-    t.chunk_end.push_back(all_bands[i].end);
+  r.report.scene["rays"] = total_rays;
+  if (r.s.stats)
+    r.report.scene["tests_per_ray"] =
+        total_rays > 0 ? double(total_tests) / double(total_rays) : 0.0;
+}
+
+// Image statistics for the stability checks (issue 7): a non-finite pixel is a bug.
+void report_image_statistics(RunState& r) {
+  double sum[3] = {0, 0, 0}, peak = 0;
+  std::int64_t nonfinite = 0;
+  for (const PixelResult& p : r.frame_pixels) {
+    const double c[3] = {p.r, p.g, p.b};
+    if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2])) {
+      ++nonfinite;
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) {
+      sum[k] += c[k];
+      peak = std::max(peak, c[k]);
+    }
   }
-  for (int r = 0; r < comm.size(); ++r) {
-    t.rank_completion_time.push_back(all_d[2 * r]);
-    t.rank_idle_time.push_back(all_d[2 * r + 1]);
-    t.rank_messages_sent.push_back(all_i[4 * r]);
-    t.rank_bytes_sent.push_back(all_i[4 * r + 1]);
-    t.rank_rays.push_back(all_i[4 * r + 2]);
-    t.rank_work_units.push_back(all_i[4 * r + 3]);
+  const double inv = 1.0 / std::max<double>(1.0, double(r.frame_pixels.size() - nonfinite));
+  r.report.scene["image"] = {{"mean_rgb", {sum[0] * inv, sum[1] * inv, sum[2] * inv}},
+                             {"max", peak},
+                             {"nonfinite_pixels", nonfinite}};
+  std::printf("  image: mean %.6g %.6g %.6g, max %.6g, %lld non-finite pixels\n", sum[0] * inv,
+              sum[1] * inv, sum[2] * inv, peak, static_cast<long long>(nonfinite));
+}
+
+// --reference: the colour image against it; kVerificationFailed past --max-rmse.
+int compare_with_reference(RunState& r, const Frame& frame) {
+  const RunOptions& opt = r.opt;
+  const ImageErrors e = compare_images(frame.color, read_image(opt.reference), opt.reference);
+  r.report.errors = {{"reference", opt.reference},
+                     {"rmse", e.rmse},
+                     {"rel_mse", e.rel_mse},
+                     {"psnr", e.psnr},
+                     {"ssim", e.ssim},
+                     {"max_rmse", opt.max_rmse}};
+  const bool ok = opt.max_rmse < 0 || e.rmse <= opt.max_rmse;
+  std::printf(
+      "  reference %s: RMSE %.6g, relative MSE %.6g, PSNR %.2f dB, SSIM %.5f (RMSE limit %g) "
+      "%s\n",
+      opt.reference.c_str(), e.rmse, e.rel_mse, e.psnr, e.ssim, opt.max_rmse, ok ? "PASS" : "FAIL");
+  return ok ? kExitOk : kVerificationFailed;
+}
+
+// Write (rank 0): the verification hash, the image statistics, the image and the comparison.
+int write_outputs(RunState& r) {
+  int exit_code = kExitOk;
+  r.report.timer.start("write");
+  if (r.root()) {
+    r.report.verification_hash = hash_pixels(r.frame_pixels, 0, r.s.needs_aov_pass());
+    report_image_statistics(r);
+    if (!r.opt.output.empty() || !r.opt.reference.empty()) {
+      const Frame frame = assemble_frame(r.frame_pixels, r.s.width, r.s.height);
+      if (!r.opt.output.empty())
+        for (const std::string& f : write_frame(r.opt.output, frame, r.s))
+          std::printf("  wrote %s\n", f.c_str());
+      if (!r.opt.reference.empty()) exit_code = compare_with_reference(r, frame);
+    }
   }
-  write_timings(path, t);
+  r.report.timer.stop();
+  return exit_code;
+}
+
+// Stopped early: the missing pixels are the figure, exit 4 (checkpointed or not).
+void report_stop(RunState& r, const TraceResult& t) {
+  if (r.root())
+    std::fprintf(stderr, "sketchtrace: stopped (%s) with %lld of %zu pixels missing; %s\n",
+                 t.stop_reason.empty() ? "peer stopped" : t.stop_reason.c_str(),
+                 static_cast<long long>(t.missing), r.pixels_total(),
+                 !r.opt.checkpoint.empty() ? ("restart with --restart " + r.opt.checkpoint).c_str()
+                                           : "no --checkpoint given, the work is lost");
+  r.report.fom_name = "pixels_missing";
+  r.report.fom_unit = "pixels";
+  r.report.fom_value = static_cast<double>(t.missing);
+}
+
+// Report: per-rank timings (when asked for) and the summary; collective.
+void finish_report(RunState& r, const TraceResult& t) {
+  if (!r.opt.timings.empty())
+    write_timings_file(r.opt.timings, r.comm, r.report, t.records, t.completion, t.idle, t.rays,
+                       t.rendered, r.opt.input, to_string(r.balance));
+  r.report.finish(r.comm, r.opt.summary);
 }
 
 int run(Communicator& comm, int argc, char** argv) {
@@ -218,375 +632,25 @@ int run(Communicator& comm, int argc, char** argv) {
   opt.timings = common.timings;
   opt.progress = progress_wanted(common);
 
-  RunReport report;
-  report.app = "sketchtrace";
-  report.timer.start("load");
-  RenderSettings s;
-  std::unique_ptr<SceneDescription> desc;
-  if (extension(opt.input) == ".toml") {
-    desc = std::make_unique<SceneDescription>(read_scene_file(opt.input));
-    apply_scene_settings(*desc, s);
-  } else if (!std::ifstream(opt.input)) {
-    throw InputError(opt.input + ": cannot open the input");
-  }
-  cli.apply(s);
-  opt.max_memory = cli.max_memory();
-  validate_settings(s, "command line");
-  if (!opt.output.empty()) check_output_path(opt.output);
-#ifndef RTMINI_SKETCH_HAVE_NPR
-  if (s.style != "none")
-    throw InputError("--style " + s.style + ": this build has no hand-drawn passes");
-#endif
-  const Balance balance = parse_balance(opt.balance);
-  if (!(opt.time_limit_minutes >= 0))
-    throw InputError("--time-limit must be >= 0 minutes (got " +
-                     std::to_string(opt.time_limit_minutes) + ")");
-  if (!(opt.checkpoint_interval > 0)) throw InputError("--checkpoint-interval must be > 0 seconds");
-  const HostScene scene = build_scene(opt.input, desc.get(), s);
-  cli.apply_camera(s);
-  validate_settings(s, "command line");
-  report.timer.stop();
+  RunState r(comm);  // its report's clock starts here, after Kokkos, as before the split
+  r.opt = opt;
+  r.report.app = "sketchtrace";
 
-  report.parameters = parameters_json(s);
-  const std::size_t pixels_total = static_cast<std::size_t>(s.width) * s.height;
-
-  report.timer.start("upload");
-  const Renderer renderer(scene, s);
-  report.timer.stop();
-  const DeviceScene& ds = renderer.scene();
-  report.scene = {{"input", opt.input},
-                  {"triangles", ds.triangles},
-                  {"vertices", scene.mesh.positions.size()},
-                  {"objects", scene.mesh.objects.size()},
-                  {"materials", scene.mesh.materials.size()},
-                  {"quad_lights", ds.num_quads},
-                  {"mesh_lights", ds.num_mesh_lights},
-                  {"point_lights", ds.num_points}};
-  // Rank 0 holds the scene and the whole frame (pixel results, output planes, the
-  // done flags); other ranks only the scene, so rank 0's total is the maximum.
-  const double frame_bytes =
-      static_cast<double>(pixels_total) * (sizeof(PixelResult) + 11 * sizeof(float) + 1);
-  const double peak_bytes = static_cast<double>(ds.bytes) + frame_bytes;
-  if (comm.is_root()) {
-    std::printf("%s\n", build_banner().c_str());
-    std::printf("sketchtrace: input %s, output %s\n", opt.input.c_str(),
-                opt.output.empty() ? "(none)" : opt.output.c_str());
-    std::printf("  parameters: %s\n", report.parameters.dump().c_str());
-    std::printf("  scene: %s\n", report.scene.dump().c_str());
-    std::printf("  kernel features: %s%s, ranks %d, threads per rank %d\n",
-                feature_names(renderer.features()).c_str(),
-                s.general_kernel ? " (forced general kernel)" : "", comm.size(),
-                compat::concurrency());
-    std::printf(
-        "  memory estimate (max over ranks): %.1f MiB (scene %.1f MiB per rank, frame %.1f MiB on "
-        "rank 0)\n",
-        peak_bytes / 1048576.0, static_cast<double>(ds.bytes) / 1048576.0, frame_bytes / 1048576.0);
-    std::fflush(stdout);
-  }
-  // Every rank computes the same estimate, so all refuse together (exit 3, as bake does).
-  if (opt.max_memory > 0 && peak_bytes > static_cast<double>(opt.max_memory)) {
-    if (comm.is_root())
-      std::fprintf(stderr,
-                   "sketchtrace: estimated memory %.1f MiB exceeds --max-memory %.1f MiB; lower "
-                   "the resolution\n",
-                   peak_bytes / 1048576.0, static_cast<double>(opt.max_memory) / 1048576.0);
-    return kExitResource;
-  }
-
-  // Restart: rank 0 reads the finished pixels, every rank learns which to skip.
-  std::vector<std::uint8_t> done;
-  std::vector<PixelResult> frame_pixels;  // rank 0: the whole image
-  if (comm.is_root()) {
-    frame_pixels.assign(pixels_total, PixelResult{});
-    done.assign(pixels_total, 0);
-  }
-  const std::string signature = report.parameters.dump() + "|" + opt.input;
-  if (!opt.restart.empty()) {
-    if (comm.is_root()) {
-      Checkpoint c = read_checkpoint(opt.restart);
-      if (c.width != s.width || c.height != s.height || c.signature != signature)
-        throw InputError(opt.restart +
-                         ": checkpoint was written with different parameters or scene");
-      done = std::move(c.done);
-      frame_pixels = std::move(c.pixels);
-    }
-    comm.broadcast(done);
-  }
-  const PixelOrder order(s.width, s.height, done);
-  if (!comm.is_root()) done.clear();
-  const std::int64_t batch = dispatch_pixels(s, order.size(), comm.size());
-
-  CostMap cost;
-  // The progress ETA weighs pixels by the probed cost too, so a run that shows progress on any
-  // rank probes even when its balance does not need the map (collective: all ranks probe).
-  const bool eta_probe = comm.max(opt.progress ? 1.0 : 0.0) > 0.5;
-  if (needs_cost_map(balance) || eta_probe) {
-    report.timer.start("probe");
-    bool reused = false;
-    cost = make_cost_map(renderer, comm, s.width, s.height, opt.cost_map, signature, reused);
-    report.timer.stop();
-    if (comm.is_root())
-      std::printf("  cost map: %s (%d x %d probes)\n",
-                  reused ? ("reused " + opt.cost_map).c_str() : "probed", cost.grid_w, cost.grid_h);
-  }
-  report.parameters["balance"] = to_string(balance);
-  if (comm.is_root()) {
-    std::printf("  balance: %s, %lld pixels to render, %lld per dispatch\n", to_string(balance),
-                static_cast<long long>(order.size()), static_cast<long long>(batch));
-    std::fflush(stdout);
-  }
-
-  install_stop_handlers();
-  const bool checkpointing = !opt.checkpoint.empty();
-  const bool progress = opt.progress;
-  ProgressLine progress_line("sketchtrace", "px", progress && comm.is_root());
-  const double restart_cost = progress_line.enabled() ? merged_cost(cost, done) : 0.0;
-  double total_probe_cost = 0;
-  if (progress_line.enabled())
-    for (std::int64_t pos = 0; pos < order.size(); ++pos)
-      total_probe_cost += cost.at(order.pixel(pos));
-  PixelCostFit pixel_cost;
-  const double limit_s = opt.time_limit_minutes * 60.0;
-  const double reserve = std::min(60.0, 0.05 * limit_s);  // for the final gather and checkpoint
-  ResultSink sink(comm, order, frame_pixels, done,
-                  checkpointing ? opt.checkpoint_interval : (progress ? 1.0 : 0.0));
-  const std::unique_ptr<Scheduler> scheduler =
-      make_scheduler(balance, comm, order, needs_cost_map(balance) ? &cost : nullptr, batch);
-  std::vector<BandRecord> records;
-  std::vector<PosRange> ranges;
-  std::vector<std::int64_t> list;
-  std::vector<PixelResult> out;
-  std::int64_t rays = 0, tests = 0, rendered = 0;
-  double last_checkpoint = report.timer.now(), last_dispatch = 0.0;
-  const double render_start = report.timer.now();
-  bool stopping = false;
-  std::string stop_reason;
-  auto should_stop = [&]() {
-    if (stop_requested())
-      stop_reason = "stop signal";
-    else if (limit_s > 0 && report.timer.now() + 2.0 * last_dispatch + reserve > limit_s)
-      stop_reason = "time limit";
-    else if (opt.stop_after_chunks >= 0 &&
-             static_cast<int>(records.size()) >= opt.stop_after_chunks)
-      stop_reason = "--stop-after-chunks";
-    else
-      return false;
-    return true;
-  };
-  // --comm-thread: peers' steal requests and loads are answered while this rank renders,
-  // instead of between dispatches. MPI calls take turns under mpi_mutex(): the main thread
-  // holds it except while a dispatch renders.
-  const bool comm_thread = opt.comm_thread && scheduler->has_progress() && mpi_serialized_threads();
-  report.parameters["comm_thread"] = comm_thread;
-  if (scheduler->has_progress() && comm.is_root()) {
-    std::printf("  communication thread: %s\n",
-                comm_thread       ? "on"
-                : opt.comm_thread ? "off (MPI did not grant MPI_THREAD_SERIALIZED)"
-                                  : "off (--comm-thread off)");
-    std::fflush(stdout);
-  }
-  std::unique_lock<std::mutex> mpi_lock(mpi_mutex(), std::defer_lock);
-  std::atomic<bool> comm_quit{false};
-  std::thread comm_worker;
-  if (comm_thread) {
-    mpi_lock.lock();
-    comm_worker = std::thread([&]() {
-      while (!comm_quit.load()) {
-        {
-          const std::lock_guard<std::mutex> g(mpi_mutex());
-          scheduler->progress();
-        }
-        std::this_thread::sleep_for(std::chrono::microseconds(200));
-      }
-    });
-  }
-  report.timer.start("render");
-  for (;;) {
-    if (should_stop()) {
-      stopping = true;
-      break;
-    }
-    if (!scheduler->next(ranges, should_stop)) {
-      stopping = !stop_reason.empty();
-      break;
-    }
-    list.clear();
-    for (const PosRange& r : ranges)
-      for (std::int64_t pos = r.begin; pos < r.end; ++pos) list.push_back(order.pixel(pos));
-    const double t0 = report.timer.now();
-    if (comm_thread) mpi_lock.unlock();
-    renderer.render_pixels(list, out);
-    if (comm_thread) mpi_lock.lock();
-    const double t1 = report.timer.now();
-    last_dispatch = t1 - t0;
-    std::int64_t chunk_rays = 0;
-    for (const PixelResult& p : out) {
-      chunk_rays += p.rays;
-      tests += static_cast<std::int64_t>(p.tests);
-    }
-    rays += chunk_rays;
-    rendered += static_cast<std::int64_t>(out.size());
-    records.push_back({t0, t1, static_cast<std::int64_t>(out.size()), chunk_rays,
-                       static_cast<std::int64_t>(records.size())});
-    sink.add(ranges, out, t1);
-    sink.poll(t1);
-    if (comm.is_root()) {
-      if (checkpointing && t1 - last_checkpoint >= opt.checkpoint_interval) {
-        report.timer.start("checkpoint");
-        write_checkpoint(opt.checkpoint, {s.width, s.height, signature, done, frame_pixels});
-        report.timer.stop();
-        last_checkpoint = report.timer.now();
-      }
-      if (progress_line.enabled()) {
-        double probe = 0;
-        for (const std::int64_t p : list) probe += cost.at(p);
-        pixel_cost.add(t1 - t0, static_cast<double>(list.size()), probe);
-      }
-      if (progress_line.due()) {
-        const double merged = static_cast<double>(sink.merged());
-        const double total = static_cast<double>(order.size());
-        progress_line.update(merged, total,
-                             pixel_cost.cost(merged, merged_cost(cost, done) - restart_cost),
-                             pixel_cost.cost(total, total_probe_cost));
-      }
-    }
-  }
-  const double loop_end = report.timer.now();
-  report.timer.stop();
-  if (comm_thread) {
-    comm_quit = true;
-    mpi_lock.unlock();
-    comm_worker.join();
-  }
-  report.timer.start("gather");
-  scheduler->finish(stopping);
-  sink.finish();
-  report.timer.stop();
-  const double render_end = comm.max(loop_end);
-  {
-    // Report the reason any rank stopped for (rank 0 may only have heard that a peer stopped):
-    // the gravest that some rank saw (signal, then time limit, then --stop-after-chunks).
-    static const char* const kReasons[] = {"", "--stop-after-chunks", "time limit", "stop signal"};
-    int code = 0;
-    for (int k = 1; k < 4; ++k)
-      if (stop_reason == kReasons[k]) code = k;
-    code = static_cast<int>(comm.max(static_cast<double>(code)));
-    if (code > 0) stop_reason = kReasons[code];
-  }
-  // A rank's completion is the end of its last dispatch (the paper's per-rank
-  // completion plots); idle is the rest of the render span: waiting for work, for
-  // messages, for the termination round and for the slowest rank.
-  const double completion = records.empty() ? render_start : records.back().end;
-  double busy = 0;
-  for (const BandRecord& r : records) busy += r.end - r.start;
-  const double idle = std::max(0.0, (render_end - render_start) - busy);
-  const std::int64_t missing =
-      comm.sum(comm.is_root() ? order.size() - sink.merged() : std::int64_t(0));
-  progress_line.finish(static_cast<double>(order.size() - missing),
-                       static_cast<double>(order.size()));
-  if (missing > 0 && comm.is_root() && checkpointing) {
-    report.timer.start("checkpoint");
-    write_checkpoint(opt.checkpoint, {s.width, s.height, signature, done, frame_pixels});
-    report.timer.stop();
-  }
-
-  const std::int64_t total_rays = comm.sum(rays);
-  const std::int64_t total_tests = comm.sum(tests);
-  const double render_time = render_end - render_start;
-  report.fom_name = "ray_rate";
-  report.fom_unit = "Mrays/s";
-  report.fom_value = render_time > 0 ? static_cast<double>(total_rays) / render_time * 1e-6 : 0.0;
-  if (comm.is_root()) {
-    std::printf("  render: %.3f s (max over ranks), %lld rays, %.3f Mrays/s\n", render_time,
-                static_cast<long long>(total_rays), report.fom_value);
-    if (s.stats && total_rays > 0) {
-      const double per_ray = static_cast<double>(total_tests) / static_cast<double>(total_rays);
-      std::printf(
-          "  stats: %.2f ray-triangle tests per ray; brute force %zu (%.5f of brute force, "
-          "1/%.0f)\n",
-          per_ray, ds.triangles, per_ray / static_cast<double>(ds.triangles),
-          static_cast<double>(ds.triangles) / std::max(per_ray, 1e-9));
-    }
-  }
-  report.scene["rays"] = total_rays;
-  if (s.stats)
-    report.scene["tests_per_ray"] = total_rays > 0 ? double(total_tests) / double(total_rays) : 0.0;
-
-  if (missing > 0) {
-    if (comm.is_root())
-      std::fprintf(stderr, "sketchtrace: stopped (%s) with %lld of %zu pixels missing; %s\n",
-                   stop_reason.empty() ? "peer stopped" : stop_reason.c_str(),
-                   static_cast<long long>(missing), pixels_total,
-                   checkpointing ? ("restart with --restart " + opt.checkpoint).c_str()
-                                 : "no --checkpoint given, the work is lost");
-    report.fom_name = "pixels_missing";
-    report.fom_unit = "pixels";
-    report.fom_value = static_cast<double>(missing);
-    if (!opt.timings.empty())
-      write_timings_file(opt.timings, comm, report, records, completion, idle, rays, rendered,
-                         opt.input, to_string(balance));
-    report.finish(comm, opt.summary);
+  read_inputs(r, cli);
+  upload_scene(r);
+  if (!memory_fits(r)) return kExitResource;
+  plan(r);
+  const TraceResult t = trace(r);
+  report_rates(r, t);
+  if (t.missing > 0) {
+    report_stop(r, t);
+    finish_report(r, t);
     return kExitCheckpointed;
   }
-
-  int exit_code = kExitOk;
-  if (comm.is_root()) {
-    report.timer.start("write");
-    report.verification_hash = hash_pixels(frame_pixels, 0, s.needs_aov_pass());
-    // Image statistics for the stability checks (issue 7): a non-finite pixel is a bug.
-    double sum[3] = {0, 0, 0}, peak = 0;
-    std::int64_t nonfinite = 0;
-    for (const PixelResult& p : frame_pixels) {
-      const double c[3] = {p.r, p.g, p.b};
-      if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2])) {
-        ++nonfinite;
-        continue;
-      }
-      for (int k = 0; k < 3; ++k) {
-        sum[k] += c[k];
-        peak = std::max(peak, c[k]);
-      }
-    }
-    const double inv = 1.0 / std::max<double>(1.0, double(frame_pixels.size() - nonfinite));
-    report.scene["image"] = {{"mean_rgb", {sum[0] * inv, sum[1] * inv, sum[2] * inv}},
-                             {"max", peak},
-                             {"nonfinite_pixels", nonfinite}};
-    std::printf("  image: mean %.6g %.6g %.6g, max %.6g, %lld non-finite pixels\n", sum[0] * inv,
-                sum[1] * inv, sum[2] * inv, peak, static_cast<long long>(nonfinite));
-    if (!opt.output.empty() || !opt.reference.empty()) {
-      const Frame frame = assemble_frame(frame_pixels, s.width, s.height);
-      if (!opt.output.empty())
-        for (const std::string& f : write_frame(opt.output, frame, s))
-          std::printf("  wrote %s\n", f.c_str());
-      if (!opt.reference.empty()) {
-        const ImageErrors e = compare_images(frame.color, read_image(opt.reference), opt.reference);
-        report.errors = {{"reference", opt.reference},
-                         {"rmse", e.rmse},
-                         {"rel_mse", e.rel_mse},
-                         {"psnr", e.psnr},
-                         {"ssim", e.ssim},
-                         {"max_rmse", opt.max_rmse}};
-        const bool ok = opt.max_rmse < 0 || e.rmse <= opt.max_rmse;
-        std::printf(
-            "  reference %s: RMSE %.6g, relative MSE %.6g, PSNR %.2f dB, SSIM %.5f (RMSE limit %g) "
-            "%s\n",
-            opt.reference.c_str(), e.rmse, e.rel_mse, e.psnr, e.ssim, opt.max_rmse,
-            ok ? "PASS" : "FAIL");
-        if (!ok) exit_code = kVerificationFailed;
-      }
-    }
-    report.timer.stop();
-  } else {
-    report.timer.start("write");
-    report.timer.stop();
-  }
-  if (!opt.timings.empty())
-    write_timings_file(opt.timings, comm, report, records, completion, idle, rays, rendered,
-                       opt.input, to_string(balance));
-  report.finish(comm, opt.summary);
+  const int exit_code = write_outputs(r);
+  finish_report(r, t);
   return static_cast<int>(comm.max(static_cast<double>(exit_code)));
 }
-
 }  // namespace
 }  // namespace rtmini::sketch
 

@@ -4,8 +4,8 @@
 #   help     PROGRAM [SUB]  --help exits 0 and its first line is the program's own ("PROGRAM[ SUB]: ...")
 #   version  PROGRAM [SUB]  --version exits 0 and prints exactly one line, the build banner "rtmini ..."
 #   bad-flag PROGRAM [SUB]  an unknown flag exits 2 with one stderr line "PROGRAM: reason", no core
-#   run      PROGRAM ARGS   the command (with --threads 2 among ARGS) exits 0 and, when ARGS name
-#                           --summary FILE, FILE is a JSON summary with a verification hash
+#   run      PROGRAM ARGS   the command (with --threads 2 among ARGS) exits 0; a --summary FILE
+#                           in ARGS holds a verification hash, a --timings FILE is HDF5
 set -uo pipefail
 check=$1
 prog=$2
@@ -44,6 +44,10 @@ run)
   for ((i = 0; i < ${#args[@]} - 1; ++i)); do
     if [ "${args[i]}" = --summary ]; then
       grep -q '"verification_hash"' "${args[i + 1]}" || fail "no verification hash in ${args[i + 1]}"
+    fi
+    if [ "${args[i]}" = --timings ]; then
+      [ "$(head -c 4 "${args[i + 1]}" | od -An -c | tr -d ' ')" = '211HDF' ] ||
+        fail "${args[i + 1]} is not an HDF5 file"
     fi
   done
   ;;

@@ -200,8 +200,10 @@ Mesh read_obj(const std::string& path) {
       throw InputError(path, 0, "material '" + m.name + "' has a non-finite value");
   }
   for (const auto& [name, line] : prescan.usemtl()) {
+    // C++17 lambdas cannot capture a structured binding (Clang refuses; GCC allows it).
+    const std::string& wanted = name;
     const bool known = std::any_of(mesh.materials.begin(), mesh.materials.end(),
-                                   [&](const Material& m) { return m.name == name; });
+                                   [&wanted](const Material& m) { return m.name == wanted; });
     if (!known)
       throw InputError(path, line, "material '" + name + "' is not defined in any mtllib");
   }

@@ -9,6 +9,7 @@
 #include "device_scene.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/report/hash.hpp"
+#include "rtmini/report/rank_timings.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/report/version.hpp"
 #include "rtmini/scene/recentre.hpp"
@@ -255,6 +256,10 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
   report.fom_unit = "rays/s";
   report.fom_value = t[4] > 0 ? total_rays / t[4] : 0.0;
   report.verification_hash = root ? ao_hash(result.values) : 0;
+  // Phases only: the program has no dispatch loop of its own to record.
+  if (!o.timings.empty())
+    write_rank_timings(o.timings, comm, report.timer, RankTimings{},
+                       {"bake", "", o.input, report.parameters.dump(), {}});
   report.finish(comm, o.summary);
   return kExitOk;
 }

@@ -18,6 +18,7 @@
 #include "rtmini/io/srgb.hpp"
 #include "rtmini/report/hash.hpp"
 #include "rtmini/report/image_metrics.hpp"
+#include "rtmini/report/rank_timings.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/report/version.hpp"
 
@@ -254,6 +255,10 @@ int run_render_mode(Communicator& comm, RenderOptions o, const CLI::App& app) {
     }
     report.timer.stop();
   }
+  // Phases only: the program has no dispatch loop of its own to record.
+  if (!o.timings.empty())
+    write_rank_timings(o.timings, comm, report.timer, RankTimings{},
+                       {"bake", "", o.input, report.parameters.dump(), {}});
   report.finish(comm, o.summary);
   return static_cast<int>(comm.max(static_cast<double>(exit_code)));
 }

@@ -15,6 +15,7 @@
 #include "rtmini/report/app_main.hpp"
 #include "rtmini/report/common_options.hpp"
 #include "rtmini/report/hash.hpp"
+#include "rtmini/report/rank_timings.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/report/version.hpp"
 
@@ -184,6 +185,10 @@ int run(Communicator& comm, int argc, char** argv) {
   report.fom_name = "post-process rate";
   report.fom_unit = "Mpixel/s";
   report.fom_value = seconds > 0 ? pixels / seconds * 1e-6 : 0.0;
+  // Phases only: the program has no dispatch loop of its own to record.
+  if (!common.timings.empty())
+    write_rank_timings(common.timings, comm, report.timer, RankTimings{},
+                       {"sketchtrace-post", "", o.input, report.parameters.dump(), {}});
   report.finish(comm, o.summary);
   return kExitOk;
 }
