@@ -126,7 +126,7 @@ ToneArtMap build_tone_art_map(const NprConfig& config) {
     while (covered < tam.target[k] && round < max_rounds) {
       const double need = std::log((1.0 - tam.target[k]) / (1.0 - covered)) /
                           std::log(1.0 - std::min(0.9, std::max(1e-3, gain)));
-      const int n = std::max(1, std::min(max_rounds - round, static_cast<int>(0.8 * need)));
+      const int n = std::max(1, std::min(max_rounds - round, static_cast<int>(0.7 * need)));
       add_stroke_batches(p, tam.ink, k, round, n);
       round += n;
       added += n;

@@ -26,7 +26,7 @@ namespace rtmini::npr {
 inline constexpr std::uint32_t kInkScale = 65535u;
 // A level's cell grid is split into this many batches (slices of a scattered
 // cell order), the unit in which strokes are added while calibrating.
-inline constexpr int kBatchesPerGrid = 8;
+inline constexpr int kBatchesPerGrid = 16;
 
 // Plain-data copy of the hatching parameters that kernels capture by value.
 struct HatchParams {

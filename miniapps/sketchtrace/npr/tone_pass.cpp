@@ -8,6 +8,11 @@
 namespace rtmini::npr {
 namespace detail {
 
+// A colour pencil's stroke is its hue at this fraction of full (displayed)
+// brightness: dark enough that mid tones need partial coverage, so the strokes
+// and the paper between them stay visible instead of a flat fill.
+inline constexpr float kPigmentShade = 0.6f;
+
 struct ToneParams {
   int levels = 0;
   int size = 0;
@@ -83,15 +88,13 @@ void run_tone(const DeviceImage& rgb, const DeviceImage& object, const NprConfig
                     b = compat::kmax(rgb(y, x, 2), 0.f);
         const float tone = render_tone(r, g, b, tp.inv_white);
         // Pigment (displayed colour of a stroke): graphite grey, or the pixel's
-        // hue at full brightness for colour pencil.
+        // hue at full brightness, shaded, for colour pencil.
         float pig[3] = {tp.pencil, tp.pencil, tp.pencil};
         if (tp.color) {
           const float m = compat::kmax(r, compat::kmax(g, b));
-          if (m > 0.f) {
-            pig[0] = srgb_encode(r / m);
-            pig[1] = srgb_encode(g / m);
-            pig[2] = srgb_encode(b / m);
-          }
+          const float lin[3] = {r, g, b};
+          if (m > 0.f)
+            for (int c = 0; c < 3; ++c) pig[c] = kPigmentShade * srgb_encode(lin[c] / m);
         }
         const float pig_lum = 0.2126f * pig[0] + 0.7152f * pig[1] + 0.0722f * pig[2];
         // Mean displayed tone 1 - ink * (1 - pigment) = tone: the ink needed. A

@@ -56,7 +56,7 @@ TEST(NprHatching, LevelInkMatchesItsTarget) {
     for (int k = 0; k < tam.levels; ++k) {
       const double measured = mean(level_ink(tam, k));
       EXPECT_NEAR(measured, tam.coverage[k], 1e-6) << "level " << k;
-      EXPECT_NEAR(measured, target[k], 0.03) << "variant " << variant << " level " << k;
+      EXPECT_NEAR(measured, target[k], 0.02) << "variant " << variant << " level " << k;
     }
   }
 }
