@@ -1,6 +1,7 @@
 #include <cmath>
 #include <string>
 
+#include "hatching.hpp"
 #include "npr.hpp"
 #include "paper.hpp"
 #include "rtmini/io/error.hpp"
@@ -9,17 +10,18 @@ namespace rtmini::npr {
 
 std::vector<float> effective_thresholds(const NprConfig& config) {
   if (!config.thresholds.empty()) return config.thresholds;
-  std::vector<float> t(static_cast<std::size_t>(config.levels > 0 ? config.levels : 0));
-  for (int k = 0; k < config.levels; ++k) t[k] = 1.f - float(k + 1) / float(config.levels + 1);
+  // The tone each default ink target displays as: 1 - ink * (1 - pencil).
+  const float pencil = srgb_encode(config.pencil_tone);
+  std::vector<float> t;
+  for (double ink : level_ink_targets(config)) t.push_back(1.f - float(ink) * (1.f - pencil));
   return t;
 }
 
 std::vector<float> effective_angles(const NprConfig& config) {
   if (!config.angles.empty()) return config.angles;
-  // Light tones in one direction, then cross-hatching, then the axes (Lake et al. 2000).
-  static constexpr float kCross[] = {45.f, 45.f, 135.f, 135.f, 0.f, 90.f};
+  // Lighter half in one direction, darker half cross-hatched (Lake et al. 2000).
   std::vector<float> a(static_cast<std::size_t>(config.levels > 0 ? config.levels : 0));
-  for (int k = 0; k < config.levels; ++k) a[k] = kCross[k % 6];
+  for (int k = 0; k < config.levels; ++k) a[k] = 2 * k < config.levels ? 45.f : 135.f;
   return a;
 }
 
@@ -35,6 +37,12 @@ void validate(const NprConfig& c) {
           "edge-darkness", "must be in [0, 1]");
   require(finite(c.edge_threshold) && c.edge_threshold >= 0.f && c.edge_threshold <= 1.f,
           "edge-threshold", "must be in [0, 1]");
+  require(finite(c.edge_full) && c.edge_full > c.edge_threshold && c.edge_full <= 1.f, "edge-full",
+          "must be in (edge-threshold, 1]");
+  require(finite(c.line_width) && c.line_width >= 0.f && c.line_width <= 32.f, "line-width",
+          "must be in [0, 32] pixels");
+  require(finite(c.line_jitter) && c.line_jitter >= 0.f && c.line_jitter <= 8.f, "line-jitter",
+          "must be in [0, 8] pixels");
   require(c.levels >= 1 && c.levels <= kMaxLevels, "levels",
           "must be in [1, " + std::to_string(kMaxLevels) + "]");
   require(finite(c.deviation_chance) && c.deviation_chance >= 0.f && c.deviation_chance <= 1.f,
@@ -47,8 +55,14 @@ void validate(const NprConfig& c) {
   require(c.bitmap_size >= 8 && c.bitmap_size <= 8192, "bitmap-size", "must be in [8, 8192]");
   require(c.cell_size >= 1 && c.cell_size <= c.bitmap_size, "cell-size",
           "must be in [1, bitmap-size]");
-  require(c.strokes_per_cell >= 1 && c.strokes_per_cell <= 1024, "strokes-per-cell",
-          "must be in [1, 1024]");
+  require(finite(c.stroke_width) && c.stroke_width >= 0.5f && c.stroke_width <= 16.f,
+          "stroke-width", "must be in [0.5, 16] pixels");
+  require(finite(c.stroke_bend) && c.stroke_bend >= 0.f && c.stroke_bend <= 30.f, "stroke-bend",
+          "must be in [0, 30] degrees per pixel");
+  require(finite(c.white_percentile) && c.white_percentile > 0.f && c.white_percentile <= 1.f,
+          "white-percentile", "must be in (0, 1]");
+  require(finite(c.exposure) && c.exposure > 0.f && c.exposure <= 1e6f, "exposure",
+          "must be in (0, 1e6]");
   require(c.thresholds.empty() || static_cast<int>(c.thresholds.size()) == c.levels, "thresholds",
           "need one value per level (" + std::to_string(c.levels) + ")");
   for (std::size_t k = 0; k < c.thresholds.size(); ++k) {

@@ -11,6 +11,7 @@ set(_rtmini_npr_sources
     ${RTMINI_SKETCH_NPR_DIR}/paper.cpp
     ${RTMINI_SKETCH_NPR_DIR}/paper_pass.cpp
     ${RTMINI_SKETCH_NPR_DIR}/post_inputs.cpp
+    ${RTMINI_SKETCH_NPR_DIR}/quality.cpp
     ${RTMINI_SKETCH_NPR_DIR}/tone_pass.cpp)
 list(APPEND SKETCH_NPR_SOURCES ${_rtmini_npr_sources})
 set(RTMINI_SKETCH_HAVE_NPR ON)

@@ -12,6 +12,7 @@
 #include "post_inputs.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/image.hpp"
+#include "rtmini/io/srgb.hpp"
 #include "rtmini/report/app_main.hpp"
 #include "rtmini/report/common_options.hpp"
 #include "rtmini/report/hash.hpp"
@@ -26,6 +27,7 @@ struct PostOptions {
   std::string input, output, summary, dump_bitmaps;
   std::string passes = "hatch,edges,paper";
   std::string style = "sketch";
+  bool stats = false;
   NprConfig config;
 };
 
@@ -61,16 +63,23 @@ nlohmann::json parameters_json(const PostOptions& o) {
           {"style", style_name(c.style)},
           {"edge_darkness", dec(c.edge_darkness)},
           {"edge_threshold", dec(c.edge_threshold)},
+          {"edge_full", dec(c.edge_full)},
+          {"line_width", dec(c.line_width)},
+          {"line_jitter", dec(c.line_jitter)},
           {"levels", c.levels},
           {"deviation_chance", dec(c.deviation_chance)},
           {"terminate_chance", dec(c.terminate_chance)},
           {"min_stroke_length", c.min_stroke_length},
           {"max_stroke_length", c.max_stroke_length},
           {"cell_size", c.cell_size},
-          {"strokes_per_cell", c.strokes_per_cell},
+          {"stroke_width", dec(c.stroke_width)},
+          {"stroke_bend", dec(c.stroke_bend)},
           {"bitmap_size", c.bitmap_size},
           {"thresholds", dec(effective_thresholds(c))},
           {"angles", dec(effective_angles(c))},
+          {"object_directions", c.object_directions},
+          {"white_percentile", dec(c.white_percentile)},
+          {"exposure", dec(c.exposure)},
           {"pencil_tone", dec(c.pencil_tone)},
           {"paper_scale", dec(c.paper_scale)},
           {"paper_octaves", c.paper_octaves},
@@ -79,14 +88,31 @@ nlohmann::json parameters_json(const PostOptions& o) {
           {"seed", c.seed}};
 }
 
-void write_bitmaps(const std::string& prefix, const NprConfig& config) {
-  const HatchBitmaps bitmaps = build_hatch_bitmaps(make_hatch_params(config));
-  for (int k = 0; k < bitmaps.levels; ++k) {
-    const std::vector<std::uint8_t> bits = level_bitmap(bitmaps, k);
-    Image img(bitmaps.size, bitmaps.size, 1);
-    for (std::size_t i = 0; i < bits.size(); ++i) img.data[i] = bits[i] ? config.pencil_tone : 1.f;
+// The tonal art map's levels as PNGs, and their target/measured mean ink.
+nlohmann::json write_bitmaps(const std::string& prefix, const NprConfig& config) {
+  const ToneArtMap tam = build_tone_art_map(config);
+  const float pencil = srgb_encode(config.pencil_tone);
+  for (int k = 0; k < tam.levels; ++k) {
+    const std::vector<float> ink = level_ink(tam, k);
+    Image img(tam.size, tam.size, 1);
+    for (std::size_t i = 0; i < ink.size(); ++i)
+      img.data[i] = srgb_decode(1.f - ink[i] * (1.f - pencil));
     write_image(prefix + std::to_string(k) + ".png", img);
   }
+  return {{"target_ink", tam.target}, {"measured_ink", tam.coverage}};
+}
+
+nlohmann::json stats_json(const QualityStats& q) {
+  nlohmann::json j;
+  if (q.has_tone)
+    j["tone"] = {{"correlation", q.tone_correlation}, {"mean_abs_error", q.tone_mean_abs_error}};
+  if (q.has_lines)
+    j["lines"] = {{"silhouette_pixels", q.silhouette_pixels},
+                  {"line_pixels", q.line_pixels},
+                  {"recall", q.line_recall},
+                  {"precision", q.line_precision},
+                  {"darkness", q.line_darkness}};
+  return j;
 }
 
 int run(Communicator& comm, int argc, char** argv) {
@@ -106,6 +132,11 @@ int run(Communicator& comm, int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--edge-threshold", c.edge_threshold, "edge.Y below this is ignored")
       ->capture_default_str();
+  app.add_option("--edge-full", c.edge_full, "edge.Y drawn at full darkness")
+      ->capture_default_str();
+  app.add_option("--line-width", c.line_width, "pixels added to the stencil line's width")
+      ->capture_default_str();
+  app.add_option("--line-jitter", c.line_jitter, "pixels of line wobble")->capture_default_str();
   app.add_option("--levels", c.levels, "number of hatching tone levels K")->capture_default_str();
   app.add_option("--deviation-chance", c.deviation_chance, "per-step sideways move chance")
       ->capture_default_str();
@@ -116,13 +147,22 @@ int run(Communicator& comm, int argc, char** argv) {
   app.add_option("--max-stroke-length", c.max_stroke_length, "hard cap on stroke length")
       ->capture_default_str();
   app.add_option("--cell-size", c.cell_size, "stratification cell (pixels)")->capture_default_str();
-  app.add_option("--strokes-per-cell", c.strokes_per_cell, "new strokes per cell per level")
+  app.add_option("--stroke-width", c.stroke_width, "stroke width at full pressure (pixels)")
+      ->capture_default_str();
+  app.add_option("--stroke-bend", c.stroke_bend, "largest stroke curvature (degrees/pixel)")
       ->capture_default_str();
   app.add_option("--bitmap-size", c.bitmap_size, "stroke bitmap side (pixels)")
       ->capture_default_str();
-  app.add_option("--thresholds", c.thresholds, "decreasing tone thresholds, one per level")
+  app.add_option("--thresholds", c.thresholds, "decreasing tone of each level (sRGB-encoded)")
       ->delimiter(',');
   app.add_option("--angles", c.angles, "stroke angle per level (degrees)")->delimiter(',');
+  app.add_flag("!--fixed-directions", c.object_directions,
+               "same hatching direction for every object");
+  app.add_option("--white-percentile", c.white_percentile,
+                 "luminance quantile drawn as paper white")
+      ->capture_default_str();
+  app.add_option("--exposure", c.exposure, "multiplies the luminance before hatching")
+      ->capture_default_str();
   app.add_option("--pencil-tone", c.pencil_tone, "linear reflectance of a stroke")
       ->capture_default_str();
   app.add_option("--paper-scale", c.paper_scale, "pixels per noise cell, coarsest octave")
@@ -133,6 +173,7 @@ int run(Communicator& comm, int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--seed", c.seed, "run seed")->capture_default_str();
   app.add_option("--dump-bitmaps", o.dump_bitmaps, "also write level bitmaps PREFIX<k>.png");
+  app.add_flag("--stats", o.stats, "measure tone fidelity and line quality against the render");
   if (const auto done = parse_command_line(app, argc, argv, common, comm.is_root())) return *done;
   o.summary = common.summary;
   c.style = parse_style(o.style);
@@ -174,9 +215,15 @@ int run(Communicator& comm, int argc, char** argv) {
   report.timer.start("write");
   if (comm.is_root()) {
     write_image(o.output, out);
-    if (!o.dump_bitmaps.empty()) write_bitmaps(o.dump_bitmaps, c);
+    if (!o.dump_bitmaps.empty()) report.scene["tone_art_map"] = write_bitmaps(o.dump_bitmaps, c);
   }
   report.timer.stop();
+
+  if (o.stats) {
+    const nlohmann::json stats = stats_json(measure_quality(in, out, c));
+    report.scene["stats"] = stats;
+    if (comm.is_root()) std::printf("stats %s\n", stats.dump().c_str());
+  }
 
   std::uint64_t h = 0;
   for (std::size_t i = 0; i < out.data.size(); ++i)
