@@ -13,11 +13,13 @@
 #include "bakeshop_mpi_writer.hpp"
 #include "checkpoint.hpp"
 #include "chef.hpp"
+#include "iteration_eta.hpp"
 #include "map_errors.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/obj_reader.hpp"
 #include "rtmini/io/timings.hpp"
 #include "rtmini/report/hash.hpp"
+#include "rtmini/report/progress.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/report/stop_request.hpp"
 #include "rtmini/report/version.hpp"
@@ -405,6 +407,10 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
   double idle = 0, completion = 0;
   int exit_code = kExitOk;
   timer.start("iterate");
+  // Rank 0's own colour entries stand for the whole run (the batches are cut to equal cost).
+  ProgressLine progress_line("bake", "colours", progress && root);
+  IterationEta eta;
+  const double iterate_start = timer.now();
   for (int it = first; it <= iterations; ++it) {
     IterationRecord rec;
     const double t0 = timer.now();
@@ -413,6 +419,7 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
                               : it < iterations ? HitCacheMode::kFill
                                                 : HitCacheMode::kOff;
     std::size_t packed = 0;
+    std::int64_t entries_done = 0;
     for (std::size_t k = 0; k < my_ranges.size(); ++k) {
       const VertexRange r = my_ranges[k];
       const double cs = timer.now();
@@ -425,6 +432,16 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
       chunks.push_back({comm.rank(), it, ie - ib, crays, cs, timer.now()});
       rays += crays;
       work += ie - ib;
+      entries_done += ie - ib;
+      if (progress_line.due()) {
+        const double spent = timer.now() - iterate_start;
+        const double left =
+            eta.remaining(timer.now() - t0, entries_done, my_items,
+                          modes_after(it, iterations, cache_filled || mode == HitCacheMode::kFill));
+        progress_line.update(static_cast<double>((it - first) * my_items + entries_done),
+                             static_cast<double>((iterations - first + 1) * my_items), spent,
+                             spent + left);
+      }
       if (device_resident) continue;
       Kokkos::deep_copy(
           Kokkos::View<Vec3f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
@@ -434,6 +451,7 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
     }
     if (mode == HitCacheMode::kFill) cache_filled = true;
     const double t1 = timer.now();
+    eta.iteration_done(static_cast<int>(mode), t1 - t0);
     rec.trace = t1 - t0;
     completion = t1;
     // All-gather: every rank gets every batch's colours (the seed's MPI_Allgather step).
@@ -507,6 +525,7 @@ int run_bake(Communicator& comm, const BakeConfig& c) {
     }
   }
   timer.stop();
+  progress_line.finish(static_cast<double>(work), static_cast<double>(work));
   if (exit_code != kExitOk) return exit_code;
 
   timer.start("write");
