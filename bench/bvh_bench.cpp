@@ -1,8 +1,10 @@
 // rtmini-bvh-bench: BVH build time and traversal throughput on a mesh for a
 // fixed workload, optionally against Embree on the identical ray set.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <iostream>
 
 #include "ray_buffer.hpp"
@@ -46,6 +48,54 @@ struct Options {
 double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
+
+// CPU seconds of the whole process (all threads). On a machine shared with other jobs this
+// counts the work done rather than the wait for a core, so paired CPU-time ratios stay
+// meaningful under load where wall-clock ratios do not (OpenMP spin-waiting is counted too).
+double cpu_seconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
+
+double best_of(const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); }
+double worst_of(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
+double median_of(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// The optional peer (--peer embree): inactive when none was asked for.
+class Peer {
+ public:
+  Peer(const std::string& name, const Kokkos::View<Triangle*, Mem>& tris) {
+    if (name.empty()) return;
+    if (name != "embree") throw InputError("--peer must be embree, got '" + name + "'");
+#ifdef RTMINI_HAVE_EMBREE
+    auto ht = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), tris);
+    tris_.assign(ht.data(), ht.data() + ht.extent(0));
+    embree_ = std::make_unique<bench::EmbreePeer>(tris_);
+#else
+    (void)tris;
+    throw InputError(
+        "--peer embree: this build has no Embree (install libembree-dev and reconfigure)");
+#endif
+  }
+#ifdef RTMINI_HAVE_EMBREE
+  bool active() const { return embree_ != nullptr; }
+  double build() { return embree_->build(); }
+  double trace(const std::vector<Ray>& rays, bool any, std::vector<int>& result) const {
+    return embree_->trace(rays, any, result);
+  }
+  std::string version() const { return embree_->version(); }
+
+ private:
+  std::vector<Triangle> tris_;
+  std::unique_ptr<bench::EmbreePeer> embree_;
+#else
+  bool active() const { return false; }
+  double build() { return 0; }
+  double trace(const std::vector<Ray>&, bool, std::vector<int>&) const { return 0; }
+  std::string version() const { return {}; }
+#endif
+};
 
 // Primary camera that frames the mesh (used by primary, shadow and diffuse workloads).
 Kokkos::View<Ray*, Mem> primary_rays(const Aabb& box, int w, int h) {
@@ -185,21 +235,32 @@ int run(const Options& o, RunReport& report) {
             << mesh.positions.size() << " vertices, " << mesh.triangle_count() << " triangles\n";
 
   DeviceMesh<Mem> dm = upload_mesh(mesh, quality);
-  // Build timings: the best of several builds of the already-uploaded triangles.
-  double lbvh_s = 1e300, sah_s = 1e300;
-  for (int rep = 0; rep < std::max(1, o.repeats); ++rep) {
+  const int repeats = std::max(1, o.repeats);
+  Peer peer(o.peer, dm.tris);
+  // Build timings: the best of several builds of the already-uploaded triangles, each repeat
+  // followed by the peer's build of the same triangles.
+  double lbvh_s = 1e300;
+  std::vector<double> sah_s, peer_build_s, sah_cpu, peer_build_cpu;
+  for (int rep = 0; rep < repeats; ++rep) {
     auto t0 = Clock::now();
     auto b1 = bvh::build_lbvh<Exec, Mem>(Exec(), dm.tris);
     Kokkos::fence();
     lbvh_s = std::min(lbvh_s, seconds_since(t0));
     t0 = Clock::now();
+    double c0 = cpu_seconds();
     auto b2 = bvh::build<Exec, Mem>(Exec(), dm.tris, bvh::BuildQuality::kSah);
     Kokkos::fence();
-    sah_s = std::min(sah_s, seconds_since(t0));
+    sah_s.push_back(seconds_since(t0));
+    sah_cpu.push_back(cpu_seconds() - c0);
+    if (peer.active()) {
+      c0 = cpu_seconds();
+      peer_build_s.push_back(peer.build());
+      peer_build_cpu.push_back(cpu_seconds() - c0);
+    }
   }
   const auto q = bvh::measure_quality(dm.accel);
-  std::printf("build: lbvh %.2f ms, sah %.2f ms; traced with %s: %s\n", lbvh_s * 1e3, sah_s * 1e3,
-              bvh::to_string(quality), q.to_string().c_str());
+  std::printf("build: lbvh %.2f ms, sah %.2f ms; traced with %s: %s\n", lbvh_s * 1e3,
+              best_of(sah_s) * 1e3, bvh::to_string(quality), q.to_string().c_str());
 
   const Aabb box = dm.accel.bounds;
   const Real extent = box.diagonal();
@@ -227,10 +288,18 @@ int run(const Options& o, RunReport& report) {
   Kokkos::View<int*, Mem> result(
       Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bench::result"), nr);
   const auto accel = dm.accel;
-  double best = 1e300;
-  for (int rep = 0; rep < std::max(1, o.repeats); ++rep) {
+  std::vector<Ray> host_rays;
+  if (peer.active()) {
+    auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rays);
+    host_rays.assign(hr.data(), hr.data() + nr);
+  }
+  // Timed passes, each followed by the peer's pass over the same rays.
+  std::vector<double> trace_s, peer_trace_s, trace_cpu, peer_trace_cpu;
+  std::vector<int> peer_result;
+  for (int rep = 0; rep < repeats; ++rep) {
     Kokkos::fence();
     const auto t0 = Clock::now();
+    const double c0 = cpu_seconds();
     if (any) {
       Kokkos::parallel_for(
           "rtmini::bench::trace_any", Kokkos::RangePolicy<Exec>(0, nr),
@@ -241,8 +310,15 @@ int run(const Options& o, RunReport& report) {
           KOKKOS_LAMBDA(long long i) { result(i) = bvh::closest_hit(accel, rays(i)).prim; });
     }
     Kokkos::fence();
-    best = std::min(best, seconds_since(t0));
+    trace_s.push_back(seconds_since(t0));
+    trace_cpu.push_back(cpu_seconds() - c0);
+    if (peer.active()) {
+      const double c1 = cpu_seconds();
+      peer_trace_s.push_back(peer.trace(host_rays, any, peer_result));
+      peer_trace_cpu.push_back(cpu_seconds() - c1);
+    }
   }
+  const double best = best_of(trace_s);
   std::uint64_t hash = 0;
   Kokkos::parallel_reduce(
       "rtmini::bench::hash", Kokkos::RangePolicy<Exec>(0, nr),
@@ -287,27 +363,36 @@ int run(const Options& o, RunReport& report) {
     std::printf("area-weighted mean AO (unoccluded fraction): %.6f\n", den > 0 ? num / den : 0.0);
   }
 
-  if (o.peer == "embree") {
-#ifdef RTMINI_HAVE_EMBREE
-    auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rays);
-    auto ht = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), dm.tris);
+  if (peer.active()) {
     auto hres = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), result);
-    std::vector<Ray> rv(hr.data(), hr.data() + nr);
-    std::vector<Triangle> tv(ht.data(), ht.data() + ht.extent(0));
-    const auto pr = bench::trace_with_embree(tv, rv, any, std::max(1, o.repeats));
     long long agree = 0;
-    for (long long i = 0; i < nr; ++i) agree += pr.result[i] == hres(i);
-    const double peer_mrays = nr / pr.trace_seconds * 1e-6;
+    for (long long i = 0; i < nr; ++i) agree += peer_result[i] == hres(i);
+    const double peer_best = best_of(peer_trace_s);
+    const double peer_mrays = nr / peer_best * 1e-6;
     std::printf("peer embree %s: build %.2f ms, trace %.4f s, %.2f Mrays/s; agreement %.5f%%\n",
-                pr.version.c_str(), pr.build_seconds * 1e3, pr.trace_seconds, peer_mrays,
+                peer.version().c_str(), best_of(peer_build_s) * 1e3, peer_best, peer_mrays,
                 100.0 * agree / std::max(1LL, nr));
     std::printf("ratio rtmini/embree: %.3f\n", mrays / peer_mrays);
-#else
-    throw InputError(
-        "--peer embree: this build has no Embree (install libembree-dev and reconfigure)");
-#endif
-  } else if (!o.peer.empty()) {
-    throw InputError("--peer must be embree, got '" + o.peer + "'");
+    // Each repeat's rtmini pass against the peer pass right after it (same machine load).
+    std::vector<double> trace_ratio, build_ratio, trace_cpu_ratio, build_cpu_ratio;
+    for (int rep = 0; rep < repeats; ++rep) {
+      trace_ratio.push_back(peer_trace_s[rep] / trace_s[rep]);
+      build_ratio.push_back(sah_s[rep] / peer_build_s[rep]);
+      trace_cpu_ratio.push_back(peer_trace_cpu[rep] / trace_cpu[rep]);
+      build_cpu_ratio.push_back(sah_cpu[rep] / peer_build_cpu[rep]);
+    }
+    std::printf(
+        "paired (%d repeats): speed ratio rtmini/embree median %.3f [%.3f, %.3f]; "
+        "sah build median %.2f ms vs embree %.2f ms, time ratio median %.3f [%.3f, %.3f]\n",
+        repeats, median_of(trace_ratio), best_of(trace_ratio), worst_of(trace_ratio),
+        median_of(sah_s) * 1e3, median_of(peer_build_s) * 1e3, median_of(build_ratio),
+        best_of(build_ratio), worst_of(build_ratio));
+    std::printf(
+        "paired CPU time (%d repeats): speed ratio rtmini/embree median %.3f [%.3f, %.3f]; "
+        "sah build %.2f ms vs embree %.2f ms CPU, time ratio median %.3f [%.3f, %.3f]\n",
+        repeats, median_of(trace_cpu_ratio), best_of(trace_cpu_ratio), worst_of(trace_cpu_ratio),
+        median_of(sah_cpu) * 1e3, median_of(peer_build_cpu) * 1e3, median_of(build_cpu_ratio),
+        best_of(build_cpu_ratio), worst_of(build_cpu_ratio));
   }
   std::printf("FOM %.3f Mrays/s (%s, %s) verification %s\n", mrays, o.workload.c_str(),
               bvh::to_string(quality), hash_hex(hash).c_str());

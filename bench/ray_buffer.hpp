@@ -1,5 +1,6 @@
 #pragma once
 // The benchmark's rays, stored flat so rtmini and a peer trace the identical set.
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -7,15 +8,25 @@
 
 namespace rtmini::bench {
 
-struct PeerResult {
-  double build_seconds = 0;
-  double trace_seconds = 0;
-  std::vector<int> result;  // per ray: prim id (closest) or 0/1 (any hit)
-  std::string version;
-};
+// Embree 3 on the benchmark's triangles, single-ray queries in an OpenMP loop. The bench calls
+// build() and trace() alternately with its own passes, so machine load hits both alike.
+class EmbreePeer {
+ public:
+  explicit EmbreePeer(const std::vector<Triangle>& tris);
+  ~EmbreePeer();
+  EmbreePeer(const EmbreePeer&) = delete;
+  EmbreePeer& operator=(const EmbreePeer&) = delete;
 
-// Traces `rays` with Embree 3 single-ray queries in an OpenMP loop.
-PeerResult trace_with_embree(const std::vector<Triangle>& tris, const std::vector<Ray>& rays,
-                             bool any_hit, int repeats);
+  // (Re)builds the scene; returns the seconds it took.
+  double build();
+  // Traces `rays`; result per ray: prim id (closest) or 0/1 (any hit). Returns the seconds.
+  double trace(const std::vector<Ray>& rays, bool any_hit, std::vector<int>& result) const;
+  std::string version() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+  const std::vector<Triangle>& tris_;
+};
 
 }  // namespace rtmini::bench

@@ -21,11 +21,13 @@ DeviceScene::DeviceScene(const AoScene& scene, bvh::BuildQuality quality,
     const auto& b = bvhs_.back();
     refs_h(m).nodes = {b.nodes.data(), b.nodes.extent(0)};
     refs_h(m).wide = {b.wide.data(), b.wide.extent(0)};
+    refs_h(m).leaves = {b.leaves.data(), b.leaves.extent(0)};
     refs_h(m).tris = {b.tris.data(), b.tris.extent(0)};
     refs_h(m).prim = {b.prim.data(), b.prim.extent(0)};
     refs_h(m).num_prims = b.num_prims;
     bytes_ += b.nodes.span() * sizeof(bvh::BvhNode) + b.wide.span() * sizeof(bvh::WideNode) +
-              b.tris.span() * sizeof(Triangle) + b.prim.span() * sizeof(int);
+              b.leaves.span() * sizeof(bvh::TriangleLanes) + b.tris.span() * sizeof(Triangle) +
+              b.prim.span() * sizeof(int);
   }
   Kokkos::deep_copy(refs, refs_h);
 

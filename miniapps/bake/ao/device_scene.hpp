@@ -17,7 +17,7 @@ using ExecSpace = Kokkos::DefaultExecutionSpace;
 using MemSpace = ExecSpace::memory_space;
 
 // A mesh BVH seen through raw device pointers, shaped like bvh::Bvh for the
-// templated traversal (nodes, wide, tris, prim, num_prims, memory_space), so a
+// templated traversal (nodes, wide, leaves, tris, prim, num_prims, memory_space), so a
 // table of them can live in one View and be indexed per instance in a kernel.
 struct BvhRef {
   using memory_space = MemSpace;
@@ -30,6 +30,7 @@ struct BvhRef {
   };
   Array<bvh::BvhNode> nodes;
   Array<bvh::WideNode> wide;
+  Array<bvh::TriangleLanes> leaves;
   Array<Triangle> tris;
   Array<int> prim;
   int num_prims = 0;

@@ -15,10 +15,14 @@ void add_wide_nodes(Bvh<MemorySpace>& bvh) {
     if (bvh.num_prims == 0) return;
     Kokkos::Profiling::pushRegion("rtmini::bvh::build::collapse_wide");
     std::vector<BvhNode> binary(bvh.nodes.data(), bvh.nodes.data() + bvh.nodes.extent(0));
-    const std::vector<WideNode> wide = collapse_to_wide(binary);
+    const WideBvh wide = collapse_to_wide(binary, bvh.tris.data(), bvh.prim.data());
     bvh.wide = Kokkos::View<WideNode*, MemorySpace>(
-        Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::wide"), wide.size());
-    for (std::size_t i = 0; i < wide.size(); ++i) bvh.wide(i) = wide[i];
+        Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::wide"), wide.nodes.size());
+    for (std::size_t i = 0; i < wide.nodes.size(); ++i) bvh.wide(i) = wide.nodes[i];
+    bvh.leaves = Kokkos::View<TriangleLanes*, MemorySpace>(
+        Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::wide_leaves"),
+        wide.leaves.size());
+    for (std::size_t i = 0; i < wide.leaves.size(); ++i) bvh.leaves(i) = wide.leaves[i];
     Kokkos::Profiling::popRegion();
   }
 }

@@ -60,7 +60,18 @@ inline constexpr int kWidth = 8;
 struct alignas(64) WideNode {
   Real lo_x[kWidth], lo_y[kWidth], lo_z[kWidth];
   Real hi_x[kWidth], hi_y[kWidth], hi_z[kWidth];
-  std::uint32_t child[kWidth];  // same encoding as BvhNode; kEmptyLeaf = unused lane
+  // Same encoding as BvhNode, but a leaf's `first` indexes Bvh::leaves (one TriangleLanes
+  // block per leaf); kEmptyLeaf = unused lane.
+  std::uint32_t child[kWidth];
+};
+
+// The triangles of one wide-BVH leaf as structure-of-arrays lanes, so one SIMD pass runs the
+// watertight test on all of them (traverse.hpp). Lanes at and past the leaf's count are unused.
+struct alignas(64) TriangleLanes {
+  Real ax[kMaxLeafSize], ay[kMaxLeafSize], az[kMaxLeafSize];
+  Real bx[kMaxLeafSize], by[kMaxLeafSize], bz[kMaxLeafSize];
+  Real cx[kMaxLeafSize], cy[kMaxLeafSize], cz[kMaxLeafSize];
+  int prim[kMaxLeafSize];
 };
 
 template <class MemorySpace>
@@ -69,6 +80,7 @@ struct Bvh {
   Kokkos::View<BvhNode*, MemorySpace> nodes;
   // 8-wide copy of the same tree for host (CPU) traversal; empty on devices.
   Kokkos::View<WideNode*, MemorySpace> wide;
+  Kokkos::View<TriangleLanes*, MemorySpace> leaves;  // the wide tree's leaves
   Kokkos::View<Triangle*, MemorySpace> tris;
   Kokkos::View<int*, MemorySpace> prim;
   Aabb bounds;

@@ -87,43 +87,90 @@ KOKKOS_INLINE_FUNCTION bool traverse(const BvhT& bvh, const Ray& ray, Hit& hit,
   return found;
 }
 
-// Leaf triangles [first, first + count): updates hit/tmax; true when any-hit may stop.
-template <class BvhT, bool kAnyHit, bool kStats>
-KOKKOS_FORCEINLINE_FUNCTION bool intersect_leaf(const BvhT& bvh, std::uint32_t ref,
-                                                const WatertightRay& wr, const Ray& ray, Real& tmax,
-                                                Hit& hit, bool& found, TraversalStats* stats) {
-  const std::uint32_t first = leaf_first(ref), end = first + leaf_count(ref);
-  for (std::uint32_t i = first; i < end; ++i) {
-    const Triangle& tri = bvh.tris(i);
-    if (kStats) ++stats->tests;
-    Real t, u, v;
-    if (!intersect_triangle(wr, tri.a, tri.b, tri.c, ray.tmin, tmax, t, u, v)) continue;
-    const int id = bvh.prim(i);
-    if (kAnyHit) {
-      hit.t = t;
-      hit.u = u;
-      hit.v = v;
-      hit.prim = id;
-      found = true;
-      return true;
-    }
-    if (t < tmax || id < hit.prim || !found) {
-      tmax = t;
-      hit.t = t;
-      hit.u = u;
-      hit.v = v;
-      hit.prim = id;
-      found = true;
-    }
-  }
-  return false;
-}
-
 #if defined(__GNUC__) && !defined(__CUDACC__)
 // kWidth box tests at once with GCC/Clang vector extensions (SSE/AVX/NEON as available).
 typedef Real RealLanes __attribute__((vector_size(kWidth * sizeof(Real))));
 typedef std::conditional_t<sizeof(Real) == 4, std::int32_t, std::int64_t> LaneInt;
 typedef LaneInt IntLanes __attribute__((vector_size(kWidth * sizeof(Real))));
+static_assert(kMaxLeafSize == kWidth, "leaf lanes share the node lanes' vector type");
+
+__attribute__((always_inline)) inline RealLanes load_lanes(const Real* p) {
+  RealLanes v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+// One bit per lane of a comparison result (all ones = true).
+__attribute__((always_inline)) inline int lane_bits(const IntLanes& m) {
+#if defined(__AVX__)
+  if constexpr (sizeof(Real) == 4 && kWidth == 8) {
+    __m256 v;
+    std::memcpy(&v, &m, sizeof v);
+    return _mm256_movemask_ps(v);
+  }
+#endif
+  int mask = 0;
+  for (int k = 0; k < kWidth; ++k) mask |= (m[k] != 0 ? 1 : 0) << k;
+  return mask;
+}
+
+// The lanes a leaf of `count` triangles uses.
+__attribute__((always_inline)) inline IntLanes used_lanes(int count) {
+  IntLanes iota;
+  for (int k = 0; k < kWidth; ++k) iota[k] = k;
+  return iota < LaneInt(count);
+}
+
+struct LeafLaneHits {
+  int hit = 0;   // lanes hit within [tmin, tmax]
+  int redo = 0;  // lanes with an exactly-zero edge function: the scalar test redoes them in double
+  RealLanes t, u, v;
+};
+
+// intersect_triangle on every lane of a leaf at once. Each lane runs the scalar test's
+// operations in the same order (and -ffp-contract=off keeps products unfused), so t, u and v
+// are bit for bit the scalar results; only the double-precision redo of zero edge functions is
+// left to the scalar test (flagged in `redo`).
+__attribute__((always_inline)) inline LeafLaneHits watertight_lanes(const TriangleLanes& l,
+                                                                    int count,
+                                                                    const WatertightRay& r,
+                                                                    Real tmin, Real tmax) {
+  const Real* a[3] = {l.ax, l.ay, l.az};
+  const Real* b[3] = {l.bx, l.by, l.bz};
+  const Real* c[3] = {l.cx, l.cy, l.cz};
+  const Real ox = r.org[r.kx], oy = r.org[r.ky], oz = r.org[r.kz];
+  const RealLanes Az = load_lanes(a[r.kz]) - oz, Bz = load_lanes(b[r.kz]) - oz,
+                  Cz = load_lanes(c[r.kz]) - oz;
+  const RealLanes ax = (load_lanes(a[r.kx]) - ox) - r.sx * Az;
+  const RealLanes ay = (load_lanes(a[r.ky]) - oy) - r.sy * Az;
+  const RealLanes bx = (load_lanes(b[r.kx]) - ox) - r.sx * Bz;
+  const RealLanes by = (load_lanes(b[r.ky]) - oy) - r.sy * Bz;
+  const RealLanes cx = (load_lanes(c[r.kx]) - ox) - r.sx * Cz;
+  const RealLanes cy = (load_lanes(c[r.ky]) - oy) - r.sy * Cz;
+  const RealLanes U = cx * by - cy * bx;
+  const RealLanes V = ax * cy - ay * cx;
+  const RealLanes W = bx * ay - by * ax;
+  const IntLanes used = used_lanes(count);
+  const RealLanes zero{};
+  IntLanes redo = used & ((U == zero) | (V == zero) | (W == zero));
+  if (sizeof(Real) != 4) redo = IntLanes{};
+  const IntLanes mixed =
+      ((U < zero) | (V < zero) | (W < zero)) & ((U > zero) | (V > zero) | (W > zero));
+  const RealLanes det = U + V + W;
+  const RealLanes T = U * (r.sz * Az) + V * (r.sz * Bz) + W * (r.sz * Cz);
+  // Lanes the scalar test rejects before dividing divide by one instead: no 0/0 or 0 * inf NaN
+  // there (the unit tests trap invalid operations), and their t is masked out anyway.
+  const IntLanes divide = ~mixed & (det != zero);
+  const RealLanes inv = Real(1) / (divide ? det : zero + Real(1));
+  LeafLaneHits out;
+  out.t = T * inv;
+  out.u = V * inv;
+  out.v = W * inv;
+  const IntLanes in_range = (out.t >= zero + tmin) & (out.t <= zero + tmax);
+  out.hit = lane_bits(used & ~redo & divide & in_range);
+  out.redo = lane_bits(redo);
+  return out;
+}
 
 __attribute__((always_inline)) inline int wide_box_test(const WideNode& nd, bool neg_x, bool neg_y,
                                                         bool neg_z, Real ox, Real oy, Real oz,
@@ -199,6 +246,57 @@ KOKKOS_INLINE_FUNCTION int wide_box_test(const WideNode& nd, bool neg_x, bool ne
 }
 #endif
 
+KOKKOS_INLINE_FUNCTION Triangle lane_triangle(const TriangleLanes& l, int k) {
+  return {Vec3(l.ax[k], l.ay[k], l.az[k]), Vec3(l.bx[k], l.by[k], l.bz[k]),
+          Vec3(l.cx[k], l.cy[k], l.cz[k])};
+}
+
+// One candidate from a leaf lane, under the scalar traversal's rule: closest t, and the lower
+// primitive id at equal t, so the answer does not depend on the order lanes are looked at.
+template <bool kAnyHit>
+KOKKOS_FORCEINLINE_FUNCTION bool take_hit(Real t, Real u, Real v, int id, Real& tmax, Hit& hit,
+                                          bool& found) {
+  if (kAnyHit || t < tmax || id < hit.prim || !found) {
+    tmax = t;
+    hit.t = t;
+    hit.u = u;
+    hit.v = v;
+    hit.prim = id;
+    found = true;
+  }
+  return kAnyHit;
+}
+
+// A wide-tree leaf: updates hit/tmax; true when any-hit may stop.
+template <bool kAnyHit, bool kStats>
+KOKKOS_FORCEINLINE_FUNCTION bool intersect_wide_leaf(const TriangleLanes& l, std::uint32_t ref,
+                                                     const WatertightRay& wr, const Ray& ray,
+                                                     Real& tmax, Hit& hit, bool& found,
+                                                     TraversalStats* stats) {
+  const int count = static_cast<int>(leaf_count(ref));
+  if (kStats) stats->tests += count;
+  // Lanes the scalar test decides: all of them without vector extensions, else the redo lanes.
+  int scalar_lanes = (1 << count) - 1;
+#if defined(__GNUC__) && !defined(__CUDACC__)
+  const LeafLaneHits lanes = watertight_lanes(l, count, wr, ray.tmin, tmax);
+  for (int m = lanes.hit; m != 0; m &= m - 1) {
+    const int k = __builtin_ctz(m);
+    if (!(lanes.t[k] <= tmax)) continue;  // a closer hit in this leaf came first
+    if (take_hit<kAnyHit>(lanes.t[k], lanes.u[k], lanes.v[k], l.prim[k], tmax, hit, found))
+      return true;
+  }
+  scalar_lanes = lanes.redo;
+#endif
+  for (int k = 0; k < count; ++k) {
+    if (!(scalar_lanes >> k & 1)) continue;
+    const Triangle tri = lane_triangle(l, k);
+    Real t, u, v;
+    if (!intersect_triangle(wr, tri.a, tri.b, tri.c, ray.tmin, tmax, t, u, v)) continue;
+    if (take_hit<kAnyHit>(t, u, v, l.prim[k], tmax, hit, found)) return true;
+  }
+  return false;
+}
+
 // Wide traversal for host memory: the lane loops below vectorise. The near
 // plane of each axis is chosen by the ray's direction sign, so an inverted
 // (empty) box always has near > far and unused lanes never hit.
@@ -231,7 +329,8 @@ KOKKOS_INLINE_FUNCTION bool traverse_wide(const BvhT& bvh, const Ray& ray, Hit& 
         continue;
       }
       if (c == kEmptyLeaf) continue;
-      if (intersect_leaf<BvhT, kAnyHit, kStats>(bvh, c, wr, ray, tmax, hit, found, stats))
+      if (intersect_wide_leaf<kAnyHit, kStats>(bvh.leaves(leaf_first(c)), c, wr, ray, tmax, hit,
+                                               found, stats))
         return true;
     }
     // Inner children still within tmax, pushed far-to-near so the nearest is visited next.
