@@ -1,5 +1,6 @@
 #include "kitchen.hpp"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -28,6 +29,13 @@ namespace rtmini::bake {
 namespace {
 
 using Exec = Kokkos::DefaultExecutionSpace;
+
+// This process's peak resident set (Linux reports KiB).
+double peak_rss_bytes() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_maxrss) * 1024.0;
+}
 
 std::string human_bytes(double b) {
   const char* unit[] = {"B", "KiB", "MiB", "GiB", "TiB"};
@@ -735,6 +743,8 @@ void BakeRun::report_results() {
   report_.scene["rays_traced"] = total_rays;
   report_.scene["rays_per_second"] = bake_time > 0 ? total_rays / bake_time : 0.0;
   report_.scene["output_bytes"] = written_.file_bytes;
+  report_.scene["peak_rss_bytes_per_rank"] =
+      comm_.allgatherv(std::vector<double>{peak_rss_bytes()});
   totals_.messages = comm_.messages_sent();
   totals_.bytes += comm_.bytes_sent();
   if (!c_.timings.empty())
