@@ -76,9 +76,8 @@ MemoryEstimate estimate_memory(const Mesh& mesh, const BakeSceneHost& s, std::in
   m.maps = 2 * local_colors * col;                   // prev + next on the device
   m.host = local_colors * col + 2 * my_items * col;  // local map, exchange buffers
   m.host += my_vertices * c.viewpoints * 60;         // formatted output text
-  // The root holds the whole map once for a checkpoint, the binary output or a comparison.
-  if (root && (!c.checkpoint.empty() || !c.reference.empty() || is_binary_map_path(c.output)))
-    m.host += s.colors() * col;
+  // The root holds the whole map once for a checkpoint or a comparison.
+  if (root && (!c.checkpoint.empty() || !c.reference.empty())) m.host += s.colors() * col;
   if (!c.reference.empty()) m.host += nv * c.viewpoints * col;  // the reference's colours
   if (c.cache_hits && iterations > 1) m.hit_cache = Chef::hit_cache_bytes(my_items);
   return m;
@@ -681,21 +680,14 @@ int BakeRun::iterate() {
   return kExitOk;
 }
 
-// Text: every rank writes its own vertices (collective MPI-IO). Binary: the root writes the
-// whole map, gathered.
+// Every rank writes its own vertices (collective MPI-IO), in either form.
 void BakeRun::write() {
   timer_.start("write");
   std::vector<Vec3f> dirs(static_cast<std::size_t>(c_.viewpoints));
   for (int i = 0; i < c_.viewpoints; ++i) dirs[i] = Vec3f(fibonacci_point(i, c_.viewpoints));
-  if (is_binary_map_path(c_.output)) {
-    const std::vector<Vec3f> global = global_map();
-    const BakedMap baked{&mesh_, &global, &host_.color_offset, &dirs};
-    written_ = write_baked_map(comm_, c_.output, baked, my_ranges_);
-  } else {
-    download(prev_, map_);
-    const BakedMap baked{&mesh_, &map_, &layout_.offset, &dirs};
-    written_ = write_baked_map(comm_, c_.output, baked, my_ranges_);
-  }
+  download(prev_, map_);
+  const BakedMap baked{&mesh_, &map_, &layout_.offset, &dirs};
+  written_ = write_baked_map(comm_, c_.output, baked, my_ranges_);
   timer_.stop();
   if (!iter_records_.empty()) iter_records_.back().write += written_.seconds;
 }
