@@ -1,6 +1,7 @@
 // rtmini-gen-inputs: regenerates the bake inputs (inputs/README.md): the seed's "cube" and
-// "cornell_big_raw" cases, the furnace box of the correctness tests, the shared Cornell box
-// converted to .bs, and two bunny bake scenes built around ../shared/scenes/stanford-bunny.obj.
+// "cornell_big_raw" cases, the furnace box of the correctness tests, the bundled Cornell box
+// (inputs/meshes) converted to .bs, and two bunny bake scenes built around
+// inputs/meshes/stanford-bunny.obj.
 #include <CLI/CLI.hpp>
 #include <array>
 #include <cmath>

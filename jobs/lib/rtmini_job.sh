@@ -17,9 +17,18 @@
 #   bake:             RTMINI_VIEWPOINTS (100) RTMINI_ITERATIONS (4)
 #                     RTMINI_SHADOW_SAMPLES RTMINI_GATHER_RAYS RTMINI_SEED RTMINI_BALANCE
 #   RTMINI_EXTRA_ARGS extra app arguments, split on whitespace
+#   RTMINI_ENV_HOOK   a bash file sourced by rtmini_init before anything runs: the site's
+#                     `module load` lines (compiler, MPI, HDF5, CUDA, Kokkos) (default: none)
+#   RTMINI_PYTHON     Python with numpy, matplotlib and h5py for the analysis tools
+#                     (default: python3 on PATH; on Debian /usr/bin/python3)
 
 # rtmini_init DEFAULT_ROOT: set RTMINI_ROOT/RTMINI_BUILD/RTMINI_APP/RTMINI_OUTDIR.
 rtmini_init() {
+  if [ -n "${RTMINI_ENV_HOOK:-}" ]; then
+    [ -r "$RTMINI_ENV_HOOK" ] || { echo "rtmini: RTMINI_ENV_HOOK=$RTMINI_ENV_HOOK is not readable" >&2; exit 2; }
+    # shellcheck source=/dev/null
+    source "$RTMINI_ENV_HOOK"
+  fi
   RTMINI_ROOT=${RTMINI_ROOT:-$1}
   RTMINI_BUILD=${RTMINI_BUILD:-$RTMINI_ROOT/build}
   RTMINI_APP=${RTMINI_APP:-sketchtrace}
@@ -53,6 +62,20 @@ rtmini_default_input() {
     printf '%s\n' "$RTMINI_ROOT/inputs/cornell/cornell_box.bs"
   else
     printf '%s\n' "$RTMINI_ROOT/inputs/two_spheres/two_spheres.toml"
+  fi
+}
+
+# rtmini_image_ext: the image format a run writes by default: png when the build has libpng,
+# else exr when it has OpenEXR, else ppm (always built in). Read from the build's
+# rtmini_features.env (written by CMake); without one (RTMINI_BIN, no build dir): ppm.
+rtmini_image_ext() {
+  local features=$RTMINI_BUILD/rtmini_features.env
+  if grep -qx 'RTMINI_HAVE_PNG=ON' "$features" 2>/dev/null; then
+    echo png
+  elif grep -qx 'RTMINI_HAVE_EXR=ON' "$features" 2>/dev/null; then
+    echo exr
+  else
+    echo ppm
   fi
 }
 
@@ -134,9 +157,9 @@ rtmini_mpirun_launcher() {
   fi
 }
 
-# rtmini_python_tool TOOL ARGS...: run an rtmini_analysis CLI with Debian's python.
+# rtmini_python_tool TOOL ARGS...: run an rtmini_analysis CLI with $RTMINI_PYTHON.
 rtmini_python_tool() {
   local tool=$1
   shift
-  PYTHONPATH="$RTMINI_ROOT/analysis${PYTHONPATH:+:$PYTHONPATH}" /usr/bin/python3 -m "rtmini_analysis.$tool" "$@"
+  PYTHONPATH="$RTMINI_ROOT/analysis${PYTHONPATH:+:$PYTHONPATH}" "${RTMINI_PYTHON:-python3}" -m "rtmini_analysis.$tool" "$@"
 }

@@ -15,6 +15,8 @@
 #   RTMINI_SEQUENTIAL     1 = each job waits for the previous one [0]
 #   RTMINI_ANALYZE        1 = submit a dependent job running rtmini_analysis.scaling [0]
 #   RTMINI_SBATCH_ARGS    extra sbatch options, e.g. "-A proj -p batch" []
+#   RTMINI_PYTHON         Python with numpy/matplotlib/h5py for the plot job [python3]
+#   RTMINI_ENV_HOOK       bash file of `module load` lines, sourced by every job first []
 # Prints the submitted job ids, one per line.
 set -euo pipefail
 
@@ -45,8 +47,10 @@ for r in ${RTMINI_RANKS:-1 2 4 8 16}; do
 done
 
 if [ "${RTMINI_ANALYZE:-0}" = 1 ]; then
+  hook=""
+  if [ -n "${RTMINI_ENV_HOOK:-}" ]; then hook=". '$RTMINI_ENV_HOOK' && "; fi
   after=$(IFS=:; echo "${ids[*]}")
   sbatch --parsable "${extra[@]}" --job-name=rtmini-weak-plot --ntasks=1 \
     --dependency="afterany:$after" --output="$outdir/plot-%j.out" \
-    --wrap="cd '$root/analysis' && PYTHONPATH=. /usr/bin/python3 -m rtmini_analysis.scaling --mode weak -o '$outdir/weak_scaling.png' '$outdir'/weak-*.json"
+    --wrap="${hook}cd '$root/analysis' && PYTHONPATH=. '${RTMINI_PYTHON:-python3}' -m rtmini_analysis.scaling --mode weak -o '$outdir/weak_scaling.png' '$outdir'/weak-*.json"
 fi

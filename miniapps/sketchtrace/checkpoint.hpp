@@ -1,5 +1,5 @@
 #pragma once
-// Checkpoint/restart of a render (ARCHITECTURE §6): rank 0 keeps the pixels finished
+// Checkpoint/restart of a render (docs/architecture.md §6): rank 0 keeps the pixels finished
 // so far and writes them, atomically, to an HDF5 file; a restart renders only the others.
 // Pixels depend only on (scene, parameters, seed, pixel), so a resumed render is
 // bit-identical to an uninterrupted one. The file carries a signature of the

@@ -37,7 +37,7 @@ if [ "$what" = scaling ] || [ "$what" = all ]; then
   done
 fi
 if [ "$what" = bunny ] || [ "$what" = all ]; then
-  "$gen" bunny --scene "$src/../shared/scenes/stanford-bunny.obj" -o "$out/bunny_bake.bs"
+  "$gen" bunny --scene "$src/inputs/meshes/stanford-bunny.obj" -o "$out/bunny_bake.bs"
   OMP_NUM_THREADS=2 /usr/bin/time -f "wall %e s, user %U s, maxrss %M KiB" "$bake" \
     "$out/bunny_bake.bs" -o "$out/bunny_n1000_k4.bs" --viewpoints 1000 --iterations 4 --progress \
     --timings "$out/bunny_n1000_k4.h5" --summary "$out/bunny_n1000_k4.json" \

@@ -78,7 +78,7 @@ for scene in cornell/cornell_box cornell_big/cornell_big_raw; do
 done
 
 # The bunny bake scene (inputs/gen_inputs.cpp): 35,959 vertices; N = 1000 would be a 2 GB map.
-"$gen" bunny --scene "$root/../shared/scenes/stanford-bunny.obj" -o "$work/bunny_raw.bs" >/dev/null
+"$gen" bunny --scene "$root/inputs/meshes/stanford-bunny.obj" -o "$work/bunny_raw.bs" >/dev/null
 scene_toml bunny_close "$work/bunny_raw.bs" "0.1, 0.17, 0.28" "-0.017, 0.1, 0" 40
 measure bunny "$work/bunny_raw.bs" "20 100" "2" close
 for f in ref_k2 n20_k2 n100_k2; do cp "$work/bunny_close_$f.png" "$out/"; done

@@ -191,7 +191,7 @@ expect_files() { # FILE...: each exists and is non-empty
   for f in "$@"; do [ -s "$f" ] || fail "missing output $f"; done
 }
 json_field() { # FILE KEY
-  /usr/bin/python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])' "$1" "$2"
+  "${RTMINI_PYTHON:-python3}" -c 'import json, sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])' "$1" "$2"
 }
 
 expect_job "$cpu_id" COMPLETED 0:0

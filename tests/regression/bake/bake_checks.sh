@@ -51,7 +51,7 @@ case $case_name in
     "$GEN" cornell_big -o big.bs >/dev/null || fail "generator failed"
     cmp big.bs "$INPUTS/cornell_big/cornell_big_raw.bs" || fail "cornell_big_raw.bs differs"
     [ "$(grep -c '^[-0-9]' big.bs)" -gt 0 ] || fail "empty cornell_big"
-    "$GEN" cornell --scene "$INPUTS/cornell/CornellBox-Original.obj" -o cb.bs >/dev/null ||
+    "$GEN" cornell --scene "$INPUTS/meshes/CornellBox-Original.obj" -o cb.bs >/dev/null ||
       fail "generator failed"
     cmp cb.bs "$INPUTS/cornell/cornell_box.bs" || fail "cornell_box.bs differs"
     echo "generated inputs match the committed ones"

@@ -10,6 +10,6 @@
 namespace rtmini::test {
 using TestExecSpace = RTMINI_TEST_EXECSPACE;
 using TestMemSpace = TestExecSpace::memory_space;
-// Directory of the public test meshes (../shared/scenes next to the checkout).
+// Directory of the public test meshes (inputs/meshes, bundled with their provenance).
 const char* scenes_dir();
 }  // namespace rtmini::test

@@ -2,11 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include "../optional_features.hpp"
 #include "io_test_util.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/hdf5_file.hpp"
-
-#ifdef RTMINI_HAVE_HDF5
 
 namespace rtmini {
 namespace {
@@ -87,6 +86,7 @@ void expect_equal(const TimingsData& a, const TimingsData& b) {
 }
 
 TEST(Timings, RoundTrip) {
+  RTMINI_REQUIRE_HDF5();
   test::TempDir dir;
   const TimingsData d = make_timings(3, 4);
   write_timings(dir.file("t.h5"), d);
@@ -97,6 +97,7 @@ TEST(Timings, RoundTrip) {
 }
 
 TEST(Timings, ZeroIterations) {
+  RTMINI_REQUIRE_HDF5();
   test::TempDir dir;
   const TimingsData d = make_timings(2, 0);
   write_timings(dir.file("t.h5"), d);
@@ -111,6 +112,7 @@ TEST(Timings, ZeroIterations) {
 }
 
 TEST(Timings, SizeMismatchIsRejectedWithoutAFile) {
+  RTMINI_REQUIRE_HDF5();
   test::TempDir dir;
   TimingsData d = make_timings(2, 1);
   d.rank_rays.pop_back();
@@ -119,6 +121,7 @@ TEST(Timings, SizeMismatchIsRejectedWithoutAFile) {
 }
 
 TEST(Hdf5File, TypesSlabsAttributesAndUncommittedCleanup) {
+  RTMINI_REQUIRE_HDF5();
   test::TempDir dir;
   {
     Hdf5File f = Hdf5File::create(dir.file("c.h5"));
@@ -153,5 +156,3 @@ TEST(Hdf5File, TypesSlabsAttributesAndUncommittedCleanup) {
 
 }  // namespace
 }  // namespace rtmini
-
-#endif

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "../optional_features.hpp"
 #include "npr.hpp"
 #include "npr_test_util.hpp"
 #include "rtmini/io/srgb.hpp"
@@ -52,6 +53,7 @@ void check(const Case& k) {
   NprInputs in;
   in.color = &color;
   in.edge = &edge;
+  RTMINI_REQUIRE_PNG();  // the references are 8-bit PNGs
   const Image out = apply_passes(in, c);
   const std::string path = std::string(RTMINI_NPR_REFERENCE_DIR) + "/" + k.name + ".png";
   const char* update = std::getenv("RTMINI_NPR_UPDATE_REFERENCE");

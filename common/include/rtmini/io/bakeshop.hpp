@@ -1,5 +1,5 @@
 #pragma once
-// Bake Shop (.bs) maps, the baking seed's format made strict (ARCHITECTURE.md §5):
+// Bake Shop (.bs) maps, the baking seed's format made strict (docs/architecture.md §5):
 //
 //   x y z                       vertex, followed by zero or more viewpoint lines
 //   | dx dy dz r g b            camera-ray direction into the vertex, linear RGB colour

@@ -1,8 +1,8 @@
 #pragma once
-// The run summary (--summary FILE.json, ARCHITECTURE.md §6). Top-level keys in a
+// The run summary (--summary FILE.json, docs/architecture.md §6). Top-level keys in a
 // fixed order: app, version, git_hash, backend, ranks, threads, scene, parameters,
 // phases {name: seconds, max over ranks, in run order}, figure_of_merit {name, value, unit}
-// (ARCHITECTURE §6), verification_hash, peak_memory_bytes, errors (only when not null).
+// (docs/architecture.md §6), verification_hash, peak_memory_bytes, errors (only when not null).
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
 // The shared outer layer of every executable: MPI + Kokkos lifetime and the
-// exit-code contract (ARCHITECTURE §6). Bad input -> one line on stderr and 2;
+// exit-code contract (docs/architecture.md §6). Bad input -> one line on stderr and 2;
 // resource/I-O failure -> 3. Input errors are detected identically on every
 // rank (all ranks read and validate the same input), so all ranks exit 2
 // together; any other failure on one rank aborts the whole job with 3.

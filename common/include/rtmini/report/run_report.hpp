@@ -1,5 +1,5 @@
 #pragma once
-// What every run reports (ARCHITECTURE §6): phases (max over ranks), one
+// What every run reports (docs/architecture.md §6): phases (max over ranks), one
 // figure of merit, a verification hash, the --summary JSON and the one-line
 // summary that is always the last line on stdout.
 #include <cstdint>

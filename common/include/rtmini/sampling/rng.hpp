@@ -2,7 +2,7 @@
 // Counter-based random numbers (Salmon et al., "Parallel Random Numbers: As
 // Easy as 1, 2, 3", SC'11): Philox4x32-10 from Random123. A draw is a pure
 // function of (run seed, item id, sample index, dimension), so results never
-// depend on rank count, thread count, scheduling or restarts (ARCHITECTURE §4).
+// depend on rank count, thread count, scheduling or restarts (docs/architecture.md §4).
 #if defined(__CUDACC__)
 // Random123 marks its CUDA functions __device__ only; Kokkos code calls them
 // from __host__ __device__ functions, and its trap-based assert is device asm.

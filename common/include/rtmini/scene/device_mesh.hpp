@@ -1,6 +1,6 @@
 #pragma once
 // A mesh uploaded once to the default memory space, struct-of-arrays per
-// triangle, shared by both apps' kernels (ARCHITECTURE §2).
+// triangle, shared by both apps' kernels (docs/architecture.md §2).
 #include <vector>
 
 #include "rtmini/bvh/build.hpp"

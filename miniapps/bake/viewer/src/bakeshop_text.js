@@ -1,5 +1,5 @@
 // Streaming reader of Bake Shop text maps (.bs) with the C++ reader's rules and messages
-// (common/src/io/bakeshop_reader.cpp, ARCHITECTURE.md section 5): feed text chunks with
+// (common/src/io/bakeshop_reader.cpp, docs/architecture.md section 5): feed text chunks with
 // push(), then finish(). Errors are BakeshopError "name:line: reason".
 import { Growable } from './growable.js';
 import { MapBuilder } from './map_data.js';

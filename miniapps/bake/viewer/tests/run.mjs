@@ -57,7 +57,7 @@ function check(ok, what) {
   if (!ok) failures++;
 }
 
-const { server, url } = await startServer({ mounts: { '/work/': workDir } });
+const { server, url } = await startServer({ mounts: { '/maps/': workDir } });
 const browser = await chromium.launch({
   executablePath: kChromium,
   headless: true,
@@ -253,7 +253,7 @@ try {
     for (const cam of cameras) {
       if (bakeRun.status !== 0) break;
       const render = bakeRender(bake, map, cam, join(workDir, `${cam.name}.ppm`));
-      await page.goto(`${url}index.html?map=/work/cornell_box_n100_k2.bsb&${cameraQuery(cam)}`);
+      await page.goto(`${url}index.html?map=/maps/cornell_box_n100_k2.bsb&${cameraQuery(cam)}`);
       await page.waitForFunction(() => window.__rtminiReady === true || !!window.__rtminiError, null, { timeout: 60_000 });
       const pageError = await page.evaluate(() => window.__rtminiError);
       check(!pageError, `page loads the baked map (${pageError ?? 'no error'})`);
