@@ -17,6 +17,7 @@
 #include "chef.hpp"
 #include "map_errors.hpp"
 #include "map_exchange.hpp"
+#include "rtmini/bvh/build_lbvh.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/obj_reader.hpp"
 #include "rtmini/io/timings.hpp"
@@ -284,6 +285,54 @@ std::vector<Batch> make_batches(const BakeSceneHost& scene, int ranks, Balance b
   return out;
 }
 
+std::vector<Batch> make_spatial_batches(const BakeSceneHost& scene,
+                                        const std::vector<Vec3d>& positions, int ranks,
+                                        std::int64_t block_size) {
+  const std::int64_t nv = scene.vertices();
+  if (nv == 0) return {};
+  const std::int64_t b =
+      block_size > 0 ? block_size : std::max<std::int64_t>(64, nv / (16 * ranks));
+  const std::int64_t count = (nv + b - 1) / b;
+  std::vector<Vec3> centre(static_cast<std::size_t>(count), Vec3(Real(0)));
+  Vec3 lo(Real(1e30)), hi(Real(-1e30));
+  for (std::int64_t k = 0; k < count; ++k) {
+    const std::int64_t end = std::min(nv, (k + 1) * b);
+    for (std::int64_t v = k * b; v < end; ++v)
+      centre[k] += Vec3(Real(positions[v].x), Real(positions[v].y), Real(positions[v].z));
+    centre[k] = centre[k] * (Real(1) / Real(end - k * b));
+    lo = vmin(lo, centre[k]);
+    hi = vmax(hi, centre[k]);
+  }
+  const Vec3 ext = hi - lo;
+  const Vec3 inv(ext.x > 0 ? 1 / ext.x : 0, ext.y > 0 ? 1 / ext.y : 0, ext.z > 0 ? 1 / ext.z : 0);
+  std::vector<std::uint64_t> key(static_cast<std::size_t>(count));
+  for (std::int64_t k = 0; k < count; ++k)
+    key[k] = bvh::detail::morton_key((centre[k] - lo) * inv, static_cast<std::uint32_t>(k));
+  std::sort(key.begin(), key.end());
+  // A block goes to the rank whose share of the total cost holds the block's middle.
+  const double total = static_cast<double>(scene.colors());
+  std::vector<Batch> out;
+  double before = 0;
+  for (std::uint64_t kk : key) {
+    const std::int64_t k = static_cast<std::int64_t>(kk & 0xffffffffULL);
+    const std::int64_t begin = k * b, end = std::min(nv, (k + 1) * b);
+    const double cost = static_cast<double>(scene.color_offset[end] - scene.color_offset[begin]);
+    const int rank = std::min(ranks - 1, static_cast<int>((before + cost / 2) * ranks / total));
+    out.push_back({begin, end, rank});
+    before += cost;
+  }
+  std::sort(out.begin(), out.end(),
+            [](const Batch& x, const Batch& y) { return x.begin < y.begin; });
+  std::vector<Batch> merged;
+  for (const Batch& x : out) {
+    if (!merged.empty() && merged.back().rank == x.rank && merged.back().end == x.begin)
+      merged.back().end = x.end;
+    else
+      merged.push_back(x);
+  }
+  return merged;
+}
+
 namespace {
 
 // How this rank's map is laid out and refreshed: which vertices it holds besides its own.
@@ -371,7 +420,9 @@ void BakeRun::plan() {
   needs_iterations_ = host_.reflective_vertices > 0 || c_.gather_rays > 0;
   // The traced reference is one pass (it follows the K mirror bounces itself).
   iterations_ = needs_iterations_ && !c_.trace_reference ? c_.iterations : 0;
-  batches_ = make_batches(host_, comm_.size(), c_.balance, c_.batch_size);
+  batches_ = c_.balance == Balance::kSpatial
+                 ? make_spatial_batches(host_, mesh_.positions, comm_.size(), c_.batch_size)
+                 : make_batches(host_, comm_.size(), c_.balance, c_.batch_size);
   owner_.assign(static_cast<std::size_t>(host_.vertices()), 0);
   for (const Batch& b : batches_) {
     std::fill(owner_.begin() + b.begin, owner_.begin() + b.end, b.rank);

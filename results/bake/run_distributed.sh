@@ -7,11 +7,10 @@
 #   one bake that does not fit replicated: 1,008,204 vertices (side 710) at N=1000 K=2 on 16x1.
 # Every run writes its summary (verification hash, peak RSS per rank, map statistics) and
 # timings (.h5) to OUT_DIR; table.md collects them. Usage (from the repository root, build/ built):
-#   results/bake/run_distributed.sh OUT_DIR [BUNNY_OBJ] [strong|weak|big|all]
+#   results/bake/run_distributed.sh OUT_DIR [strong|weak|big|all]
 set -eu
 out=$1
-bunny=${2:-inputs/bunny/stanford-bunny.obj}
-what=${3:-all}
+what=${2:-all}
 src=$(cd "$(dirname "$0")/../.." && pwd)
 bake=$src/build/miniapps/bake/bake
 gen=$src/build/inputs/rtmini-gen-inputs
@@ -37,7 +36,7 @@ run() {
 }
 
 if [ "$what" = strong ] || [ "$what" = all ]; then
-  "$gen" bunny_room --scene "$bunny" -o "$out/bunny_room.bs"
+  "$gen" bunny_room --scene "$src/inputs/meshes/stanford-bunny.obj" -o "$out/bunny_room.bs"
   for pt in 1x1 1x16 2x8 4x4 8x2 16x1; do
     run "strong_$pt" "${pt%x*}" "${pt#*x}" "$out/bunny_room.bs" -o "$out/strong.bsb" \
       --viewpoints 300 --iterations 4
