@@ -46,5 +46,9 @@ def table(title, found, weak):
 
 out = sys.argv[1]
 table("Strong scaling (bunny_room, N=300, K=4)", rows(out, "strong"), False)
+spatial = rows(out, "spatial")
+if spatial:
+    strong = rows(out, "strong")
+    table("Strong scaling, --balance spatial (speed-up against strong_1x1)", strong[:1] + spatial, False)
 table("Weak scaling (two sheets, side 150 sqrt(P), N=200, K=3)", rows(out, "weak"), True)
 table("1M vertices, N=1000, K=2", rows(out, "big"), True)
