@@ -386,6 +386,87 @@ ReadCount Chef::trace_mirror_hits(std::int64_t begin, std::int64_t end, std::int
 }
 
 namespace {
+// The remote colours the lookups at a batch's traced hits read (see Chef::mark_read_items).
+template <class LookupT>
+struct MarkReadItems {
+  LookupT lookup;
+  Real radius;
+  Kokkos::View<int* [3], MemSpace> tri_vertices;
+  Kokkos::View<Vec3*, MemSpace> normal, views;
+  Kokkos::View<int*, MemSpace> order;
+  Kokkos::View<std::int64_t*, MemSpace> color_offset, map_offset;
+  Kokkos::View<TracedHit*, MemSpace> traced;
+  Kokkos::View<const char*, MemSpace> owned;
+  Kokkos::View<char*, MemSpace> items;
+  std::int64_t vbegin, vend, item_begin, cache_offset;
+
+  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t item) const {
+    const std::int64_t v = vertex_of_item(color_offset, vbegin, vend, item);
+    const std::int64_t first = color_offset(v);
+    const int prim = traced(cache_offset + (item - item_begin)).prim;
+    if (prim < 0 || color_offset(v + 1) - first <= 1) return;
+    const Vec3 r = mirror_direction(views(order(item - first)), normal(v));
+    ViewNeighbors nb;
+    bool have_nb = false;
+    for (int k = 0; k < 3; ++k) {
+      const int vert = tri_vertices(prim, k);
+      if (owned(vert)) continue;
+      const std::int64_t at = map_offset(vert);
+      if (color_offset(vert + 1) - color_offset(vert) == 1) {
+        items(at) = 1;
+        continue;
+      }
+      if (!have_nb) {
+        nb = lookup.neighbors(r, radius);
+        have_nb = true;
+      }
+      for (int j = 0; j < nb.count; ++j) items(at + nb.index[j]) = 1;
+    }
+  }
+};
+
+template <class LookupT>
+void mark_read_items_with(const LookupT& lookup, const BakeSceneDevice& s, const BakeConfig& cfg,
+                          Kokkos::View<int*, MemSpace> order,
+                          Kokkos::View<std::int64_t*, MemSpace> map_offset,
+                          Kokkos::View<TracedHit*, MemSpace> traced, std::int64_t begin,
+                          std::int64_t end, std::int64_t cache_offset,
+                          Kokkos::View<const char*, MemSpace> owned,
+                          Kokkos::View<char*, MemSpace> items) {
+  const ItemRange r = item_range(s.color_offset, begin, end);
+  const MarkReadItems<LookupT> k{lookup,
+                                 fibonacci_radius(cfg.viewpoints),
+                                 s.mesh.tri_vertices,
+                                 s.normal,
+                                 s.viewpoints,
+                                 order,
+                                 s.color_offset,
+                                 map_offset,
+                                 traced,
+                                 owned,
+                                 items,
+                                 begin,
+                                 end,
+                                 r.first,
+                                 cache_offset};
+  Kokkos::parallel_for("rtmini::bake::mark_read_items",
+                       Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(r.first, r.end),
+                       k);
+}
+}  // namespace
+
+void Chef::mark_read_items(std::int64_t begin, std::int64_t end, std::int64_t cache_offset,
+                           Kokkos::View<const char*, MemSpace> owned,
+                           Kokkos::View<char*, MemSpace> items) const {
+  if (config_.lookup == Lookup::kKdTree)
+    mark_read_items_with(kdtree_, scene_, config_, order_, map_offset_, traced_, begin, end,
+                         cache_offset, owned, items);
+  else
+    mark_read_items_with(inverse_, scene_, config_, order_, map_offset_, traced_, begin, end,
+                         cache_offset, owned, items);
+}
+
+namespace {
 // The map along reference entry e (vertex e / ref_n, direction e % ref_n), as MapReader reads
 // one vertex: its single colour, or its viewpoints near the direction, weighted.
 template <class LookupT>

@@ -55,6 +55,12 @@ class Chef {
   ReadCount trace_mirror_hits(std::int64_t begin, std::int64_t end, std::int64_t cache_offset,
                               Kokkos::View<const char*, MemSpace> owned,
                               Kokkos::View<char*, MemSpace> read);
+  // After trace_mirror_hits and set_map_offset: flags in `items` (one per entry of the map
+  // layout) every colour of a vertex that is not `owned` that the lookups at the traced hits
+  // of vertices [begin, end) read: the remote colours this rank needs, entry by entry.
+  void mark_read_items(std::int64_t begin, std::int64_t end, std::int64_t cache_offset,
+                       Kokkos::View<const char*, MemSpace> owned,
+                       Kokkos::View<char*, MemSpace> items) const;
   bool has_traced_hits() const { return traced_.extent(0) > 0; }
   bool has_hit_cache() const { return cache_.extent(0) > 0; }
   void release_traced_hits() { traced_ = Kokkos::View<TracedHit*, MemSpace>(); }

@@ -357,6 +357,7 @@ class BakeRun {
   void setup();
   void plan_map();
   void trace_halo(std::vector<char>& present);
+  std::vector<std::int64_t> halo_entries(const std::vector<char>& present) const;
   void bake_base();
   void restart();
   int iterate();
@@ -395,6 +396,7 @@ class BakeRun {
   std::unique_ptr<Chef> chef_;
   MapLayout layout_;
   std::unique_ptr<MapExchange> exchange_;
+  Kokkos::View<char*, MemSpace> owned_;  // per vertex, with the traced halo
   ReadCount reads_;
   Kokkos::View<Vec3f*, MemSpace> prev_, next_;
   std::vector<Vec3f> map_;  // host copy of the local map (checkpoints, output)
@@ -541,10 +543,8 @@ void BakeRun::plan_map() {
   if (halo_ == Halo::kTraced) trace_halo(present);
   layout_ = make_map_layout(host_, present);
   chef_->set_map_offset(layout_.device);
-  std::vector<std::int64_t> halo;
-  for (std::int64_t v = 0; v < host_.vertices(); ++v)
-    if (present[v] && owner_[v] != comm_.rank()) halo.push_back(v);
-  exchange_ = std::make_unique<MapExchange>(comm_, layout_, owner_, halo);
+  const std::vector<std::int64_t> halo = halo_entries(present);
+  exchange_ = std::make_unique<MapExchange>(comm_, host_, layout_, owner_, halo);
   prev_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_prev", layout_.colors());
   next_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_next", layout_.colors());
   const double local = static_cast<double>(layout_.colors());
@@ -570,10 +570,36 @@ void BakeRun::plan_map() {
         reads > 0 ? 100.0 * remote / reads : 0.0, human_bytes(bytes).c_str());
 }
 
+// The colours (global entry numbers, ascending) this rank reads from other ranks: every colour of
+// a present remote vertex, or with the traced halo only those the lookups at the hits read.
+std::vector<std::int64_t> BakeRun::halo_entries(const std::vector<char>& present) const {
+  std::vector<char> read;
+  if (halo_ == Halo::kTraced) {
+    Kokkos::View<char*, MemSpace> items("rtmini::bake::read_items", layout_.colors());
+    for (std::size_t k = 0; k < my_ranges_.size(); ++k)
+      chef_->mark_read_items(my_ranges_[k].begin, my_ranges_[k].end, my_cache_offset_[k], owned_,
+                             items);
+    read.resize(static_cast<std::size_t>(layout_.colors()));
+    Kokkos::deep_copy(
+        Kokkos::View<char*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
+            read.data(), read.size()),
+        items);
+  }
+  std::vector<std::int64_t> halo;
+  for (std::int64_t v = 0; v < host_.vertices(); ++v) {
+    if (!present[v] || owner_[v] == comm_.rank()) continue;
+    for (std::int64_t j = 0; j < host_.color_count(v); ++j)
+      if (read.empty() || read[layout_.offset[v] + j]) halo.push_back(host_.color_offset[v] + j);
+  }
+  return halo;
+}
+
 // Traces this rank's mirror rays once and adds every vertex they read to `present`.
 void BakeRun::trace_halo(std::vector<char>& present) {
   const std::size_t nv = present.size();
-  Kokkos::View<char*, MemSpace> owned("rtmini::bake::owned", nv), read("rtmini::bake::read", nv);
+  owned_ = Kokkos::View<char*, MemSpace>("rtmini::bake::owned", nv);
+  Kokkos::View<char*, MemSpace> read("rtmini::bake::read", nv);
+  auto owned = owned_;
   Kokkos::deep_copy(
       owned, Kokkos::View<const char*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
                  present.data(), nv));

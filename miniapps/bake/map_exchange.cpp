@@ -1,5 +1,6 @@
 #include "map_exchange.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace rtmini::bake {
@@ -53,22 +54,19 @@ Kokkos::View<std::int64_t*, MemSpace> upload(const char* label,
   return d;
 }
 
-// The local entries of `vertices` (in order), grouped per rank by `counts` (vertices per rank);
-// returns the entries and sets colours per rank.
-std::vector<std::int64_t> entries_of(const MapLayout& layout,
-                                     const std::vector<std::int64_t>& vertices,
-                                     const std::vector<int>& counts, std::vector<int>& colors) {
-  std::vector<std::int64_t> items;
-  colors.assign(counts.size(), 0);
-  std::size_t k = 0;
-  for (std::size_t r = 0; r < counts.size(); ++r) {
-    std::int64_t n = 0;
-    for (int i = 0; i < counts[r]; ++i, ++k) {
-      const std::int64_t v = vertices[k];
-      for (std::int64_t e = layout.offset[v]; e < layout.offset[v + 1]; ++e) items.push_back(e);
-      n += layout.offset[v + 1] - layout.offset[v];
-    }
-    colors[r] = checked_int(n);
+// The vertex that global colour entry g belongs to.
+std::int64_t vertex_of_entry(const BakeSceneHost& scene, std::int64_t g) {
+  const auto& off = scene.color_offset;
+  return std::upper_bound(off.begin(), off.end(), g) - off.begin() - 1;
+}
+
+// The local entries of global colour entries `global` (in order).
+std::vector<std::int64_t> entries_of(const BakeSceneHost& scene, const MapLayout& layout,
+                                     const std::vector<std::int64_t>& global) {
+  std::vector<std::int64_t> items(global.size());
+  for (std::size_t k = 0; k < global.size(); ++k) {
+    const std::int64_t v = vertex_of_entry(scene, global[k]);
+    items[k] = layout.offset[v] + (global[k] - scene.color_offset[v]);
   }
   return items;
 }
@@ -85,24 +83,29 @@ MapLayout make_map_layout(const BakeSceneHost& scene, const std::vector<char>& p
   return l;
 }
 
-MapExchange::MapExchange(const Communicator& comm, const MapLayout& layout,
-                         const std::vector<int>& owner, const std::vector<std::int64_t>& halo) {
+MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
+                         const MapLayout& layout, const std::vector<int>& owner,
+                         const std::vector<std::int64_t>& halo) {
   const int ranks = comm.size();
-  // Requests: the halo vertices grouped by owner (ascending within each group, as `halo` is).
+  // Requests: the halo entries grouped by owner (ascending within each group, as `halo` is).
   std::vector<int> ask(ranks, 0);
-  for (std::int64_t v : halo) ++ask[owner[v]];
+  std::vector<int> owner_of(halo.size());
+  for (std::size_t k = 0; k < halo.size(); ++k)
+    ++ask[owner_of[k] = owner[vertex_of_entry(scene, halo[k])]];
   std::vector<std::int64_t> asked(halo.size());
   {
     std::vector<int> pos = displacements(ask);
-    for (std::int64_t v : halo) asked[pos[owner[v]]++] = v;
+    for (std::size_t k = 0; k < halo.size(); ++k) asked[pos[owner_of[k]]++] = halo[k];
   }
   const std::vector<int> told = exchange_counts(comm, ask);
   std::vector<std::int64_t> wanted(static_cast<std::size_t>(total(told)));
   alltoallv(comm, asked.data(), ask, wanted.data(), told);
 
   // What this rank sends (its own entries each asker wants) and where what it gets goes.
-  const std::vector<std::int64_t> send = entries_of(layout, wanted, told, send_counts_);
-  const std::vector<std::int64_t> recv = entries_of(layout, asked, ask, recv_counts_);
+  send_counts_ = told;
+  recv_counts_ = ask;
+  const std::vector<std::int64_t> send = entries_of(scene, layout, wanted);
+  const std::vector<std::int64_t> recv = entries_of(scene, layout, asked);
   send_displs_ = displacements(send_counts_);
   recv_displs_ = displacements(recv_counts_);
   send_items_ = upload("rtmini::bake::exchange_send_items", send);

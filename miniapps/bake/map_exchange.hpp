@@ -5,7 +5,8 @@
 // vertex's colour count and the kernels index the local map exactly as they indexed the
 // replicated one. The halo is fixed (mirror hits are geometry only), so the exchange that
 // refreshes it after each iteration is planned once and replayed: every owner packs the colours
-// each reader asked for, one MPI_Alltoallv moves them, every reader scatters them into place.
+// each reader asked for (only the viewpoints its lookups read), one MPI_Alltoallv moves them,
+// every reader scatters them into place.
 #include <cstdint>
 #include <vector>
 
@@ -27,10 +28,11 @@ MapLayout make_map_layout(const BakeSceneHost& scene, const std::vector<char>& p
 
 class MapExchange {
  public:
-  // Plans the exchange (collective): `halo` lists, ascending, the vertices this rank reads but
-  // does not own; owner[v] is the rank that computes vertex v.
-  MapExchange(const Communicator& comm, const MapLayout& layout, const std::vector<int>& owner,
-              const std::vector<std::int64_t>& halo);
+  // Plans the exchange (collective): `halo` lists, ascending, the colours (global entry
+  // numbers, scene.color_offset) this rank reads but does not own: all of a vertex's, or only
+  // those its lookups read; owner[v] is the rank that computes vertex v.
+  MapExchange(const Communicator& comm, const BakeSceneHost& scene, const MapLayout& layout,
+              const std::vector<int>& owner, const std::vector<std::int64_t>& halo);
 
   // Refreshes the halo entries of `map` from their owners (collective); returns bytes sent.
   std::int64_t run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
