@@ -13,7 +13,10 @@
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/obj_reader.hpp"
 #include "rtmini/parallel/communicator.hpp"
+#include "rtmini/report/app_main.hpp"
+#include "rtmini/report/common_options.hpp"
 #include "rtmini/report/hash.hpp"
+#include "rtmini/report/run_report.hpp"
 #include "rtmini/report/version.hpp"
 #include "rtmini/sampling/rng.hpp"
 #include "rtmini/sampling/sampling.hpp"
@@ -161,8 +164,10 @@ Mesh load_mesh(const std::string& spec) {
   return m;
 }
 
-int run(const Options& o) {
+int run(const Options& o, RunReport& report) {
+  report.timer.start("load");
   const Mesh mesh = load_mesh(o.mesh);
+  report.timer.stop();
   bvh::BuildQuality quality;
   if (o.quality == "lbvh")
     quality = bvh::BuildQuality::kLbvh;
@@ -303,14 +308,18 @@ int run(const Options& o) {
   }
   std::printf("FOM %.3f Mrays/s (%s, %s) verification %s\n", mrays, o.workload.c_str(),
               bvh::to_string(quality), hash_hex(hash).c_str());
+  report.fom_name = "traversal rate";
+  report.fom_unit = "Mrays/s";
+  report.fom_value = mrays;
+  report.verification_hash = hash;
   return 0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int bench_main(Communicator& comm, int argc, char** argv) {
   Options o;
-  CLI::App app{"rtmini-bvh-bench: BVH build and traversal throughput"};
+  CLI::App app{"rtmini-bvh-bench: BVH build and traversal throughput", "rtmini-bvh-bench"};
+  CommonOptions common;
+  add_common_options(app, common);
   app.add_option("mesh", o.mesh, "OBJ or .bs mesh, or icosphere:L (20*4^L triangles)")->required();
   app.add_option("--workload", o.workload, "primary, shadow, ao or diffuse")->capture_default_str();
   app.add_option("--quality", o.quality, "BVH build used for tracing: lbvh or sah")
@@ -332,20 +341,21 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--seed", o.seed, "random seed")->capture_default_str();
   app.add_option("--peer", o.peer, "trace the identical rays with a peer: embree");
-  app.set_version_flag("--version", std::string(version_string()) + " (git " + git_hash() + ")");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : kExitBadInput;
-  }
-  Environment env(argc, argv);
-  try {
-    return run(o);
-  } catch (const InputError& e) {
-    std::cerr << "rtmini-bvh-bench: " << e.what() << "\n";
-    return kExitBadInput;
-  } catch (const std::exception& e) {
-    std::cerr << "rtmini-bvh-bench: " << e.what() << "\n";
-    return kExitResource;
-  }
+  if (const auto done = parse_command_line(app, argc, argv, common, comm.is_root())) return *done;
+  RunReport report;
+  report.app = "rtmini-bvh-bench";
+  report.parameters = {{"mesh", o.mesh},
+                       {"workload", o.workload},
+                       {"quality", o.quality},
+                       {"repeats", o.repeats},
+                       {"seed", o.seed}};
+  const int code = run(o, report);
+  report.finish(comm, common.summary);
+  return code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return rtmini::app_main("rtmini-bvh-bench", argc, argv, bench_main);
 }

@@ -15,8 +15,7 @@ set(RTMINI_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/rtmini
     CACHE STRING "Where rtminiConfig.cmake is installed, relative to the prefix")
 
 install(TARGETS rtmini_host rtmini_common EXPORT rtminiTargets
-        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
-        INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/common/include/rtmini DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 
 # Programs: those this configuration builds (the optional ones exist only when enabled).

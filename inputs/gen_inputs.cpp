@@ -12,6 +12,10 @@
 #include "rtmini/io/bakeshop.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/obj_reader.hpp"
+#include "rtmini/report/app_main.hpp"
+#include "rtmini/report/common_options.hpp"
+#include "rtmini/report/hash.hpp"
+#include "rtmini/report/run_report.hpp"
 #include "rtmini/scene/primitives.hpp"
 
 namespace rtmini {
@@ -182,9 +186,24 @@ Mesh make_bunny_room(const std::string& scene) {
 }  // namespace
 }  // namespace rtmini
 
-int main(int argc, char** argv) {
-  using namespace rtmini;
-  CLI::App app{"rtmini-gen-inputs: regenerate the bake inputs (see inputs/README.md)"};
+namespace rtmini {
+namespace {
+
+// Order-independent hash of the written mesh: vertex positions and face corner indices.
+std::uint64_t mesh_hash(const Mesh& m) {
+  std::uint64_t h = 0, k = 0;
+  for (const Vec3d& p : m.positions)
+    for (const double c : {p.x, p.y, p.z}) h += hash_term(k++, compat::bit_cast<std::uint64_t>(c));
+  for (const Face& f : m.faces)
+    for (int i = 0; i < f.count; ++i) h += hash_term(k++, static_cast<std::uint64_t>(f.v[i]));
+  return h;
+}
+
+int gen_inputs(Communicator& comm, int argc, char** argv) {
+  CLI::App app{"rtmini-gen-inputs: regenerate the bake inputs (see inputs/README.md)",
+               "rtmini-gen-inputs"};
+  CommonOptions common;
+  add_common_options(app, common);
   std::string out, scene;
   double rho = 0.5, emission = 1.0;
   int cells = 3;
@@ -194,8 +213,10 @@ int main(int argc, char** argv) {
   auto* cornell = app.add_subcommand("cornell", "an OBJ/MTL converted to .bs");
   auto* bunny = app.add_subcommand("bunny", "the bunny bake scene");
   auto* bunny_room = app.add_subcommand("bunny_room", "the bunny on a floor, the paper's fig. 4.g");
-  for (auto* sub : {cube, big, furnace, cornell, bunny, bunny_room})
+  for (auto* sub : {cube, big, furnace, cornell, bunny, bunny_room}) {
+    add_common_options(*sub, common);
     sub->add_option("-o,--output", out, "output .bs")->required();
+  }
   furnace->add_option("--rho", rho, "mirror reflectance");
   furnace->add_option("--emission", emission, "emission of every face");
   furnace->add_option("--cells", cells, "grid cells per face edge (0: 8 shared corners)");
@@ -203,24 +224,36 @@ int main(int argc, char** argv) {
   bunny->add_option("--scene", scene, "stanford-bunny.obj")->required();
   bunny_room->add_option("--scene", scene, "stanford-bunny.obj")->required();
   app.require_subcommand(1);
-  CLI11_PARSE(app, argc, argv);
-  try {
-    Mesh m;
-    if (*cube) m = make_cube();
-    if (*big) m = make_cornell_big();
-    if (*furnace) m = make_furnace(rho, emission, cells);
-    if (*cornell) m = read_obj(scene);
-    if (*bunny) m = make_bunny(scene);
-    if (*bunny_room) m = make_bunny_room(scene);
-    write_bakeshop(out, m);
+  if (const auto done = parse_command_line(app, argc, argv, common, comm.is_root())) return *done;
+  RunReport report;
+  report.app = "rtmini-gen-inputs";
+  report.timer.start("generate");
+  Mesh m;
+  if (*cube) m = make_cube();
+  if (*big) m = make_cornell_big();
+  if (*furnace) m = make_furnace(rho, emission, cells);
+  if (*cornell) m = read_obj(scene);
+  if (*bunny) m = make_bunny(scene);
+  if (*bunny_room) m = make_bunny_room(scene);
+  report.timer.stop();
+  report.timer.start("write");
+  if (comm.is_root()) write_bakeshop(out, m);
+  report.timer.stop();
+  if (comm.is_root())
     std::cout << out << ": " << m.positions.size() << " vertices, " << m.faces.size() << " faces, "
               << m.materials.size() << " materials\n";
-  } catch (const InputError& e) {
-    std::cerr << "rtmini-gen-inputs: " << e.what() << "\n";
-    return kExitBadInput;
-  } catch (const std::exception& e) {
-    std::cerr << "rtmini-gen-inputs: " << e.what() << "\n";
-    return kExitResource;
-  }
-  return 0;
+  report.parameters = {{"subcommand", app.get_subcommands().front()->get_name()}, {"output", out}};
+  report.fom_name = "faces written";
+  report.fom_unit = "faces";
+  report.fom_value = static_cast<double>(m.faces.size());
+  report.verification_hash = mesh_hash(m);
+  report.finish(comm, common.summary);
+  return kExitOk;
+}
+
+}  // namespace
+}  // namespace rtmini
+
+int main(int argc, char** argv) {
+  return rtmini::app_main("rtmini-gen-inputs", argc, argv, rtmini::gen_inputs);
 }

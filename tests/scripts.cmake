@@ -31,4 +31,4 @@ endif()
 add_test(NAME jobs.slurm COMMAND ${PROJECT_SOURCE_DIR}/jobs/slurm/test/run_local_slurm.sh
          WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
 set_tests_properties(jobs.slurm PROPERTIES LABELS slurm TIMEOUT 240 SKIP_RETURN_CODE 77 RUN_SERIAL ON
-                     ENVIRONMENT "RTMINI_BUILD=${PROJECT_BINARY_DIR}")
+                     ENVIRONMENT "RTMINI_BUILD=${PROJECT_BINARY_DIR};RTMINI_PYTHON=${RTMINI_PYTHON}")

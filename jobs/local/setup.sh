@@ -13,7 +13,7 @@ mkdir -p "$deps"
 
 packages=(
   build-essential cmake ninja-build pkg-config git ca-certificates
-  openmpi-bin libopenmpi-dev libhdf5-openmpi-dev hdf5-tools
+  openmpi-bin libopenmpi-dev libhdf5-openmpi-dev hdf5-tools libxxhash-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libcli11-dev libtomlplusplus-dev libtinyobjloader-dev nlohmann-json3-dev
   librandom123-dev libeigen3-dev libpng-dev libopenexr-dev

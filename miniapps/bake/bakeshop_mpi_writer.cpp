@@ -201,8 +201,14 @@ namespace {
 // Writes every rank's pieces at their offsets into `path` (collective MPI-IO under a temporary
 // name, renamed by rank 0 once all have closed it; without MPI one sequential atomic write).
 void write_pieces(const Communicator& comm, const std::string& path,
-                  const std::vector<Piece>& pieces) {
+                  const std::vector<Piece>& pieces, std::int64_t file_bytes) {
 #ifdef RTMINI_HAVE_MPI
+  // Rank 0 checks the target (regular file or absent) and clears dead runs'
+  // temporaries; the pid broadcast is the agreement before the collective open.
+  if (comm.is_root()) {
+    check_replaceable(path);
+    remove_stale_temporaries(path);
+  }
   std::vector<std::int64_t> pid{comm.is_root() ? static_cast<std::int64_t>(::getpid()) : 0};
   comm.broadcast(pid);
   const std::string tmp = path + ".tmp." + std::to_string(pid[0]);
@@ -212,36 +218,54 @@ void write_pieces(const Communicator& comm, const std::string& path,
   if (rc != MPI_SUCCESS) throw IoError(path + ": cannot create file (MPI_File_open failed)");
   rc = MPI_File_set_size(fh, 0);
   const int rounds = static_cast<int>(comm.max(static_cast<double>(pieces.size())));
-  for (int i = 0; i < rounds && rc == MPI_SUCCESS; ++i) {
+  // Every rank takes part in every round even after an error (the writes are
+  // collective: one rank leaving the loop early would hang the others); the
+  // first error and any short count are remembered and agreed after close.
+  bool counts_ok = true;
+  for (int i = 0; i < rounds; ++i) {
     const bool have = i < static_cast<int>(pieces.size());
     const Piece p = have ? pieces[i] : Piece{0, nullptr, 0};
     MPI_Status status;
-    rc = MPI_File_write_at_all(fh, static_cast<MPI_Offset>(p.offset), p.data,
-                               static_cast<int>(p.size), MPI_BYTE, &status);
+    const int wrc = MPI_File_write_at_all(fh, static_cast<MPI_Offset>(p.offset), p.data,
+                                          static_cast<int>(p.size), MPI_BYTE, &status);
+    int written = 0;
+    if (wrc == MPI_SUCCESS) MPI_Get_count(&status, MPI_BYTE, &written);
+    counts_ok = counts_ok && written == static_cast<int>(p.size);
+    if (rc == MPI_SUCCESS) rc = wrc;
   }
   const int close_rc = MPI_File_close(&fh);
-  const bool ok = comm.min(rc == MPI_SUCCESS && close_rc == MPI_SUCCESS ? 1.0 : 0.0) > 0.5;
+  const bool ok =
+      comm.min(rc == MPI_SUCCESS && counts_ok && close_rc == MPI_SUCCESS ? 1.0 : 0.0) > 0.5;
   if (!ok) {
     if (comm.is_root()) std::remove(tmp.c_str());
-    throw IoError(path + ": collective write failed");
+    throw IoError(path + ": collective write failed (an MPI-IO error or a short write)");
   }
-  if (comm.is_root() && std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const int err = errno;
-    std::remove(tmp.c_str());
-    throw IoError(path + ": cannot rename temporary file into place: " + std::strerror(err));
+  // Open MPI's default component (OMPIO) does not report a full disk from the
+  // writes: the size of the closed file is the check, on rank 0, then agreed.
+  std::string problem;
+  if (comm.is_root()) {
+    try {
+      commit_temporary(tmp, path, file_bytes);
+    } catch (const IoError& e) {
+      problem = e.what();
+    }
   }
-  comm.barrier();
+  if (comm.max(problem.empty() ? 0.0 : 1.0) > 0.5)
+    throw IoError(problem.empty() ? path + ": collective write failed on rank 0" : problem);
 #else
-  write_file_atomic(path, [&](const std::string& tmp) {
-    std::FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (!f) throw IoError(path + ": cannot create file: " + std::strerror(errno));
-    bool wrote = true;
-    for (const Piece& p : pieces)
-      wrote = wrote && std::fwrite(p.data, 1, static_cast<std::size_t>(p.size), f) ==
-                           static_cast<std::size_t>(p.size);
-    const bool closed = std::fclose(f) == 0;
-    if (!wrote || !closed) throw IoError(path + ": write failed: " + std::strerror(errno));
-  });
+  write_file_atomic(
+      path,
+      [&](const std::string& tmp) {
+        std::FILE* f = std::fopen(tmp.c_str(), "wb");
+        if (!f) throw IoError(path + ": cannot create file: " + std::strerror(errno));
+        bool wrote = true;
+        for (const Piece& p : pieces)
+          wrote = wrote && std::fwrite(p.data, 1, static_cast<std::size_t>(p.size), f) ==
+                               static_cast<std::size_t>(p.size);
+        const bool closed = std::fclose(f) == 0;
+        if (!wrote || !closed) throw IoError(path + ": write failed: " + std::strerror(errno));
+      },
+      file_bytes);
 #endif
 }
 
@@ -297,10 +321,10 @@ WriteStats write_baked_map_binary(const Communicator& comm, const std::string& p
     add_pieces(pieces, 0, head.data(), static_cast<std::int64_t>(head.size()));
     add_pieces(pieces, at, tail.data(), static_cast<std::int64_t>(tail.size()));
   }
-  write_pieces(comm, path, pieces);
   WriteStats stats;
   for (const Piece& p : pieces) stats.bytes_written += p.size;
   stats.file_bytes = at + static_cast<std::int64_t>(comm.max(double(tail.size())));
+  write_pieces(comm, path, pieces, stats.file_bytes);
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return stats;
 }
@@ -342,7 +366,7 @@ WriteStats write_baked_map(const Communicator& comm, const std::string& path, co
   stats.file_bytes = offset + static_cast<std::int64_t>(comm.max(double(tail.size())));
   for (const Piece& p : pieces) stats.bytes_written += p.size;
 
-  write_pieces(comm, path, pieces);
+  write_pieces(comm, path, pieces, stats.file_bytes);
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return stats;
 }

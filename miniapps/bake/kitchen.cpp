@@ -15,6 +15,7 @@
 #include "bakeshop_mpi_writer.hpp"
 #include "checkpoint.hpp"
 #include "chef.hpp"
+#include "iteration_eta.hpp"
 #include "map_errors.hpp"
 #include "map_exchange.hpp"
 #include "rtmini/bvh/build_lbvh.hpp"
@@ -22,6 +23,7 @@
 #include "rtmini/io/obj_reader.hpp"
 #include "rtmini/io/timings.hpp"
 #include "rtmini/report/hash.hpp"
+#include "rtmini/report/progress.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/report/stop_request.hpp"
 #include "rtmini/report/version.hpp"
@@ -363,6 +365,7 @@ class BakeRun {
   int iterate();
   HitCacheMode hit_mode(int it) const;
   std::int64_t trace(int it, Kokkos::View<Vec3f*, MemSpace> out);
+  void report_progress(int it, std::int64_t entries_done, double iteration_start);
   void exchange(IterationRecord& rec);
   void checkpoint(int it);
   bool stop_after(int it, double t0);
@@ -406,6 +409,10 @@ class BakeRun {
   std::vector<ChunkRecord> chunks_;
   RankTotals totals_;
   WriteStats written_;
+  // Rank 0's own colour entries stand for the whole run (the batches are cut to equal cost).
+  std::unique_ptr<ProgressLine> progress_line_;
+  IterationEta eta_;
+  double iterate_start_ = 0;
 };
 
 void BakeRun::read() {
@@ -661,7 +668,8 @@ HitCacheMode BakeRun::hit_mode(int it) const {
 // This rank's batches of iteration `it` into `out`; returns rays traced.
 std::int64_t BakeRun::trace(int it, Kokkos::View<Vec3f*, MemSpace> out) {
   const HitCacheMode mode = hit_mode(it);
-  std::int64_t rays = 0;
+  const double t0 = timer_.now();
+  std::int64_t rays = 0, entries_done = 0;
   for (std::size_t k = 0; k < my_ranges_.size(); ++k) {
     const VertexRange r = my_ranges_[k];
     const double cs = timer_.now();
@@ -674,11 +682,23 @@ std::int64_t BakeRun::trace(int it, Kokkos::View<Vec3f*, MemSpace> out) {
     chunks_.push_back({comm_.rank(), it, items, crays, cs, timer_.now()});
     rays += crays;
     totals_.work += items;
+    entries_done += items;
+    if (progress_line_->due()) report_progress(it, entries_done, t0);
   }
   // The traced hits have served their one iteration once the float cache takes over.
   if (mode == HitCacheMode::kTraced && chef_->has_hit_cache() && it < iterations_)
     chef_->release_traced_hits();
   return rays;
+}
+
+// The progress line during iteration `it`: entries done, ETA from the measured cost per mode.
+void BakeRun::report_progress(int it, std::int64_t entries_done, double iteration_start) {
+  const double spent = timer_.now() - iterate_start_;
+  const double left = eta_.remaining(timer_.now() - iteration_start, entries_done, my_items_,
+                                     modes_after(it, iterations_, it >= 1));
+  progress_line_->update(static_cast<double>((it - first_) * my_items_ + entries_done),
+                         static_cast<double>((iterations_ - first_ + 1) * my_items_), spent,
+                         spent + left);
 }
 
 // The new map becomes the previous one; its halo entries come from their owners. One rank
@@ -730,13 +750,16 @@ bool BakeRun::stop_after(int it, double t0) {
 
 int BakeRun::iterate() {
   const bool progress = c_.progress || ::isatty(2);
+  progress_line_ = std::make_unique<ProgressLine>("bake", "colours", progress && root_);
   timer_.start("iterate");
+  iterate_start_ = timer_.now();
   for (int it = first_; it <= iterations_; ++it) {
     IterationRecord rec;
     const double t0 = timer_.now();
     totals_.rays += trace(it, next_);
     const double t1 = timer_.now();
     rec.trace = t1 - t0;
+    eta_.iteration_done(static_cast<int>(hit_mode(it)), rec.trace);
     totals_.completion = t1;
     comm_.barrier();
     totals_.idle += timer_.now() - t1;
@@ -754,6 +777,7 @@ int BakeRun::iterate() {
     }
   }
   timer_.stop();
+  progress_line_->finish(static_cast<double>(totals_.work), static_cast<double>(totals_.work));
   return kExitOk;
 }
 

@@ -1,10 +1,14 @@
 // rtmini-bake-lookup-bench: the two viewpoint lookups (heap KD-tree, inverse spherical
 // Fibonacci) against exhaustive search: queries per second and agreement, as a Markdown table.
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 
 #include "rtmini/parallel/communicator.hpp"
+#include "rtmini/report/app_main.hpp"
+#include "rtmini/report/common_options.hpp"
+#include "rtmini/report/run_report.hpp"
 #include "rtmini/report/version.hpp"
 #include "rtmini/sampling/fibonacci_lookup.hpp"
 #include "rtmini/sampling/rng.hpp"
@@ -85,10 +89,22 @@ void run(int n, int queries, int checked) {
 }  // namespace
 }  // namespace rtmini
 
-int main(int argc, char** argv) {
-  rtmini::Environment env(argc, argv);
-  const int queries = argc > 1 ? std::atoi(argv[1]) : 1000000;
-  std::printf("%s\n", rtmini::build_banner().c_str());
+namespace rtmini {
+namespace {
+
+int lookup_bench(Communicator& comm, int argc, char** argv) {
+  CLI::App app{"rtmini-bake-lookup-bench: viewpoint lookup (kd-tree, spherical Fibonacci) timings",
+               "rtmini-bake-lookup-bench"};
+  CommonOptions common;
+  add_common_options(app, common);
+  int queries = 1000000;
+  app.add_option("queries", queries, "random directions per lookup timing")
+      ->check(CLI::PositiveNumber);
+  if (const auto done = parse_command_line(app, argc, argv, common, comm.is_root())) return *done;
+  RunReport report;
+  report.app = "rtmini-bake-lookup-bench";
+  report.parameters = {{"queries", queries}};
+  std::printf("%s\n", build_banner().c_str());
   std::printf(
       "%d random directions per lookup timing (best of 3, ns per query, all threads); "
       "agreement with exhaustive search on 20000 of them\n\n",
@@ -97,6 +113,20 @@ int main(int argc, char** argv) {
       "| N | kd nearest | sf nearest | brute nearest | kd radius | sf radius | mean neighbours | "
       "kd nearest wrong | sf nearest wrong | kd radius set wrong | sf radius set wrong |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
-  for (int n : {20, 100, 1000, 10000, 100000}) rtmini::run(n, queries, 20000);
-  return 0;
+  report.timer.start("lookups");
+  for (int n : {20, 100, 1000, 10000, 100000}) run(n, queries, 20000);
+  const double seconds = report.timer.stop();
+  // The table is the result; the summary's figure is the wall time of the whole sweep.
+  report.fom_name = "sweep time";
+  report.fom_unit = "s";
+  report.fom_value = seconds;
+  report.finish(comm, common.summary);
+  return kExitOk;
+}
+
+}  // namespace
+}  // namespace rtmini
+
+int main(int argc, char** argv) {
+  return rtmini::app_main("rtmini-bake-lookup-bench", argc, argv, rtmini::lookup_bench);
 }

@@ -1,5 +1,6 @@
-// bake: view-dependent ray-trace maps (the baking seed's Chef and Kitchen). Parses the command
-// line into a BakeConfig and dispatches: the map bake (default), --mode ao, or `bake render`.
+// bake: view-dependent ray-trace maps (the baking seed's Chef and Kitchen). One CLI11 app with
+// the map bake's options at the top and two subcommands, `bake ao` and `bake render`; the old
+// spelling `bake --mode ao` is rewritten to `bake ao` before parsing.
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstring>
@@ -14,6 +15,7 @@
 #include "rtmini/io/cli_values.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/report/app_main.hpp"
+#include "rtmini/report/common_options.hpp"
 #include "rtmini/report/version.hpp"
 #ifdef RTMINI_BAKE_HAVE_RENDER
 #include "render/render_mode.hpp"
@@ -46,26 +48,26 @@ std::string default_output(const std::string& input) {
   return stem + "_baked.bs";
 }
 
-// Returns -1 to go on baking, or an exit code (--help, --version).
-int parse(int argc, char** argv, BakeConfig& c, bool root) {
-  CLI::App app{
-      "bake: view-dependent ray-trace maps of semi-reflective scenes (.bs/.obj in, .bs/.bsb out)",
-      "bake"};
+// The map bake's options and the values that need converting after parsing.
+struct MapCli {
   std::string lookup = "kdtree", balance = "cost", bvh_kind = "lbvh", mode = "map";
   std::string max_memory, background;
-  bool version = false;
   bool no_cache = false;
-  app.add_option("input", c.input, "raw Bake Shop (.bs) or OBJ/MTL scene")->required();
+  void add_to(CLI::App& app, BakeConfig& c);
+  void finish(BakeConfig& c) const;
+};
+
+void MapCli::add_to(CLI::App& app, BakeConfig& c) {
+  app.add_option("input", c.input, "raw Bake Shop (.bs) or OBJ/MTL scene");
   app.add_option("-o,--output", c.output,
                  "baked map: .bsb = binary form, else .bs text (default: <input stem>_baked.bs)");
-  app.add_option("--mode", mode, "map (default) or ao");
+  app.add_option("--mode", mode, "map (`--mode ao` is the old spelling of `bake ao`)")
+      ->check(CLI::IsMember({"map"}));
   app.add_option("-n,--viewpoints", c.viewpoints, "viewpoints per vertex (Fibonacci sphere)");
   app.add_option("-k,--iterations", c.iterations, "reflection iterations after the base map");
   app.add_option("-s,--shadow-samples", c.shadow_samples, "stratified shadow samples per light");
   app.add_option("--gather-rays", c.gather_rays, "diffuse gather rays per vertex (0 = seed model)");
   app.add_option("--seed", c.seed, "random seed");
-  app.add_option("--summary", c.summary, "JSON run summary");
-  app.add_option("--timings", c.timings, "per-rank timings (HDF5)");
   app.add_option("--checkpoint", c.checkpoint, "HDF5 checkpoint written after each iteration");
   app.add_option("--restart", c.restart, "resume from this checkpoint");
   app.add_option("--reference", c.reference,
@@ -75,34 +77,22 @@ int parse(int argc, char** argv, BakeConfig& c, bool root) {
                "no map lookups)");
   app.add_option("--lookup", lookup, "viewpoint lookup: kdtree or sf (spherical Fibonacci)");
   app.add_option("--balance", balance,
-                 "batch cuts: cost (default: equal work), static (equal vertex counts) or "
-                 "spatial (blocks in Morton order, equal work per rank)");
-  app.add_option("--batch-size", c.batch_size, "vertices per batch (default vertices/ranks)");
+                 "batch cuts: cost (equal work), static (equal vertex counts) or spatial "
+                 "(blocks in Morton order, equal work per rank)");
+  app.add_option("--batch-size", c.batch_size, "vertices per batch (0 = vertices/ranks)");
   app.add_option("--max-memory", max_memory, "refuse runs estimated above this (e.g. 2G)");
   app.add_option("--time-limit", c.time_limit_minutes,
-                 "minutes; checkpoint and exit 4 if the next iteration would not fit");
+                 "minutes; checkpoint and exit 4 if the next iteration would not fit (0 = none)");
   app.add_option("--background", background, "colour of rays that leave the scene, r,g,b");
   app.add_option("--bvh", bvh_kind, "lbvh or sah");
   app.add_flag("--no-hit-cache", no_cache, "re-trace mirror rays every iteration");
   // Measurement only: store N colours for view-independent vertices too (same colours).
   app.add_flag("--all-view-dependent", c.all_view_dependent)->group("");
-  app.add_flag("--progress", c.progress, "progress on stderr");
-  app.add_flag("--version", version, "print version and exit");
   app.add_option("--stop-after-iteration", c.stop_after_iteration)->group("");  // test hook
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--version") == 0) {
-      if (root) std::cout << build_banner() << "\n";
-      return kExitOk;
-    }
-  }
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    if (root) std::cout << app.help();
-    return kExitOk;
-  } catch (const CLI::ParseError& e) {
-    throw InputError(e.what());
-  }
+}
+
+void MapCli::finish(BakeConfig& c) const {
+  if (c.input.empty()) throw InputError("input is required (or a subcommand: ao, render)");
   if (mode != "map") throw InputError("--mode must be map or ao (got '" + mode + "')");
   if (lookup == "kdtree")
     c.lookup = Lookup::kKdTree;
@@ -148,38 +138,87 @@ int parse(int argc, char** argv, BakeConfig& c, bool root) {
   if (!max_memory.empty()) c.max_memory = parse_byte_size("--max-memory", max_memory);
   if (!background.empty()) c.background = parse_color(background);
   if (c.output.empty()) c.output = default_output(c.input);
-  return -1;
 }
 
-bool wants_mode(int argc, char** argv, const char* mode) {
+// The old spellings `--mode ao` / `--mode=ao` anywhere on the line become the `ao` subcommand.
+std::vector<char*> with_mode_alias(int argc, char** argv) {
+  static char ao_word[] = "ao";
+  std::vector<char*> args{argv[0]};
+  bool ao = false;
   for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--mode") == 0 && i + 1 < argc && std::strcmp(argv[i + 1], mode) == 0)
-      return true;
-    if (std::strncmp(argv[i], "--mode=", 7) == 0 && std::strcmp(argv[i] + 7, mode) == 0)
-      return true;
+    if (std::strcmp(argv[i], "--mode") == 0 && i + 1 < argc &&
+        std::strcmp(argv[i + 1], "ao") == 0) {
+      ao = true;
+      ++i;
+    } else if (std::strcmp(argv[i], "--mode=ao") == 0) {
+      ao = true;
+    } else {
+      args.push_back(argv[i]);
+    }
   }
-  return false;
+  if (ao) args.insert(args.begin() + 1, ao_word);
+  return args;
+}
+
+int run(Communicator& comm, int argc, char** argv) {
+  CLI::App app{
+      "bake: view-dependent ray-trace maps of semi-reflective scenes (.bs/.obj in, .bs/.bsb out)",
+      "bake"};
+  CommonOptions common;
+  add_common_options(app, common);
+  app.require_subcommand(0, 1);
+  BakeConfig config;
+  MapCli map;
+  map.add_to(app, config);
+
+  CLI::App* ao_app =
+      app.add_subcommand("ao", "bake ao: ambient-occlusion baking onto mesh vertices");
+  add_common_options(*ao_app, common);
+  ao::AoOptions ao_options;
+  ao::AoCli ao_cli;
+  ao_cli.add_to(*ao_app, ao_options);
+
+  CLI::App* render_app =
+      app.add_subcommand("render",
+                         "bake render: offline renderer of baked maps (per pixel: the visible "
+                         "face, each corner's colour looked "
+                         "up at the camera-ray direction, mixed barycentrically)");
+  add_common_options(*render_app, common);
+#ifdef RTMINI_BAKE_HAVE_RENDER
+  RenderOptions render_options;
+  add_render_options(*render_app, render_options);
+#endif
+
+  std::vector<char*> args = with_mode_alias(argc, argv);
+  if (const auto done = parse_command_line(app, static_cast<int>(args.size()), args.data(), common,
+                                           comm.is_root()))
+    return *done;
+  const bool progress = progress_wanted(common);
+  if (*ao_app) {
+    ao_cli.finish(ao_options);
+    ao_options.summary = common.summary;
+    ao_options.timings = common.timings;
+    ao_options.progress = progress;
+    return run_ao_mode(comm, ao_options);
+  }
+  if (*render_app) {
+#ifdef RTMINI_BAKE_HAVE_RENDER
+    render_options.summary = common.summary;
+    render_options.timings = common.timings;
+    render_options.progress = progress;
+    return run_render_mode(comm, render_options, *render_app);
+#else
+    throw InputError("`bake render` is not part of this build (miniapps/bake/render missing)");
+#endif
+  }
+  map.finish(config);
+  config.summary = common.summary;
+  config.timings = common.timings;
+  config.progress = progress;
+  return run_bake(comm, config);
 }
 
 }  // namespace
 }  // namespace rtmini::bake
 
-int main(int argc, char** argv) {
-  return rtmini::app_main("bake", argc, argv, [](rtmini::Communicator& comm, int ac, char** av) {
-    using namespace rtmini;
-    if (ac > 1 && std::strcmp(av[1], "render") == 0) {
-#ifdef RTMINI_BAKE_HAVE_RENDER
-      return run_render_mode(comm, ac, av);
-#else
-      throw InputError("`bake render` is not part of this build (miniapps/bake/render missing)");
-#endif
-    }
-    if (bake::wants_mode(ac, av, "ao")) {
-      return run_ao_mode(comm, ac, av);
-    }
-    bake::BakeConfig config;
-    const int early = bake::parse(ac, av, config, comm.is_root());
-    if (early >= 0) return early;
-    return bake::run_bake(comm, config);
-  });
-}
+int main(int argc, char** argv) { return rtmini::app_main("bake", argc, argv, rtmini::bake::run); }

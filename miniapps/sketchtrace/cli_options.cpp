@@ -62,8 +62,6 @@ void CliOverrides::add_to(CLI::App& app, RunOptions& run) {
   app.add_flag("--general-kernel", general_kernel_)->group("");
   app.add_option("--max-memory", max_memory_,
                  "Refuse runs estimated above this many bytes per rank (e.g. 2G, 512M)");
-  app.add_option("--summary", run.summary, "Write the run summary JSON");
-  app.add_option("--timings", run.timings, "Write per-rank timings (HDF5)");
   app.add_option("--checkpoint", run.checkpoint, "Write progress to this HDF5 file");
   app.add_option("--checkpoint-interval", run.checkpoint_interval, "Seconds between checkpoints");
   app.add_option("--restart", run.restart, "Resume from this checkpoint");
@@ -75,7 +73,6 @@ void CliOverrides::add_to(CLI::App& app, RunOptions& run) {
   app.add_option("--balance", run.balance, "static|metric|chunks|bargain|queue|steal");
   app.add_option("--cost-map", run.cost_map,
                  "Keep the probed cost map in this HDF5 file and reuse it");
-  app.add_flag("--progress", run.progress, "Progress on stderr");
   app.add_option("--comm-thread", run.comm_thread,
                  "on|off: bargain/steal answer peers from a thread while the rank renders "
                  "(default on; off progresses messages between dispatches only)")

@@ -28,7 +28,8 @@ struct RunOptions {
 
 class CliOverrides {
  public:
-  // Registers every option on `app`; values land in this object and in `run`.
+  // Registers every option on `app` but the shared group (report/common_options.hpp);
+  // values land in this object and in `run`.
   void add_to(CLI::App& app, RunOptions& run);
   // Applies the render options the user gave (all but the camera ones).
   void apply(RenderSettings& s) const;

@@ -8,22 +8,20 @@
 namespace rtmini::sketch {
 namespace {
 
+// False when there is no map yet or it was probed for other parameters (probe
+// again and replace it); a corrupt file is bad input (exit 2), never used.
 bool read_map(const std::string& path, const std::string& signature, CostMap& m) {
   if (path.empty() || !std::ifstream(path)) return false;
-  try {
-    Hdf5File f = Hdf5File::open(path);
-    if (f.string_attribute("/", "app") != "sketchtrace-cost-map" ||
-        f.string_attribute("/", "signature") != signature ||
-        f.int_attribute("/", "width") != m.width || f.int_attribute("/", "height") != m.height ||
-        f.int_attribute("/", "stride") != m.stride)
-      return false;
-    std::vector<float> cost = f.read<float>("/cost");
-    if (cost.size() != m.cost.size()) return false;
-    m.cost = std::move(cost);
-    return true;
-  } catch (const std::exception&) {
-    return false;  // unreadable or another kind of file: probe again and replace it
-  }
+  Hdf5File f = Hdf5File::open(path);
+  if (f.string_attribute("/", "app") != "sketchtrace-cost-map" ||
+      f.string_attribute("/", "signature") != signature ||
+      f.int_attribute("/", "width") != m.width || f.int_attribute("/", "height") != m.height ||
+      f.int_attribute("/", "stride") != m.stride)
+    return false;
+  std::vector<float> cost = f.read<float>("/cost");
+  if (cost.size() != m.cost.size()) throw InputError(path, 0, "cost map has the wrong size");
+  m.cost = std::move(cost);
+  return true;
 }
 
 }  // namespace

@@ -30,8 +30,10 @@
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/timings.hpp"
 #include "rtmini/report/app_main.hpp"
+#include "rtmini/report/common_options.hpp"
 #include "rtmini/report/hash.hpp"
 #include "rtmini/report/image_metrics.hpp"
+#include "rtmini/report/progress.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/report/stop_request.hpp"
 #include "rtmini/report/version.hpp"
@@ -100,18 +102,43 @@ std::int64_t dispatch_pixels(const RenderSettings& s, std::int64_t pixels, int r
                                   host ? 65536 : std::int64_t(1) << 20);
 }
 
-// "[######......]  42.0%  1.3 Mpx/s  ETA 0:00:12" on stderr, at most twice a second.
-void show_progress(double fraction, double rate, double now, double& last, bool final) {
-  if (!final && now - last < 0.5) return;
-  last = now;
-  const int width = 30, filled = static_cast<int>(fraction * width + 0.5);
-  const double eta = rate > 0 ? (1.0 - fraction) / rate : 0.0;
-  const long e = static_cast<long>(eta + 0.5);
-  std::fprintf(stderr, "\rsketchtrace: [%s%s] %5.1f%%  ETA %ld:%02ld:%02ld%s",
-               std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(),
-               100.0 * fraction, e / 3600, e / 60 % 60, e % 60, final ? "\n" : "");
-  std::fflush(stderr);
+// The progress line's cost of the pixels rank 0 has merged: the probe cost map's estimate per
+// pixel, so that cheap early pixels (sky, background) do not make the ETA optimistic.
+double merged_cost(const CostMap& cost, const std::vector<std::uint8_t>& done) {
+  double sum = 0;
+  for (std::size_t p = 0; p < done.size(); ++p)
+    if (done[p]) sum += cost.at(static_cast<std::int64_t>(p));
+  return sum;
 }
+
+// Seconds per pixel as a + b * probe cost, fitted by least squares to rank 0's dispatches. The
+// probe counts the rays of one camera sample; the constant part carries what it does not see
+// (anti-aliasing samples, the stencil, the per-pixel work of cheap background pixels), without
+// which the ETA over-weights the costly pixels still to come.
+class PixelCostFit {
+ public:
+  void add(double seconds, double pixels, double probe_cost) {
+    nn_ += pixels * pixels;
+    nc_ += pixels * probe_cost;
+    cc_ += probe_cost * probe_cost;
+    tn_ += seconds * pixels;
+    tc_ += seconds * probe_cost;
+  }
+  // Estimated seconds of `pixels` pixels whose probe costs sum to `probe_cost`.
+  double cost(double pixels, double probe_cost) const {
+    const double det = nn_ * cc_ - nc_ * nc_;
+    double a = det > 1e-12 * nn_ * cc_ ? (tn_ * cc_ - tc_ * nc_) / det : -1.0;
+    double b = det > 1e-12 * nn_ * cc_ ? (tc_ * nn_ - tn_ * nc_) / det : -1.0;
+    if (a < 0 || b < 0) {  // one term explains the data: fall back to the probe cost alone
+      a = 0;
+      b = cc_ > 0 ? tc_ / cc_ : 0.0;
+    }
+    return a * pixels + b * probe_cost;
+  }
+
+ private:
+  double nn_ = 0, nc_ = 0, cc_ = 0, tn_ = 0, tc_ = 0;
+};
 
 struct BandRecord {
   double start, end;
@@ -179,20 +206,17 @@ void write_timings_file(const std::string& path, const Communicator& comm, const
 }
 
 int run(Communicator& comm, int argc, char** argv) {
-  CLI::App app{"sketchtrace: distribution ray tracer with a hand-drawn post-process"};
+  CLI::App app{"sketchtrace: distribution ray tracer with a hand-drawn post-process",
+               "sketchtrace"};
+  CommonOptions common;
+  add_common_options(app, common);
   RunOptions opt;
   CliOverrides cli;
   cli.add_to(app, opt);
-  app.set_version_flag("--version", build_banner());
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) {
-      if (comm.is_root()) app.exit(e);
-      return kExitOk;
-    }
-    throw InputError(std::string("usage: ") + e.what() + " (see --help)");
-  }
+  if (const auto done = parse_command_line(app, argc, argv, common, comm.is_root())) return *done;
+  opt.summary = common.summary;
+  opt.timings = common.timings;
+  opt.progress = progress_wanted(common);
 
   RunReport report;
   report.app = "sketchtrace";
@@ -293,7 +317,10 @@ int run(Communicator& comm, int argc, char** argv) {
   const std::int64_t batch = dispatch_pixels(s, order.size(), comm.size());
 
   CostMap cost;
-  if (needs_cost_map(balance)) {
+  // The progress ETA weighs pixels by the probed cost too, so a run that shows progress on any
+  // rank probes even when its balance does not need the map (collective: all ranks probe).
+  const bool eta_probe = comm.max(opt.progress ? 1.0 : 0.0) > 0.5;
+  if (needs_cost_map(balance) || eta_probe) {
     report.timer.start("probe");
     bool reused = false;
     cost = make_cost_map(renderer, comm, s.width, s.height, opt.cost_map, signature, reused);
@@ -311,7 +338,14 @@ int run(Communicator& comm, int argc, char** argv) {
 
   install_stop_handlers();
   const bool checkpointing = !opt.checkpoint.empty();
-  const bool progress = opt.progress || isatty(STDERR_FILENO);
+  const bool progress = opt.progress;
+  ProgressLine progress_line("sketchtrace", "px", progress && comm.is_root());
+  const double restart_cost = progress_line.enabled() ? merged_cost(cost, done) : 0.0;
+  double total_probe_cost = 0;
+  if (progress_line.enabled())
+    for (std::int64_t pos = 0; pos < order.size(); ++pos)
+      total_probe_cost += cost.at(order.pixel(pos));
+  PixelCostFit pixel_cost;
   const double limit_s = opt.time_limit_minutes * 60.0;
   const double reserve = std::min(60.0, 0.05 * limit_s);  // for the final gather and checkpoint
   ResultSink sink(comm, order, frame_pixels, done,
@@ -323,7 +357,7 @@ int run(Communicator& comm, int argc, char** argv) {
   std::vector<std::int64_t> list;
   std::vector<PixelResult> out;
   std::int64_t rays = 0, tests = 0, rendered = 0;
-  double last_checkpoint = report.timer.now(), last_dispatch = 0.0, last_progress = 0.0;
+  double last_checkpoint = report.timer.now(), last_dispatch = 0.0;
   const double render_start = report.timer.now();
   bool stopping = false;
   std::string stop_reason;
@@ -403,10 +437,17 @@ int run(Communicator& comm, int argc, char** argv) {
         report.timer.stop();
         last_checkpoint = report.timer.now();
       }
-      if (progress) {
-        const double f = static_cast<double>(sink.merged()) /
-                         std::max<double>(1.0, static_cast<double>(order.size()));
-        show_progress(f, f / std::max(1e-9, t1 - render_start), t1, last_progress, false);
+      if (progress_line.enabled()) {
+        double probe = 0;
+        for (const std::int64_t p : list) probe += cost.at(p);
+        pixel_cost.add(t1 - t0, static_cast<double>(list.size()), probe);
+      }
+      if (progress_line.due()) {
+        const double merged = static_cast<double>(sink.merged());
+        const double total = static_cast<double>(order.size());
+        progress_line.update(merged, total,
+                             pixel_cost.cost(merged, merged_cost(cost, done) - restart_cost),
+                             pixel_cost.cost(total, total_probe_cost));
       }
     }
   }
@@ -441,9 +482,8 @@ int run(Communicator& comm, int argc, char** argv) {
   const double idle = std::max(0.0, (render_end - render_start) - busy);
   const std::int64_t missing =
       comm.sum(comm.is_root() ? order.size() - sink.merged() : std::int64_t(0));
-  if (comm.is_root() && progress)
-    show_progress(1.0 - static_cast<double>(missing) / std::max<double>(1.0, double(order.size())),
-                  0.0, report.timer.now(), last_progress, true);
+  progress_line.finish(static_cast<double>(order.size() - missing),
+                       static_cast<double>(order.size()));
   if (missing > 0 && comm.is_root() && checkpointing) {
     report.timer.start("checkpoint");
     write_checkpoint(opt.checkpoint, {s.width, s.height, signature, done, frame_pixels});

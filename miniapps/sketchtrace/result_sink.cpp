@@ -15,7 +15,7 @@ ResultSink::ResultSink(const Communicator& comm, const PixelOrder& order,
                        double flush_interval)
     : comm_(comm), order_(order), frame_(frame), done_(done), interval_(flush_interval) {
 #ifdef RTMINI_HAVE_MPI
-  MPI_Comm_dup(comm.native(), &mpi_);
+  mpi_ = comm.duplicate();
 #endif
 }
 
@@ -85,7 +85,7 @@ void ResultSink::receive(bool block) {
     MPI_Status st;
     int flag = 1;
     if (block)
-      MPI_Probe(MPI_ANY_SOURCE, kResultTag, mpi_, &st);
+      st = comm_.probe(MPI_ANY_SOURCE, kResultTag, mpi_);
     else
       MPI_Iprobe(MPI_ANY_SOURCE, kResultTag, mpi_, &flag, &st);
     if (!flag) return;
@@ -131,7 +131,7 @@ void ResultSink::finish() {
     while (finals_ < comm_.size() - 1) receive(true);
   } else {
     flush(true);
-    for (Send& s : sends_) MPI_Wait(&s.req, MPI_STATUS_IGNORE);
+    for (Send& s : sends_) comm_.wait(s.req);
     sends_.clear();
   }
 #endif

@@ -61,9 +61,12 @@ class QueueScheduler : public Scheduler {
       : comm_(comm), size_(order.size()), max_tiles_(batch_tiles(batch)) {
     tiles_ = (size_ + kTile * kTile - 1) / (kTile * kTile);
     const MPI_Aint bytes = comm.is_root() ? sizeof(std::int64_t) : 0;
+    // Window creation and release are blocking collectives that a failed peer
+    // would hang: every rank agrees (a failure-aware barrier) before each.
+    comm.barrier();
     MPI_Win_allocate(bytes, sizeof(std::int64_t), MPI_INFO_NULL, comm.native(), &counter_, &win_);
     if (comm.is_root()) *counter_ = 0;
-    MPI_Barrier(comm.native());
+    comm.barrier();
     MPI_Win_lock_all(0, win_);
   }
   bool next(std::vector<PosRange>& out, const std::function<bool()>&) override {
@@ -80,6 +83,7 @@ class QueueScheduler : public Scheduler {
   }
   void finish(bool) override {
     MPI_Win_unlock_all(win_);
+    comm_.barrier();
     MPI_Win_free(&win_);
   }
 
@@ -101,7 +105,7 @@ class PeerScheduler : public Scheduler {
   PeerScheduler(const Communicator& comm, const PixelOrder& order, const CostMap* cost,
                 std::int64_t batch, bool steal)
       : comm_(comm), batch_(batch), total_(order.size()), steal_(steal) {
-    MPI_Comm_dup(comm.native(), &mpi_);
+    mpi_ = comm.duplicate();
     std::vector<double> costs;
     std::vector<PosRange> chunks;
     if (cost) {
@@ -182,13 +186,15 @@ class PeerScheduler : public Scheduler {
       poll();
       if (!finished_) std::this_thread::sleep_for(std::chrono::microseconds(50));
     }
-    if (round_active_) MPI_Wait(&round_req_, MPI_STATUS_IGNORE);
+    if (round_active_) comm_.wait(round_req_);
     // Drain every message still addressed to this rank, then complete the sends.
     std::vector<std::int64_t> expected(sent_to_.size());
-    MPI_Alltoall(sent_to_.data(), 1, MPI_INT64_T, expected.data(), 1, MPI_INT64_T, mpi_);
+    MPI_Request req;
+    MPI_Ialltoall(sent_to_.data(), 1, MPI_INT64_T, expected.data(), 1, MPI_INT64_T, mpi_, &req);
+    comm_.wait(req);
     for (std::size_t src = 0; src < expected.size(); ++src)
       while (received_from_[src] < expected[src]) receive(static_cast<int>(src), true);
-    for (auto& s : sends_) MPI_Wait(&s.req, MPI_STATUS_IGNORE);
+    for (auto& s : sends_) comm_.wait(s.req);
     sends_.clear();
   }
 
@@ -247,7 +253,7 @@ class PeerScheduler : public Scheduler {
     MPI_Status st;
     int flag = 1;
     if (block)
-      MPI_Probe(src, MPI_ANY_TAG, mpi_, &st);
+      st = comm_.probe(src, MPI_ANY_TAG, mpi_);
     else
       MPI_Iprobe(src < 0 ? MPI_ANY_SOURCE : src, MPI_ANY_TAG, mpi_, &flag, &st);
     if (!flag) return false;

@@ -100,6 +100,32 @@ inline int concurrency() {
 #endif
 }
 
+// Starts Kokkos from the program's own settings, never from argv (see
+// report/common_options.hpp). Both versions still read KOKKOS_* environment variables.
+// threads <= 0 leaves the host thread count to OMP_NUM_THREADS or the core count.
+inline void initialize(int threads) {
+#if KOKKOS_VERSION >= 40000
+  Kokkos::InitializationSettings settings;
+  if (threads > 0) settings.set_num_threads(threads);
+  Kokkos::initialize(settings);
+#else
+  Kokkos::InitArguments arguments;
+  if (threads > 0) arguments.num_threads = threads;
+  Kokkos::initialize(arguments);
+#endif
+}
+
+// Kokkos prints its option list only while it parses a command line, so hand it one that
+// asks for nothing else; it is initialised and finalised again just for that.
+inline void print_kokkos_help(const char* program) {
+  char name[] = "rtmini";
+  char flag[] = "--kokkos-help";
+  char* args[] = {program ? const_cast<char*>(program) : name, flag, nullptr};
+  int count = 2;
+  Kokkos::initialize(count, args);
+  Kokkos::finalize();
+}
+
 }  // namespace rtmini::compat
 
 // Device-callable math: Kokkos 3.4 keeps these in Kokkos::Experimental, 4.x in Kokkos.

@@ -1,5 +1,9 @@
 #include "rtmini/io/atomic_file.hpp"
 
+#include <dirent.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -9,9 +13,87 @@
 #include "rtmini/io/error.hpp"
 
 namespace rtmini {
+namespace {
+
+std::string directory_of(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  if (slash == std::string::npos) return ".";
+  return slash == 0 ? "/" : path.substr(0, slash);
+}
+
+// Flushes tmp's data to stable storage: on filesystems with delayed allocation
+// a full disk is only reported here.
+bool sync_file(const std::string& tmp) {
+  const int fd = ::open(tmp.c_str(), O_RDONLY);
+  if (fd < 0) return false;
+  const bool ok = ::fsync(fd) == 0;
+  return ::close(fd) == 0 && ok;
+}
+
+// The directory entry of the rename must survive a crash too (best effort:
+// some filesystems refuse fsync on directories).
+void sync_directory(const std::string& path) {
+  const int fd = ::open(directory_of(path).c_str(), O_RDONLY | O_DIRECTORY);
+  if (fd < 0) return;
+  ::fsync(fd);
+  ::close(fd);
+}
+
+}  // namespace
+
+void check_replaceable(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return;  // absent (or unreachable: creating it will say)
+  if (!S_ISREG(st.st_mode))
+    throw IoError(path + ": refusing to replace something that is not a regular file");
+}
+
+void remove_stale_temporaries(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  const std::string prefix = (slash == std::string::npos ? path : path.substr(slash + 1)) + ".tmp.";
+  const std::string dir = directory_of(path);
+  DIR* d = ::opendir(dir.c_str());
+  if (!d) return;
+  while (const dirent* e = ::readdir(d)) {
+    const std::string name = e->d_name;
+    if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string digits = name.substr(prefix.size());
+    if (digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    const long pid = std::stol(digits);
+    if (pid <= 0 || pid == static_cast<long>(::getpid())) continue;
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours
+    const std::string full = dir + "/" + name;
+    struct stat st {};
+    if (::lstat(full.c_str(), &st) == 0 && S_ISREG(st.st_mode)) std::remove(full.c_str());
+  }
+  ::closedir(d);
+}
+
+void commit_temporary(const std::string& tmp, const std::string& path,
+                      std::int64_t expected_bytes) {
+  struct stat st {};
+  std::string problem;
+  if (::stat(tmp.c_str(), &st) != 0)
+    problem = "the temporary file vanished";
+  else if (expected_bytes >= 0 && static_cast<std::int64_t>(st.st_size) != expected_bytes)
+    problem = "short write (" + std::to_string(st.st_size) + " of " +
+              std::to_string(expected_bytes) + " bytes reached the disk)";
+  else if (!sync_file(tmp))
+    problem = std::string("cannot sync to disk: ") + std::strerror(errno);
+  else if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    problem = std::string("cannot rename temporary file into place: ") + std::strerror(errno);
+  if (!problem.empty()) {
+    std::remove(tmp.c_str());
+    throw IoError(path + ": " + problem);
+  }
+  sync_directory(path);
+}
 
 void write_file_atomic(const std::string& path,
-                       const std::function<void(const std::string& tmp_path)>& write) {
+                       const std::function<void(const std::string& tmp_path)>& write,
+                       std::int64_t expected_bytes) {
+  check_replaceable(path);
+  remove_stale_temporaries(path);
   const std::string tmp = path + ".tmp." + std::to_string(::getpid());
   try {
     write(tmp);
@@ -19,22 +101,21 @@ void write_file_atomic(const std::string& path,
     std::remove(tmp.c_str());
     throw;
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const int err = errno;
-    std::remove(tmp.c_str());
-    throw IoError(path + ": cannot rename temporary file into place: " + std::strerror(err));
-  }
+  commit_temporary(tmp, path, expected_bytes);
 }
 
 void write_text_atomic(const std::string& path, std::string_view bytes) {
-  write_file_atomic(path, [&](const std::string& tmp) {
-    std::FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (!f) throw IoError(path + ": cannot create file: " + std::strerror(errno));
-    const bool wrote = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-    // fclose flushes, so its failure (e.g. disk full) is a write failure too.
-    const bool closed = std::fclose(f) == 0;
-    if (!wrote || !closed) throw IoError(path + ": write failed: " + std::strerror(errno));
-  });
+  write_file_atomic(
+      path,
+      [&](const std::string& tmp) {
+        std::FILE* f = std::fopen(tmp.c_str(), "wb");
+        if (!f) throw IoError(path + ": cannot create file: " + std::strerror(errno));
+        const bool wrote = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+        // fclose flushes, so its failure (e.g. disk full) is a write failure too.
+        const bool closed = std::fclose(f) == 0;
+        if (!wrote || !closed) throw IoError(path + ": write failed: " + std::strerror(errno));
+      },
+      static_cast<std::int64_t>(bytes.size()));
 }
 
 }  // namespace rtmini

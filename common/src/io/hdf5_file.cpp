@@ -6,10 +6,13 @@
 #include <cstdio>
 #include <cstring>
 
+#include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/error.hpp"
 
 #ifdef RTMINI_HAVE_HDF5
 #include <hdf5.h>
+#define XXH_INLINE_ALL
+#include <xxhash.h>
 #endif
 
 namespace rtmini {
@@ -70,6 +73,21 @@ class QuietErrors {
   throw IoError(file + ": HDF5 " + what);
 }
 
+// A file being read that does not hold what rtmini wrote is bad input (exit 2).
+[[noreturn]] void corrupt(const std::string& file, const std::string& what) {
+  throw InputError(file, 0, "corrupt or foreign HDF5 file: " + what);
+}
+
+// Sanity limits checked before any allocation driven by a file's metadata.
+constexpr std::uint64_t kMaxDatasetBytes = std::uint64_t(1) << 36;  // 64 GiB
+constexpr std::size_t kMaxAttributeChars = std::size_t(1) << 20;
+// The attribute holding a dataset's checksum (XXH64 of its bytes, seed 0).
+constexpr const char* kChecksumAttribute = "xxh64";
+
+std::int64_t checksum_of(const void* data, std::size_t bytes) {
+  return static_cast<std::int64_t>(XXH64(data, bytes, 0));
+}
+
 hid_t check(hid_t id, const std::string& file, const std::string& what) {
   if (id < 0) fail(file, what);
   return id;
@@ -97,6 +115,8 @@ Hdf5File Hdf5File::create(const std::string& path) {
   QuietErrors quiet;
   Hdf5File f;
   f.path_ = path;
+  check_replaceable(path);
+  remove_stale_temporaries(path);
   f.tmp_path_ = path + ".tmp." + std::to_string(::getpid());
   f.id_ = H5Fcreate(f.tmp_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (f.id_ < 0) throw IoError(path + ": cannot create HDF5 file");
@@ -168,20 +188,30 @@ void Hdf5File::close() noexcept {
 
 void Hdf5File::commit() {
   if (tmp_path_.empty()) return;
+  // No size to compare with (HDF5's own idea of the file size differs from the
+  // closed file's): the write errors H5Fclose reports and the fsync are the checks.
   const bool closed = H5Fclose(id_) >= 0;
   id_ = -1;
   int status = 0;
+  std::string problem = "cannot close HDF5 file";
   if (rank_ == 0) {
-    if (!closed || std::rename(tmp_path_.c_str(), path_.c_str()) != 0) {
+    if (!closed) {
       std::remove(tmp_path_.c_str());
       status = 1;
+    } else {
+      try {
+        commit_temporary(tmp_path_, path_, -1);
+      } catch (const IoError& e) {
+        problem = e.what();
+        status = 1;
+      }
     }
   }
 #ifdef RTMINI_HAVE_MPI
   if (parallel_) MPI_Bcast(&status, 1, MPI_INT, 0, comm_);
 #endif
   tmp_path_.clear();
-  if (status != 0) throw IoError(path_ + ": cannot close HDF5 file or rename it into place");
+  if (status != 0) throw IoError(problem.rfind(path_, 0) == 0 ? problem : path_ + ": " + problem);
 }
 
 void Hdf5File::create_group(const std::string& path) {
@@ -211,10 +241,60 @@ void write_dataset(hid_t file, const std::string& file_path, bool parallel, cons
   const Handle dset(H5Dcreate2(file, path.c_str(), native_type<T>(), space.get(), lcpl.get(),
                                H5P_DEFAULT, H5P_DEFAULT));
   if (!dset.valid()) fail(file_path, "cannot create dataset '" + path + "'");
+  const std::int64_t sum = checksum_of(data.data(), data.size() * sizeof(T));
+  const Handle scalar(H5Screate(H5S_SCALAR));
+  const Handle attr(H5Acreate2(dset.get(), kChecksumAttribute, H5T_NATIVE_INT64, scalar.get(),
+                               H5P_DEFAULT, H5P_DEFAULT));
+  if (!attr.valid() || H5Awrite(attr.get(), H5T_NATIVE_INT64, &sum) < 0)
+    fail(file_path, "cannot write the checksum of '" + path + "'");
   if (data.empty()) return;
   const Handle xfer(transfer_plist(parallel));
   if (H5Dwrite(dset.get(), native_type<T>(), H5S_ALL, H5S_ALL, xfer.get(), data.data()) < 0)
     fail(file_path, "cannot write dataset '" + path + "'");
+}
+
+// The element count of dataset `dset` of T, validated against the file before
+// anything is allocated: simple extent of rank 1..8 without overflow, the
+// element type T's class and size, a sane total, and (contiguous storage as
+// written here) exactly that many bytes stored.
+template <class T>
+std::size_t checked_count(hid_t dset, const std::string& file, const std::string& path,
+                          std::vector<std::size_t>* dims) {
+  const Handle space(H5Dget_space(dset));
+  const int rank = space.valid() ? H5Sget_simple_extent_ndims(space.get()) : -1;
+  if (rank < 1 || rank > 8) corrupt(file, "bad dataspace of '" + path + "'");
+  hsize_t shape[8];
+  if (H5Sget_simple_extent_dims(space.get(), shape, nullptr) != rank)
+    corrupt(file, "bad dataspace of '" + path + "'");
+  std::uint64_t count = 1;
+  if (dims) dims->clear();
+  for (int i = 0; i < rank; ++i) {
+    if (shape[i] != 0 && count > kMaxDatasetBytes / shape[i])
+      corrupt(file, "'" + path + "' is implausibly large");
+    count *= shape[i];
+    if (dims) dims->push_back(static_cast<std::size_t>(shape[i]));
+  }
+  if (count * sizeof(T) > kMaxDatasetBytes) corrupt(file, "'" + path + "' is implausibly large");
+  const Handle type(H5Dget_type(dset));
+  const H5T_class_t want = H5Tget_class(native_type<T>());
+  if (!type.valid() || H5Tget_class(type.get()) != want || H5Tget_size(type.get()) != sizeof(T))
+    corrupt(file, "'" + path + "' has another element type");
+  if (count > 0 && H5Dget_storage_size(dset) != count * sizeof(T))
+    corrupt(file, "'" + path + "' stores " + std::to_string(H5Dget_storage_size(dset)) +
+                      " bytes, its shape says " + std::to_string(count * sizeof(T)));
+  return static_cast<std::size_t>(count);
+}
+
+// Datasets written whole carry a checksum: it must match what was read.
+// (Datasets assembled from slabs by several ranks have none.)
+void verify_checksum(hid_t dset, const std::string& file, const std::string& path, const void* data,
+                     std::size_t bytes) {
+  if (H5Aexists(dset, kChecksumAttribute) <= 0) return;
+  const Handle attr(H5Aopen(dset, kChecksumAttribute, H5P_DEFAULT));
+  std::int64_t stored = 0;
+  if (!attr.valid() || H5Aread(attr.get(), H5T_NATIVE_INT64, &stored) < 0 ||
+      stored != checksum_of(data, bytes))
+    corrupt(file, "checksum mismatch in '" + path + "'");
 }
 
 }  // namespace
@@ -238,22 +318,12 @@ template <class T>
 std::vector<T> Hdf5File::read(const std::string& path, std::vector<std::size_t>* dims) const {
   QuietErrors quiet;
   const Handle dset(H5Dopen2(id_, path.c_str(), H5P_DEFAULT));
-  if (!dset.valid()) fail(path_, "no dataset '" + path + "'");
-  const Handle space(H5Dget_space(dset.get()));
-  const int rank = H5Sget_simple_extent_ndims(space.get());
-  if (rank < 0 || rank > 8) fail(path_, "bad dataspace of '" + path + "'");
-  hsize_t shape[8];
-  H5Sget_simple_extent_dims(space.get(), shape, nullptr);
-  std::size_t count = 1;
-  if (dims) dims->clear();
-  for (int i = 0; i < rank; ++i) {
-    count *= shape[i];
-    if (dims) dims->push_back(shape[i]);
-  }
-  std::vector<T> data(count);
-  if (count > 0 &&
+  if (!dset.valid()) corrupt(path_, "no dataset '" + path + "'");
+  std::vector<T> data(checked_count<T>(dset.get(), path_, path, dims));
+  if (!data.empty() &&
       H5Dread(dset.get(), native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
-    fail(path_, "cannot read dataset '" + path + "'");
+    corrupt(path_, "cannot read dataset '" + path + "'");
+  verify_checksum(dset.get(), path_, path, data.data(), data.size() * sizeof(T));
   return data;
 }
 
@@ -314,13 +384,16 @@ void Hdf5File::write_strings(const std::string& path, const std::vector<std::str
 std::vector<std::string> Hdf5File::read_strings(const std::string& path) const {
   QuietErrors quiet;
   const Handle dset(H5Dopen2(id_, path.c_str(), H5P_DEFAULT));
-  if (!dset.valid()) fail(path_, "no dataset '" + path + "'");
+  if (!dset.valid()) corrupt(path_, "no dataset '" + path + "'");
   const Handle type(H5Dget_type(dset.get()));
   if (H5Tget_class(type.get()) != H5T_STRING || H5Tis_variable_str(type.get()) > 0)
-    fail(path_, "'" + path + "' is not a fixed-length string dataset");
+    corrupt(path_, "'" + path + "' is not a fixed-length string dataset");
   const std::size_t width = H5Tget_size(type.get());
   const Handle space(H5Dget_space(dset.get()));
   const hssize_t count = H5Sget_simple_extent_npoints(space.get());
+  if (width == 0 || width > kMaxAttributeChars || count < 0 ||
+      static_cast<std::uint64_t>(count) > kMaxDatasetBytes / width)
+    corrupt(path_, "'" + path + "' is implausibly large");
   std::vector<char> buffer(static_cast<std::size_t>(count) * width);
   if (count > 0 &&
       H5Dread(dset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()) < 0)
@@ -353,7 +426,7 @@ void put_attribute(hid_t file, const std::string& file_path, const std::string& 
 hid_t open_attribute(hid_t file, const std::string& file_path, const std::string& object,
                      const std::string& name) {
   const hid_t attr = H5Aopen_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT);
-  if (attr < 0) fail(file_path, "no attribute '" + name + "' on '" + object + "'");
+  if (attr < 0) corrupt(file_path, "no attribute '" + name + "' on '" + object + "'");
   return attr;
 }
 
@@ -363,9 +436,14 @@ T read_scalar_attribute(hid_t file, const std::string& file_path, const std::str
   QuietErrors quiet;
   const hid_t attr = open_attribute(file, file_path, object, name);
   T value{};
-  const herr_t status = H5Aread(attr, native_type<T>(), &value);
+  const Handle type(H5Aget_type(attr));
+  const Handle space(H5Aget_space(attr));
+  const bool scalar = type.valid() && space.valid() &&
+                      H5Tget_class(type.get()) == H5Tget_class(native_type<T>()) &&
+                      H5Sget_simple_extent_npoints(space.get()) == 1;
+  const herr_t status = scalar ? H5Aread(attr, native_type<T>(), &value) : -1;
   H5Aclose(attr);
-  if (status < 0) fail(file_path, "cannot read attribute '" + name + "'");
+  if (status < 0) corrupt(file_path, "cannot read attribute '" + name + "'");
   return value;
 }
 
@@ -373,12 +451,15 @@ T read_scalar_attribute(hid_t file, const std::string& file_path, const std::str
 
 void Hdf5File::set_attribute(const std::string& object, const std::string& name,
                              const std::string& value) {
-  // Variable-length UTF-8 so h5py returns str, not bytes.
+  // Fixed-length UTF-8: libhdf5 reads variable-length strings through heap
+  // pointers stored in the file, which a corrupt file turns into a crash.
   const Handle type(H5Tcopy(H5T_C_S1));
-  H5Tset_size(type.get(), H5T_VARIABLE);
+  H5Tset_size(type.get(), std::max<std::size_t>(1, value.size()));
+  H5Tset_strpad(type.get(), H5T_STR_NULLPAD);
   H5Tset_cset(type.get(), H5T_CSET_UTF8);
-  const char* ptr = value.c_str();
-  put_attribute(id_, path_, object, name, type.get(), &ptr);
+  std::vector<char> bytes(std::max<std::size_t>(1, value.size()), '\0');
+  std::memcpy(bytes.data(), value.data(), value.size());
+  put_attribute(id_, path_, object, name, type.get(), bytes.data());
 }
 
 void Hdf5File::set_attribute(const std::string& object, const std::string& name, double value) {
@@ -392,24 +473,22 @@ void Hdf5File::set_attribute(const std::string& object, const std::string& name,
 
 std::string Hdf5File::string_attribute(const std::string& object, const std::string& name) const {
   QuietErrors quiet;
-  const hid_t attr = open_attribute(id_, path_, object, name);
-  const Handle type(H5Aget_type(attr));
-  std::string value;
-  herr_t status = -1;
-  if (H5Tget_class(type.get()) == H5T_STRING && H5Tis_variable_str(type.get()) > 0) {
-    char* ptr = nullptr;
-    const Handle mem(H5Tcopy(H5T_C_S1));
-    H5Tset_size(mem.get(), H5T_VARIABLE);
-    H5Tset_cset(mem.get(), H5Tget_cset(type.get()));
-    status = H5Aread(attr, mem.get(), &ptr);
-    if (status >= 0 && ptr) {
-      value = ptr;
-      H5free_memory(ptr);
-    }
-  }
-  H5Aclose(attr);
-  if (status < 0) fail(path_, "attribute '" + name + "' is not a readable string");
-  return value;
+  const Handle attr(open_attribute(id_, path_, object, name));
+  const Handle type(H5Aget_type(attr.get()));
+  const Handle space(H5Aget_space(attr.get()));
+  // Only fixed-length strings are read (see set_attribute); the size comes
+  // from the file, so it is bounded before the buffer is allocated.
+  const bool fixed = type.valid() && H5Tget_class(type.get()) == H5T_STRING &&
+                     H5Tis_variable_str(type.get()) == 0 && space.valid() &&
+                     H5Sget_simple_extent_npoints(space.get()) == 1;
+  const std::size_t width = fixed ? H5Tget_size(type.get()) : 0;
+  if (width == 0 || width > kMaxAttributeChars)
+    corrupt(path_, "attribute '" + name + "' is not a fixed-length string");
+  std::vector<char> bytes(width, '\0');
+  const Handle mem(H5Tcopy(type.get()));
+  if (H5Aread(attr.get(), mem.get(), bytes.data()) < 0)
+    corrupt(path_, "attribute '" + name + "' is not a readable string");
+  return std::string(bytes.data(), strnlen(bytes.data(), width));
 }
 
 double Hdf5File::double_attribute(const std::string& object, const std::string& name) const {

@@ -51,9 +51,7 @@ nlohmann::json parameters_json(const ao::AoOptions& o) {
 
 }  // namespace
 
-int run_ao_mode(Communicator& comm, int argc, char** argv) {
-  ao::AoOptions o;
-  if (!ao::parse_ao_options(argc, argv, o)) return kExitOk;
+int run_ao_mode(Communicator& comm, ao::AoOptions o) {
   // auto: the device builds an LBVH in a few milliseconds, where the host SAH build
   // would cost more than all the rays; host traversal gains more from SAH than it costs.
   if (o.bvh == "auto")

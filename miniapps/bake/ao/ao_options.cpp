@@ -1,25 +1,20 @@
 #include "ao_options.hpp"
 
 #include <CLI/CLI.hpp>
-#include <iostream>
 #include <vector>
 
 #include "rtmini/io/error.hpp"
-#include "rtmini/report/version.hpp"
 
 namespace rtmini::ao {
 
-bool parse_ao_options(int argc, char** argv, AoOptions& o) {
-  CLI::App app{"bake --mode ao: ambient-occlusion baking onto mesh vertices"};
-  std::string mode = "ao";
-  std::vector<double> ground;
-  bool no_ground = false, no_lsq = false;
+void AoCli::add_to(CLI::App& app, AoOptions& o) {
   app.add_option("input,-f,--file", o.input,
                  "mesh (.obj, .bs: flattened) or scene (.toml: instances, blockers)")
       ->required();
   app.add_option("-o,--outfile,--output", o.output,
                  "per-vertex AO: .bin (sample layout), .ply, .obj, .glb");
-  app.add_option("--mode", mode, "must be ao")->check(CLI::IsMember({"ao"}));
+  app.add_option("--mode", mode_, "must be ao (the old spelling of `bake ao`)")
+      ->check(CLI::IsMember({"ao"}));
   app.add_option("-i,--instances", o.instances,
                  "copies of every mesh (procedural transforms, for testing)")
       ->capture_default_str()
@@ -43,16 +38,16 @@ bool parse_ao_options(int argc, char** argv, AoOptions& o) {
                  "max hit distance = max scene extent * s")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  app.add_option("-g,--ground_setup,--ground-setup", ground,
+  app.add_option("-g,--ground_setup,--ground-setup", ground_,
                  "ground plane: axis (0..5 = +x +y +z -x -y -z) scale offset [1 100 0.03]")
       ->expected(3);
-  app.add_flag("--no_ground_plane,--no-ground-plane", no_ground,
+  app.add_flag("--no_ground_plane,--no-ground-plane", no_ground_,
                "disable the virtual ground plane");
   app.add_option("-w,--regularization_weight,--regularization", o.regularization,
                  "least-squares regularization weight")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  app.add_flag("--no_least_squares,--no-least-squares", no_lsq,
+  app.add_flag("--no_least_squares,--no-least-squares", no_lsq_,
                "area/barycentric weighted average instead");
   app.add_option("--passes", o.passes, "kernel launches per batch (rays are split among them)")
       ->capture_default_str()
@@ -65,22 +60,13 @@ bool parse_ao_options(int argc, char** argv, AoOptions& o) {
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "lbvh", "sah"}));
   app.add_flag("--ply-ascii", o.ply_ascii, "ASCII PLY instead of binary little endian");
-  app.add_option("--summary", o.summary, "write the run summary JSON here");
   app.add_flag("--no_viewer,--no-viewer", "accepted for compatibility (there is no viewer)");
-  app.set_version_flag("--version", std::string(version_string()) + " (git " + git_hash() + ")");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    app.exit(e);
-    return false;
-  } catch (const CLI::CallForVersion& e) {
-    app.exit(e);
-    return false;
-  } catch (const CLI::ParseError& e) {
-    throw InputError(std::string("bad usage: ") + e.what() + " (see --help)");
-  }
-  o.ground_plane = !no_ground;
-  o.least_squares = !no_lsq;
+}
+
+void AoCli::finish(AoOptions& o) const {
+  const std::vector<double>& ground = ground_;
+  o.ground_plane = !no_ground_;
+  o.least_squares = !no_lsq_;
   if (!ground.empty()) {
     const double axis = ground[0];
     if (axis != static_cast<int>(axis) || axis < 0 || axis > 5)
@@ -93,7 +79,6 @@ bool parse_ao_options(int argc, char** argv, AoOptions& o) {
   }
   if (o.rays > 65535) throw InputError("bad usage: --rays must be at most 65535");
   if (o.passes > o.rays) throw InputError("bad usage: --passes must not exceed --rays");
-  return true;
 }
 
 }  // namespace rtmini::ao

@@ -1,8 +1,10 @@
 #pragma once
 // Every option of `bake --mode ao`: the OptiX Prime baking sample's options with
 // its meanings and defaults (seed: optix-prime-ao-baking), plus the run contract.
+#include <CLI/CLI.hpp>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace rtmini::ao {
 
@@ -26,11 +28,23 @@ struct AoOptions {
   std::uint64_t seed = 1;
   std::string bvh = "auto";  // auto | lbvh | sah
   bool ply_ascii = false;
-  std::string summary;  // --summary FILE.json
+  std::string summary;  // --summary FILE.json (the shared option group)
+  std::string timings;  // --timings FILE.h5 (the shared option group)
+  bool progress = false;
 };
 
-// Parses the full command line (argv[0] = program, `--mode ao` accepted anywhere).
-// Returns false when --help or --version was printed (exit 0). InputError on bad usage.
-bool parse_ao_options(int argc, char** argv, AoOptions& out);
+// The `bake ao` command line, registered on `bake`'s `ao` subcommand or on rtmini-ao's app.
+class AoCli {
+ public:
+  // Registers every AO option on `app`; values land in `out` (and in this object).
+  void add_to(CLI::App& app, AoOptions& out);
+  // After a successful parse: the options that need more than CLI11's checks. InputError.
+  void finish(AoOptions& out) const;
+
+ private:
+  std::vector<double> ground_;
+  bool no_ground_ = false, no_lsq_ = false;
+  std::string mode_ = "ao";
+};
 
 }  // namespace rtmini::ao

@@ -27,15 +27,6 @@ namespace {
 // Exit status of a run whose image misses its --reference by more than --max-rmse.
 constexpr int kExitReferenceMismatch = 1;
 
-struct RenderOptions {
-  std::string input, output, scene, summary, reference;
-  std::string camera_pos, look_at, up, background;
-  double fov = 45.0;
-  double max_rmse = -1.0;
-  std::string lookup = "kdtree", bvh = "sah";
-  bake::RenderParams params;
-};
-
 std::string lower_extension(const std::string& path) {
   const std::size_t slash = path.find_last_of('/');
   const std::size_t dot = path.find_last_of('.');
@@ -46,8 +37,9 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-// Returns false after --help / --version (exit 0).
-bool parse(int argc, char** argv, RenderOptions& o, CLI::App& app, bool root) {
+}  // namespace
+
+void add_render_options(CLI::App& app, RenderOptions& o) {
   app.add_option("map", o.input, "baked map (.bs text or .bsb binary)")->required();
   app.add_option("-o,--output", o.output, "image: .png / .ppm (8-bit sRGB) or .exr (linear)");
   app.add_option("--scene", o.scene, "sketchtrace scene (.toml): take its [camera]");
@@ -66,25 +58,9 @@ bool parse(int argc, char** argv, RenderOptions& o, CLI::App& app, bool root) {
   app.add_option("--reference", o.reference,
                  "reference image (.exr/.png/.ppm): print RMSE, relative MSE, PSNR, SSIM");
   app.add_option("--max-rmse", o.max_rmse, "with --reference: exit 1 when the RMSE is larger");
-  app.add_option("--summary", o.summary, "JSON run summary");
-  bool version = false;
-  app.add_flag("--version", version, "print version and exit");
-  for (int i = 1; i < argc; ++i) {
-    if (std::string(argv[i]) == "--version") {
-      if (root) std::printf("%s\n", build_banner().c_str());
-      return false;
-    }
-  }
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    if (root) std::printf("%s", app.help().c_str());
-    return false;
-  } catch (const CLI::ParseError& e) {
-    throw InputError(std::string("render: ") + e.what() + " (see bake render --help)");
-  }
-  return true;
 }
+
+namespace {
 
 void validate(const RenderOptions& o, const CLI::App& app) {
   const bake::RenderParams& p = o.params;
@@ -161,18 +137,9 @@ Image as_8bit_display(const Image& linear) {
 
 }  // namespace
 
-int run_render_mode(Communicator& comm, int argc, char** argv) {
-  // Drop the "render" word so that CLI11 sees `bake MAP [options]`.
-  std::vector<char*> args{argv[0]};
-  for (int i = 2; i < argc; ++i) args.push_back(argv[i]);
-  CLI::App app{
-      "bake render: offline renderer of baked maps (per pixel: the visible face, each "
-      "corner's colour looked up at the camera-ray direction, mixed barycentrically)",
-      "bake render"};
-  RenderOptions o;
-  const bool root = comm.is_root();
-  if (!parse(static_cast<int>(args.size()), args.data(), o, app, root)) return kExitOk;
+int run_render_mode(Communicator& comm, RenderOptions o, const CLI::App& app) {
   validate(o, app);
+  const bool root = comm.is_root();
   o.params.lookup = o.lookup == "sf" ? bake::Lookup::kSphericalFibonacci : bake::Lookup::kKdTree;
   if (!o.background.empty()) {
     const Vec3d b = parse_vec3("--background", o.background);

@@ -13,6 +13,7 @@
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/image.hpp"
 #include "rtmini/report/app_main.hpp"
+#include "rtmini/report/common_options.hpp"
 #include "rtmini/report/hash.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/report/version.hpp"
@@ -90,7 +91,10 @@ void write_bitmaps(const std::string& prefix, const NprConfig& config) {
 int run(Communicator& comm, int argc, char** argv) {
   PostOptions o;
   NprConfig& c = o.config;
-  CLI::App app{"sketchtrace-post: hand-drawn passes (hatching, edges, paper) on a saved render"};
+  CLI::App app{"sketchtrace-post: hand-drawn passes (hatching, edges, paper) on a saved render",
+               "sketchtrace-post"};
+  CommonOptions common;
+  add_common_options(app, common);
   app.add_option("input", o.input, "render: .exr with AOV layers, or .png/.ppm (colour only)")
       ->required();
   app.add_option("-o,--output", o.output, "output image (.png, .ppm, .exr)")->required();
@@ -127,18 +131,9 @@ int run(Communicator& comm, int argc, char** argv) {
   app.add_option("--paper-strength", c.paper_strength, "darkening of the darkest grain")
       ->capture_default_str();
   app.add_option("--seed", c.seed, "run seed")->capture_default_str();
-  app.add_option("--summary", o.summary, "write the run summary JSON here");
   app.add_option("--dump-bitmaps", o.dump_bitmaps, "also write level bitmaps PREFIX<k>.png");
-  app.set_version_flag("--version", build_banner());
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    throw InputError(e.what());
-  }
+  if (const auto done = parse_command_line(app, argc, argv, common, comm.is_root())) return *done;
+  o.summary = common.summary;
   c.style = parse_style(o.style);
   parse_passes(o.passes, c);
   validate(c);

@@ -16,7 +16,8 @@ using rtmini::Real;
 using Space = Kokkos::DefaultExecutionSpace;
 using Memory = Space::memory_space;
 
-// Rays from the middle of the box in uniformly distributed directions: every one hits a wall.
+// Rays from the middle of the box in uniformly distributed directions; the box is open at the
+// front, so most of them, not all, hit a wall.
 Kokkos::View<rtmini::Ray*, Memory> rays_from(const rtmini::Vec3 origin, int n) {
   Kokkos::View<rtmini::Ray*, Memory> rays("consumer::rays", n);
   Kokkos::parallel_for(
@@ -62,5 +63,5 @@ int main(int argc, char** argv) {
   const int wrong = count_disagreements(mesh, rays_from(rtmini::Vec3(0, 1, 0), n), hits);
   std::printf("consumer: %d triangles, %d rays, %d hits, %d disagree with brute force\n",
               int(mesh.tris.extent(0)), n, hits, wrong);
-  return (wrong == 0 && hits == n) ? 0 : 1;
+  return (wrong == 0 && hits > n / 2) ? 0 : 1;
 }

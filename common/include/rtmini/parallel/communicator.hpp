@@ -3,10 +3,24 @@
 // use, or, in a build without MPI, a one-rank stand-in with the same interface
 // (as the baking paper's serial build did). It counts messages and bytes sent
 // so per-rank timings can report communication volume.
+//
+// Failures are collective (issue 17): a rank that fails sends its exit code and
+// one-line message to every rank over a private duplicate of the communicator
+// (notify_failure). Every collective here is a non-blocking one completed by
+// wait(), which also polls that channel, so a rank waiting for a peer that will
+// never arrive throws PeerFailure instead of hanging; app_main() then agrees on
+// the outcome (agree_outcome) and rank 0 prints the one line.
+#include <algorithm>
+#include <chrono>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <map>
 #include <mutex>
 #include <stdexcept>
+#include <string>
+#include <thread>
 #include <type_traits>
 #include <vector>
 
@@ -18,16 +32,88 @@
 
 namespace rtmini {
 
+// Thrown on a rank that learns, inside a collective, that another rank failed:
+// it unwinds this rank's stack so that every rank reaches app_main's agreement.
+class PeerFailure : public std::runtime_error {
+ public:
+  PeerFailure(int rank, int code, const std::string& message)
+      : std::runtime_error(message), rank_(rank), code_(code) {}
+  int rank() const { return rank_; }
+  int code() const { return code_; }
+
+ private:
+  int rank_, code_;
+};
+
+// What app_main reports once every rank has agreed: the exit code all ranks
+// return and, on rank 0, the line to print (empty when nothing failed).
+struct Outcome {
+  int code = 0;
+  std::string line;
+  bool agreed = true;  // false: a peer never reached the agreement (the job must be aborted)
+};
+
 class Communicator {
  public:
 #ifdef RTMINI_HAVE_MPI
   explicit Communicator(MPI_Comm comm = MPI_COMM_WORLD) : comm_(comm) {
     MPI_Comm_rank(comm_, &rank_);
     MPI_Comm_size(comm_, &size_);
+    MPI_Comm_dup(comm_, &fail_);
   }
   MPI_Comm native() const { return comm_; }
+  Communicator(const Communicator&) = delete;
+  Communicator& operator=(const Communicator&) = delete;
+
+  // Completes `req`, throwing PeerFailure as soon as another rank reports a
+  // failure. Spins briefly (collectives are usually microseconds), then backs
+  // off to sleeps of up to 1 ms so an idle rank does not take a core from a
+  // rank that still computes.
+  void wait(MPI_Request& req) const {
+    int done = 0;
+    for (int spin = 0;; ++spin) {
+      MPI_Test(&req, &done, MPI_STATUS_IGNORE);
+      if (done) return;
+      check_peers();
+      if (spin > 1000)
+        std::this_thread::sleep_for(std::chrono::microseconds(spin > 3000 ? 1000 : 50));
+    }
+  }
+  // MPI_Probe on `comm` (a duplicate of this one) that throws PeerFailure
+  // instead of waiting forever for a failed peer.
+  MPI_Status probe(int source, int tag, MPI_Comm comm) const {
+    MPI_Status st;
+    int flag = 0;
+    for (int spin = 0;; ++spin) {
+      MPI_Iprobe(source, tag, comm, &flag, &st);
+      if (flag) return st;
+      check_peers();
+      if (spin > 1000)
+        std::this_thread::sleep_for(std::chrono::microseconds(spin > 3000 ? 1000 : 50));
+    }
+  }
+  // A private duplicate for point-to-point traffic of one component (its own
+  // tag space); non-blocking so that a failed peer cannot hang it.
+  MPI_Comm duplicate() const {
+    MPI_Comm out = MPI_COMM_NULL;
+    MPI_Request req;
+    MPI_Comm_idup(comm_, &out, &req);
+    wait(req);
+    return out;
+  }
+  // Throws PeerFailure when another rank has reported a failure. For loops
+  // that wait on their own point-to-point traffic.
+  void check_peers() const {
+    int flag = 0;
+    MPI_Status st;
+    MPI_Iprobe(MPI_ANY_SOURCE, kFailTag, fail_, &flag, &st);
+    if (!flag) return;
+    const FailureNote& n = receive_note(st.MPI_SOURCE);
+    throw PeerFailure(st.MPI_SOURCE, n.code, n.text);
+  }
 #else
   Communicator() = default;
+  void check_peers() const {}
 #endif
 
   int rank() const { return rank_; }
@@ -36,7 +122,9 @@ class Communicator {
 
   void barrier() const {
 #ifdef RTMINI_HAVE_MPI
-    MPI_Barrier(comm_);
+    MPI_Request req;
+    MPI_Ibarrier(comm_, &req);
+    wait(req);
 #endif
   }
 
@@ -46,7 +134,9 @@ class Communicator {
   std::int64_t sum(std::int64_t v) const {
 #ifdef RTMINI_HAVE_MPI
     std::int64_t out = 0;
-    MPI_Allreduce(&v, &out, 1, MPI_INT64_T, MPI_SUM, comm_);
+    MPI_Request req;
+    MPI_Iallreduce(&v, &out, 1, MPI_INT64_T, MPI_SUM, comm_, &req);
+    wait(req);
     count(sizeof v);
     return out;
 #else
@@ -57,7 +147,9 @@ class Communicator {
   std::uint64_t sum_wrap(std::uint64_t v) const {
 #ifdef RTMINI_HAVE_MPI
     std::uint64_t out = 0;
-    MPI_Allreduce(&v, &out, 1, MPI_UINT64_T, MPI_SUM, comm_);
+    MPI_Request req;
+    MPI_Iallreduce(&v, &out, 1, MPI_UINT64_T, MPI_SUM, comm_, &req);
+    wait(req);
     count(sizeof v);
     return out;
 #else
@@ -75,8 +167,10 @@ class Communicator {
     for (int r = 1; r < size_; ++r) displs[r] = displs[r - 1] + counts[r - 1];
     const long long total = static_cast<long long>(displs[size_ - 1]) + counts[size_ - 1];
     std::vector<T> out(static_cast<std::size_t>(total) / sizeof(T));
-    MPI_Allgatherv(mine.data(), counts[rank_], MPI_BYTE, out.data(), counts.data(), displs.data(),
-                   MPI_BYTE, comm_);
+    MPI_Request req;
+    MPI_Iallgatherv(mine.data(), counts[rank_], MPI_BYTE, out.data(), counts.data(), displs.data(),
+                    MPI_BYTE, comm_, &req);
+    wait(req);
     count(static_cast<std::size_t>(counts[rank_]) * static_cast<std::size_t>(size_ - 1));
     return out;
 #else
@@ -94,8 +188,10 @@ class Communicator {
     for (int r = 1; r < size_; ++r) displs[r] = displs[r - 1] + counts[r - 1];
     const long long total = static_cast<long long>(displs[size_ - 1]) + counts[size_ - 1];
     std::vector<T> out(rank_ == root ? static_cast<std::size_t>(total) / sizeof(T) : 0);
-    MPI_Gatherv(mine.data(), counts[rank_], MPI_BYTE, out.data(), counts.data(), displs.data(),
-                MPI_BYTE, root, comm_);
+    MPI_Request req;
+    MPI_Igatherv(mine.data(), counts[rank_], MPI_BYTE, out.data(), counts.data(), displs.data(),
+                 MPI_BYTE, root, comm_, &req);
+    wait(req);
     if (rank_ != root) count(static_cast<std::size_t>(counts[rank_]));
     return out;
 #else
@@ -108,15 +204,57 @@ class Communicator {
   void broadcast(std::vector<T>& data, int root = 0) const {
 #ifdef RTMINI_HAVE_MPI
     std::uint64_t n = data.size();
-    MPI_Bcast(&n, 1, MPI_UINT64_T, root, comm_);
+    MPI_Request req;
+    MPI_Ibcast(&n, 1, MPI_UINT64_T, root, comm_, &req);
+    wait(req);
     data.resize(n);
     check_int(n * sizeof(T));
-    MPI_Bcast(data.data(), static_cast<int>(n * sizeof(T)), MPI_BYTE, root, comm_);
+    MPI_Ibcast(data.data(), static_cast<int>(n * sizeof(T)), MPI_BYTE, root, comm_, &req);
+    wait(req);
     if (rank_ == root) count(n * sizeof(T) * static_cast<std::size_t>(size_ - 1));
 #else
     (void)data;
     (void)root;
 #endif
+  }
+
+  // Tells every other rank, once, that this rank failed with `code` and the
+  // one-line `message`. Never blocks: the notes are small (eager) sends whose
+  // buffer outlives the communicator.
+  void notify_failure(int code, const std::string& message) const {
+#ifdef RTMINI_HAVE_MPI
+    if (notified_ || size_ == 1) return;
+    notified_ = true;
+    static FailureNote note;  // sends complete after this object is gone
+    note = make_note(code, message);
+    for (int r = 0; r < size_; ++r) {
+      if (r == rank_) continue;
+      MPI_Request req;
+      MPI_Isend(&note, sizeof note, MPI_BYTE, r, kFailTag, fail_, &req);
+      MPI_Request_free(&req);
+    }
+#else
+    (void)code;
+    (void)message;
+#endif
+  }
+
+  // Every rank's outcome, agreed: `failed` says whether this rank's own body
+  // failed (with `code` and `message`); a rank that merely saw a peer fail, or
+  // succeeded, passes false. The first failing rank (lowest number) decides
+  // the code; rank 0 gets the line to print, naming that rank unless every
+  // rank failed. A rank that already knows of a failure waits at most
+  // `patience` seconds for the others and then returns agreed = false.
+  Outcome agree_outcome(int code, bool failed, const std::string& message, const std::string& app,
+                        double patience) const {
+    Outcome out;
+    out.code = code;
+#ifdef RTMINI_HAVE_MPI
+    if (size_ > 1) return agree_across_ranks(code, failed, message, app, patience);
+#endif
+    (void)patience;
+    if (failed) out.line = app + ": " + message;
+    return out;
   }
 
   std::int64_t bytes_sent() const { return bytes_; }
@@ -132,8 +270,10 @@ class Communicator {
   double reduce(double v, Op op) const {
 #ifdef RTMINI_HAVE_MPI
     double out = v;
-    MPI_Allreduce(&v, &out, 1, MPI_DOUBLE, op == kMax ? MPI_MAX : (op == kMin ? MPI_MIN : MPI_SUM),
-                  comm_);
+    MPI_Request req;
+    MPI_Iallreduce(&v, &out, 1, MPI_DOUBLE, op == kMax ? MPI_MAX : (op == kMin ? MPI_MIN : MPI_SUM),
+                   comm_, &req);
+    wait(req);
     count(sizeof v);
     return out;
 #else
@@ -146,17 +286,96 @@ class Communicator {
       throw std::runtime_error("rtmini: a single collective message exceeds 2 GiB; use more ranks");
   }
 #ifdef RTMINI_HAVE_MPI
+  static constexpr int kFailTag = 17;
+  struct FailureNote {
+    int code = 0;
+    char text[1020] = {};  // below every transport's eager limit with the code
+  };
+  static FailureNote make_note(int code, const std::string& message) {
+    FailureNote n;
+    n.code = code;
+    std::strncpy(n.text, message.c_str(), sizeof n.text - 1);
+    return n;
+  }
+  // Rank `src`'s failure note: received now (it was sent before `src` could
+  // reach any later step) or remembered from an earlier check_peers().
+  const FailureNote& receive_note(int src) const {
+    auto it = notes_.find(src);
+    if (it != notes_.end()) return it->second;
+    FailureNote n;
+    MPI_Recv(&n, sizeof n, MPI_BYTE, src, kFailTag, fail_, MPI_STATUS_IGNORE);
+    return notes_[src] = n;
+  }
+  Outcome agree_across_ranks(int code, bool failed, const std::string& message,
+                             const std::string& app, double patience) const {
+    using Clock = std::chrono::steady_clock;
+    Outcome out;
+    out.code = code;
+    if (failed) notify_failure(code, message);
+    int mine[2] = {failed ? 1 : 0, code};
+    std::vector<int> all(2 * static_cast<std::size_t>(size_));
+    MPI_Request req;
+    MPI_Iallgather(mine, 2, MPI_INT, all.data(), 2, MPI_INT, fail_, &req);
+    bool known = failed || !notes_.empty();
+    Clock::time_point since = Clock::now();
+    for (int spin = 0;; ++spin) {
+      int done = 0;
+      MPI_Test(&req, &done, MPI_STATUS_IGNORE);
+      if (done) break;
+      if (!known) {
+        int flag = 0;
+        MPI_Status st;
+        MPI_Iprobe(MPI_ANY_SOURCE, kFailTag, fail_, &flag, &st);
+        if (flag) {
+          receive_note(st.MPI_SOURCE);
+          known = true;
+          since = Clock::now();
+        }
+      } else if (std::chrono::duration<double>(Clock::now() - since).count() > patience) {
+        // A peer is stuck outside any collective: report what this rank knows.
+        out.agreed = false;
+        if (!failed) {
+          const FailureNote& n = notes_.begin()->second;
+          out.code = n.code;
+          out.line = app + " (rank " + std::to_string(notes_.begin()->first) + "): " + n.text;
+        } else {
+          out.line = app + " (rank " + std::to_string(rank_) + "): " + message;
+        }
+        return out;
+      }
+      if (spin > 1000) std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+    int first = -1, failures = 0;
+    for (int r = 0; r < size_; ++r) {
+      if (!all[2 * static_cast<std::size_t>(r)]) continue;
+      if (first < 0) first = r;
+      ++failures;
+    }
+    if (first < 0) return out;
+    out.code = all[2 * static_cast<std::size_t>(first) + 1];
+    if (rank_ == 0) {
+      const std::string text = first == 0 ? message : std::string(receive_note(first).text);
+      out.line = failures == size_ ? app + ": " + text
+                                   : app + " (rank " + std::to_string(first) + "): " + text;
+    }
+    return out;
+  }
   std::vector<int> byte_counts(std::size_t my_bytes) const {
     check_int(my_bytes);
     int mine = static_cast<int>(my_bytes);
     std::vector<int> counts(size_);
-    MPI_Allgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_);
+    MPI_Request req;
+    MPI_Iallgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_, &req);
+    wait(req);
     long long total = 0;
     for (int c : counts) total += c;
     check_int(static_cast<std::size_t>(total));
     return counts;
   }
   MPI_Comm comm_ = MPI_COMM_WORLD;
+  MPI_Comm fail_ = MPI_COMM_NULL;  // failure notes and the final agreement only
+  mutable std::map<int, FailureNote> notes_;
+  mutable bool notified_ = false;
 #endif
   int rank_ = 0;
   int size_ = 1;
@@ -195,13 +414,23 @@ class Environment {
     MPI_Init_thread(&argc, &argv, MPI_THREAD_SERIALIZED, &provided);
     mpi_thread_level() = provided;
 #endif
-    Kokkos::initialize(argc, argv);
   }
+  // Kokkos is started later, from the parsed options (report/common_options.hpp), and only
+  // when the program goes on past its command line.
   ~Environment() {
-    Kokkos::finalize();
+    if (Kokkos::is_initialized()) Kokkos::finalize();
 #ifdef RTMINI_HAVE_MPI
     MPI_Finalize();
 #endif
+  }
+  // Ends every rank now with `code`: only for a job whose ranks cannot agree
+  // (one is stuck outside any collective), after the one line was printed.
+  [[noreturn]] void abort(int code) {
+    std::fflush(nullptr);
+#ifdef RTMINI_HAVE_MPI
+    MPI_Abort(MPI_COMM_WORLD, code);
+#endif
+    std::_Exit(code);
   }
   Environment(const Environment&) = delete;
   Environment& operator=(const Environment&) = delete;

@@ -47,6 +47,7 @@ class Rtmini(CMakePackage, CudaPackage):
     depends_on("mpi", when="+mpi")
     depends_on("hdf5~mpi", when="+hdf5~mpi")
     depends_on("hdf5+mpi", when="+hdf5+mpi")
+    depends_on("xxhash", when="+hdf5")  # checksum per HDF5 dataset (header only)
     depends_on("libpng", when="+png")
     depends_on("openexr@3:", when="+exr")
     depends_on("cli11")

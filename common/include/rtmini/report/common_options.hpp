@@ -1,0 +1,40 @@
+#pragma once
+// The option group every rtmini program shares (--threads, --summary, --timings, --progress,
+// --version, --kokkos-help), defined once so that the programs agree on spelling, defaults and
+// behaviour, and the one parse step that turns a command line into either "go on" (Kokkos
+// started from these settings) or an exit code (help, version: 0; bad usage: InputError -> 2).
+//
+// Kokkos is started here from the parsed settings, never from argv: Kokkos 3.4 parses argv
+// itself and aborts on spellings it half-recognises (`--threads 1` without '='), and prints its
+// own 40-line help in front of ours on `--help`.
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+
+namespace rtmini {
+
+struct CommonOptions {
+  int threads = 0;        // host threads; 0 = OMP_NUM_THREADS / KOKKOS_NUM_THREADS / every core
+  std::string summary;    // JSON run summary (rank 0)
+  std::string timings;    // per-rank timings, HDF5 (rank 0 writes everyone's)
+  bool progress = false;  // progress lines on stderr even when stderr is not a terminal
+};
+
+// Adds the shared group to `app` (and makes `app` show every option's default in --help).
+// Call it on each CLI11 subcommand too: options do not fall through from the parent.
+void add_common_options(CLI::App& app, CommonOptions& options);
+
+// Parses argv with `app`. Returns an exit code when the program should stop here (--help,
+// --version, --kokkos-help; printed on rank 0 only), or nullopt after starting Kokkos with
+// `options`. A malformed command line throws InputError with CLI11's one-line reason.
+std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv,
+                                      const CommonOptions& options, bool root);
+
+// Starts Kokkos from `options` (idempotent). For programs whose command line needs checks
+// after parsing that must not start Kokkos first; parse_command_line calls it otherwise.
+void start_kokkos(const CommonOptions& options);
+
+// Whether a progress reporter should draw: asked for, or stderr is a terminal.
+bool progress_wanted(const CommonOptions& options);
+
+}  // namespace rtmini

@@ -1,0 +1,83 @@
+#include "rtmini/report/common_options.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+
+#include "rtmini/io/error.hpp"
+#include "rtmini/kokkos_compat.hpp"
+#include "rtmini/report/version.hpp"
+
+namespace rtmini {
+namespace {
+
+// Thrown from the --kokkos-help callback so that it wins over missing required arguments,
+// exactly as CLI11 does for --help and --version.
+struct CallForKokkosHelp : CLI::Success {
+  CallForKokkosHelp() : CLI::Success("kokkos help", CLI::ExitCodes::Success) {}
+};
+
+}  // namespace
+
+void add_common_options(CLI::App& app, CommonOptions& options) {
+  // Every option's default in --help, including the ones added after this call.
+  app.option_defaults()->always_capture_default();
+  app.add_option("--threads", options.threads,
+                 "host threads per rank (0 = OMP_NUM_THREADS, else every core)")
+      ->check(CLI::NonNegativeNumber)
+      ->group("Common");
+  app.add_option("--summary", options.summary, "write the JSON run summary here")->group("Common");
+  app.add_option("--timings", options.timings, "write per-rank timings (HDF5) here")
+      ->group("Common");
+  app.add_flag("--progress", options.progress,
+               "progress with rate and ETA on stderr (default: only when stderr is a terminal)")
+      ->group("Common");
+  app.add_flag_callback(
+         "--version", [] { throw CLI::CallForVersion(); }, "print the build banner and exit")
+      ->group("Common");
+  app.add_flag_callback(
+         "--kokkos-help", [] { throw CallForKokkosHelp(); },
+         "print Kokkos' own runtime options and exit (rtmini takes them from KOKKOS_* "
+         "environment variables, not from the command line)")
+      ->group("Common");
+}
+
+void start_kokkos(const CommonOptions& options) {
+  if (Kokkos::is_initialized()) return;
+  // Kokkos' OpenMP backend warns on every run when OMP_PROC_BIND is unset. The OpenMP runtime
+  // has read its environment when the program was loaded, so saying "false" here changes no
+  // binding (unset with no OMP_PLACES means unbound in libgomp); it only tells Kokkos that the
+  // choice was made. Users who want pinned threads set OMP_PROC_BIND/OMP_PLACES themselves,
+  // and those are passed through untouched.
+  if (!std::getenv("OMP_PROC_BIND") && !std::getenv("OMP_PLACES") &&
+      !std::getenv("GOMP_CPU_AFFINITY"))
+    setenv("OMP_PROC_BIND", "false", 0);
+  compat::initialize(options.threads);
+}
+
+std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv,
+                                      const CommonOptions& options, bool root) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    if (root) std::fputs(app.help().c_str(), stdout);
+    return kExitOk;
+  } catch (const CLI::CallForVersion&) {
+    if (root) std::printf("%s\n", build_banner().c_str());
+    return kExitOk;
+  } catch (const CallForKokkosHelp&) {
+    if (root) compat::print_kokkos_help(argv[0]);
+    return kExitOk;
+  } catch (const CLI::ParseError& e) {
+    throw InputError(std::string(e.what()) + " (see --help)");
+  }
+  start_kokkos(options);
+  return std::nullopt;
+}
+
+bool progress_wanted(const CommonOptions& options) {
+  return options.progress || ::isatty(STDERR_FILENO);
+}
+
+}  // namespace rtmini

@@ -1,0 +1,69 @@
+#include "rtmini/report/progress.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace rtmini {
+
+namespace {
+// Redraw period: fast enough to look alive on a terminal, sparse enough in a log file.
+constexpr double kTerminalPeriod = 0.5;
+constexpr double kLogPeriod = 2.0;
+}  // namespace
+
+std::string format_hms(double seconds) {
+  const long s = static_cast<long>(std::max(0.0, seconds) + 0.5);
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
+  return buf;
+}
+
+ProgressLine::ProgressLine(std::string label, std::string unit, bool enabled)
+    : label_(std::move(label)),
+      unit_(std::move(unit)),
+      enabled_(enabled),
+      terminal_(::isatty(STDERR_FILENO) != 0),
+      start_(Clock::now()) {}
+
+double ProgressLine::elapsed() const {
+  return std::chrono::duration<double>(Clock::now() - start_).count();
+}
+
+bool ProgressLine::due() const {
+  return enabled_ && elapsed() - last_draw_ >= (terminal_ ? kTerminalPeriod : kLogPeriod);
+}
+
+void ProgressLine::update(double done, double total, double done_cost, double total_cost) {
+  if (!due()) return;
+  const double now = elapsed();
+  last_draw_ = now;
+  // No ETA before any cost is measured: a guess from nothing would be the least trustworthy.
+  const double eta = done_cost > 0 ? (total_cost - done_cost) * now / done_cost : -1.0;
+  draw(done, total, eta, false);
+}
+
+void ProgressLine::finish(double done, double total) {
+  if (!enabled_) return;
+  draw(done, total, 0.0, true);
+}
+
+void ProgressLine::draw(double done, double total, double eta, bool final) {
+  const double now = elapsed();
+  const double fraction = total > 0 ? std::min(1.0, done / total) : 1.0;
+  const int width = 24, filled = static_cast<int>(fraction * width + 0.5);
+  const double rate = now > 0 ? done / now : 0.0;
+  const char* scale = rate >= 1e6 ? "M" : rate >= 1e3 ? "k" : "";
+  const double shown = rate >= 1e6 ? rate * 1e-6 : rate >= 1e3 ? rate * 1e-3 : rate;
+  const std::string eta_text = eta < 0 ? "ETA ?" : "ETA " + format_hms(eta);
+  std::fprintf(stderr, "%s%s: [%s%s] %5.1f%%  %.3g %s%s/s  %.1f s elapsed  %s%s",
+               terminal_ ? "\r" : "", label_.c_str(), std::string(filled, '#').c_str(),
+               std::string(width - filled, '.').c_str(), 100.0 * fraction, shown, scale,
+               unit_.c_str(), now, final ? "done" : eta_text.c_str(),
+               terminal_ && !final ? "" : "\n");
+  std::fflush(stderr);
+}
+
+}  // namespace rtmini

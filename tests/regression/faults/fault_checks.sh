@@ -1,0 +1,268 @@
+#!/usr/bin/env bash
+# Collective failure checks (issue 17): a failure seen by some ranks only must end
+# the whole job within seconds, every rank with the same exit code, and rank 0
+# must print exactly one "app...: file...: reason" line. Before the collective
+# outcome these runs hung until killed.
+#   one_rank APP NP      the input missing, then malformed, on the last rank only
+#                        and on rank 0 only (MPMD launch: the other ranks get a good file)
+#   sketch_restart NP    sketchtrace --restart with a checkpoint of other parameters
+#   sketch_reference NP  sketchtrace --reference naming a file that does not exist
+#   outputs APP          every writer of APP into a missing directory, a read-only and a
+#                        full filesystem (small tmpfs mounts; skipped with a reason where
+#                        mounting is not allowed) and onto a fifo: exit 3, one line, no
+#                        final file, no temporary left, the fifo untouched; bake's MPI-IO
+#                        map with both Open MPI I/O components. Stale temporaries of dead
+#                        runs are removed, those of live processes kept.
+#   corrupt APP          APP's checkpoint (and sketchtrace's cost map) with one bit flipped
+#                        in each dataset, truncated, and with single bytes changed across
+#                        the file: restart gives exit 2 and one line, or (a harmless byte)
+#                        exit 0 and the uninterrupted run's hash; never a crash.
+# Environment: SKETCH, BAKE (binaries), INPUTS, BAD (bad bake inputs), SKETCH_BAD,
+# MPIEXEC, NPFLAG.
+set -euo pipefail
+mode=$1
+work=$2
+shift 2
+rm -rf "$work"
+mkdir -p "$work"
+cd "$work"
+limit=25  # seconds a failing run may take; a hang is killed here and reported
+
+fail() {
+  echo "FAIL: $*" >&2
+  exit 1
+}
+
+# expect_one_line APP EXPECT_CODE PATTERN CMD...: runs CMD, which must exit EXPECT_CODE
+# within $limit seconds and leave exactly one line of APP's on stderr, matching PATTERN.
+expect_one_line() {
+  local app=$1 want=$2 pattern=$3
+  shift 3
+  local rc=0 start end
+  start=$(date +%s)
+  timeout -k 5 "$limit" "$@" >out.txt 2>err.txt || rc=$?
+  end=$(date +%s)
+  [[ $rc != 124 && $rc != 137 ]] || fail "hung: no exit within $limit s: $*"
+  [[ $rc == "$want" ]] || { cat err.txt >&2; fail "exit $rc, expected $want: $*"; }
+  local lines
+  lines=$(grep -c "^$app" err.txt || true)
+  [[ $lines == 1 ]] || { cat err.txt >&2; fail "$lines lines of $app on stderr, expected 1: $*"; }
+  grep "^$app" err.txt | grep -Eq -- "$pattern" ||
+    { cat err.txt >&2; fail "the line does not match '$pattern': $*"; }
+  echo "ok ($((end - start)) s): $(grep "^$app" err.txt)"
+}
+
+sketch_args=(--width 80 --height 60 --spp 1 --shadow-samples 2)
+
+mounts=()
+cleanup_mounts() {
+  local m
+  for m in "${mounts[@]}"; do umount "$m" 2>/dev/null || true; done
+}
+trap cleanup_mounts EXIT
+# try_mount DIR OPTIONS: a small tmpfs at DIR (false when mounting is not allowed here).
+try_mount() {
+  mkdir -p "$1"
+  if mount -t tmpfs -o "$2" tmpfs "$1" 2>/dev/null; then
+    mounts+=("$1")
+    return 0
+  fi
+  return 1
+}
+
+# output_case APP WHERE TARGET CMD...: CMD writes TARGET (inside WHERE) and must fail
+# with exit 3 and one line, leaving no file at TARGET (a fifo stays a fifo) and no
+# temporary in WHERE.
+output_case() {
+  local app=$1 where=$2 target=$3
+  shift 3
+  local was_fifo=0
+  [[ -p $target ]] && was_fifo=1
+  expect_one_line "$app" 3 "$(basename "$target")" "$@"
+  if ((was_fifo)); then
+    [[ -p $target ]] || fail "the fifo $target was replaced"
+  else
+    [[ ! -e $target ]] || fail "$target exists after a failed write"
+  fi
+  if [[ -d $where ]] && ls -A "$where" | grep -q '\.tmp\.'; then
+    fail "a temporary was left in $where: $(ls -A "$where")"
+  fi
+}
+bake_args=(--viewpoints 10)
+
+case $mode in
+  one_rank)
+    app=$1
+    np=$2
+    if [[ $app == sketchtrace ]]; then
+      bin=$SKETCH good=$INPUTS/two_spheres/two_spheres.toml malformed=$SKETCH_BAD/unknown_key.toml
+      args=("${sketch_args[@]}" -o out.png)
+    else
+      bin=$BAKE good=$INPUTS/cube/cube.bs malformed=$BAD/bs_nan.bs
+      args=("${bake_args[@]}" -o out.bs)
+    fi
+    for bad in "$work/missing_input" "$malformed"; do
+      name=$(basename "$bad")
+      # the last rank only
+      expect_one_line "$app" 2 "\\(rank $((np - 1))\\): .*$name" \
+        "$MPIEXEC" "$NPFLAG" $((np - 1)) --oversubscribe "$bin" "$good" "${args[@]}" : \
+        "$NPFLAG" 1 --oversubscribe "$bin" "$bad" "${args[@]}"
+      # rank 0 only
+      expect_one_line "$app" 2 "\\(rank 0\\): .*$name" \
+        "$MPIEXEC" "$NPFLAG" 1 --oversubscribe "$bin" "$bad" "${args[@]}" : \
+        "$NPFLAG" $((np - 1)) --oversubscribe "$bin" "$good" "${args[@]}"
+      [[ ! -e out.png && ! -e out.bs ]] || fail "a failed run left its output"
+    done
+    # Every rank failing the same way names no rank.
+    expect_one_line "$app" 2 "^$app: .*$(basename "$malformed")" \
+      "$MPIEXEC" "$NPFLAG" "$np" --oversubscribe "$bin" "$malformed" "${args[@]}"
+    ;;
+  sketch_restart)
+    np=$1
+    set -- "$INPUTS/two_spheres/two_spheres.toml" --width 80 --height 60 --shadow-samples 2 --chunk-pixels 500
+    rc=0
+    "$SKETCH" "$@" --spp 1 --checkpoint ck.h5 --stop-after-chunks 2 >stop.txt 2>&1 || rc=$?
+    [[ $rc == 4 && -f ck.h5 ]] || fail "the stopped run gave exit $rc and no checkpoint"
+    expect_one_line sketchtrace 2 "ck.h5: checkpoint was written with different parameters" \
+      "$MPIEXEC" "$NPFLAG" "$np" --oversubscribe "$SKETCH" "$@" --spp 2 --restart ck.h5
+    ;;
+  sketch_reference)
+    np=$1
+    expect_one_line sketchtrace 2 "nonexistent.exr" \
+      "$MPIEXEC" "$NPFLAG" "$np" --oversubscribe "$SKETCH" "$INPUTS/two_spheres/two_spheres.toml" \
+      "${sketch_args[@]}" --reference "$work/nonexistent.exr"
+    ;;
+  outputs)
+    app=$1
+    can_mount=1
+    if try_mount "$work/ro" ro,size=64k && try_mount "$work/full" size=64k; then
+      # Fill the filesystem to the last block.
+      dd if=/dev/zero of="$work/full/filler" bs=4k >/dev/null 2>&1 || true
+    else
+      can_mount=0
+      echo "SKIP read-only and full filesystem cases: mounting a tmpfs is not allowed here"
+    fi
+    mkdir -p "$work/fifo"
+    places=("$work/missing_dir")
+    ((can_mount)) && places+=("$work/ro" "$work/full")
+    if [[ $app == sketchtrace ]]; then
+      run=("$SKETCH" "$INPUTS/two_spheres/two_spheres.toml" "${sketch_args[@]}")
+      writers=("-o x.png" "-o x.exr" "-o x.ppm" "--summary x.json" "--timings x.h5"
+               "--checkpoint x.h5 --stop-after-chunks 2 --chunk-pixels 500")
+    else
+      run=("$BAKE" "$INPUTS/cube/cube.bs" "${bake_args[@]}")
+      writers=("-o x.bsb" "--summary x.json" "--timings x.h5" "--checkpoint x.h5")
+    fi
+    for w in "${writers[@]}"; do
+      read -r flag name rest <<<"$w"
+      # shellcheck disable=SC2086
+      for dir in "${places[@]}"; do
+        output_case "$app" "$dir" "$dir/$name" "${run[@]}" $flag "$dir/$name" $rest
+      done
+      [[ -p $work/fifo/$name ]] || mkfifo "$work/fifo/$name"
+      # shellcheck disable=SC2086
+      output_case "$app" "$work/fifo" "$work/fifo/$name" "${run[@]}" $flag "$work/fifo/$name" $rest
+    done
+    if [[ $app == bake ]]; then
+      # The text map is written collectively through MPI-IO: both components, 2 ranks.
+      for io in ompio romio321; do
+        for dir in "${places[@]}"; do
+          OMPI_MCA_io=$io output_case bake "$dir" "$dir/x.bs" \
+            "$MPIEXEC" "$NPFLAG" 2 --oversubscribe "$BAKE" "$INPUTS/cube/cube.bs" "${bake_args[@]}" -o "$dir/x.bs"
+        done
+        [[ -p $work/fifo/x.bs ]] || mkfifo "$work/fifo/x.bs"
+        OMPI_MCA_io=$io output_case bake "$work/fifo" "$work/fifo/x.bs" \
+          "$MPIEXEC" "$NPFLAG" 2 --oversubscribe "$BAKE" "$INPUTS/cube/cube.bs" "${bake_args[@]}" -o "$work/fifo/x.bs"
+      done
+    fi
+    # Stale temporaries: a dead run's is removed, a live process's and a directory kept.
+    mkdir -p "$work/stale"
+    sh -c 'exit 0' &
+    dead=$!
+    wait "$dead"
+    while kill -0 "$dead" 2>/dev/null; do sleep 0.1; done
+    out=$work/stale/x.png
+    [[ $app == bake ]] && out=$work/stale/x.bsb
+    echo stale >"$out.tmp.$dead"
+    echo live >"$out.tmp.$$"
+    mkdir "$out.tmp.1"
+    "${run[@]}" --summary "$work/stale/x.json" -o "$out" >/dev/null 2>&1 || fail "the stale-temporary run failed"
+    [[ ! -e $out.tmp.$dead ]] || fail "the dead run's temporary $out.tmp.$dead was kept"
+    [[ -f $out.tmp.$$ && -d $out.tmp.1 ]] || fail "a live process's temporary or a directory was removed"
+    echo "ok: stale temporaries"
+    ;;
+  corrupt)
+    app=$1
+    hash_of() { tail -n 1 "$1" | sed -n 's/.*verification \([0-9a-f]*\)$/\1/p'; }
+    # mutate SRC DST HOW [DATASET]: DST = SRC with one bit of DATASET's bytes flipped
+    # (HOW=flip), cut to half its size (HOW=truncate), or byte DATASET (an offset) inverted.
+    mutate() {
+      "$PY" - "$@" <<'PYEOF'
+import sys
+src, dst, how = sys.argv[1:4]
+data = bytearray(open(src, "rb").read())
+if how == "flip":
+    import h5py
+    with h5py.File(src, "r") as f:
+        d = f[sys.argv[4]].id
+        offset, size = d.get_offset(), d.get_storage_size()
+    data[offset + size // 2] ^= 0x10
+elif how == "truncate":
+    data = data[: len(data) // 2]
+else:
+    data[int(sys.argv[4])] ^= 0xFF
+open(dst, "wb").write(data)
+PYEOF
+    }
+    if [[ $app == sketchtrace ]]; then
+      run=("$SKETCH" "$INPUTS/two_spheres/two_spheres.toml" "${sketch_args[@]}" --chunk-pixels 500)
+      "${run[@]}" >full.txt
+      rc=0
+      "${run[@]}" --checkpoint ck.h5 --stop-after-chunks 2 >stop.txt 2>&1 || rc=$?
+      [[ $rc == 4 ]] || fail "the stopped run gave exit $rc"
+      datasets=(/pixels/done /pixels/raw)
+    else
+      run=("$BAKE" "$INPUTS/cube/cube.bs" "${bake_args[@]}" --iterations 3 -o out.bs)
+      "${run[@]}" >full.txt 2>/dev/null
+      rc=0
+      "${run[@]}" --checkpoint ck.h5 --stop-after-iteration 1 >stop.txt 2>&1 || rc=$?
+      [[ $rc == 4 ]] || fail "the stopped run gave exit $rc"
+      datasets=(/colors)
+    fi
+    full=$(hash_of full.txt)
+    [[ -n $full ]] || fail "no hash in the uninterrupted run"
+    for d in "${datasets[@]}"; do
+      mutate ck.h5 bad.h5 flip "$d"
+      expect_one_line "$app" 2 "bad.h5" "${run[@]}" --restart bad.h5
+    done
+    mutate ck.h5 bad.h5 truncate
+    expect_one_line "$app" 2 "bad.h5" "${run[@]}" --restart bad.h5
+    size=$(stat -c %s ck.h5)
+    refused=0 harmless=0
+    for k in $(seq 0 31); do
+      mutate ck.h5 bad.h5 byte $((k * size / 32 + 7))
+      rc=0
+      timeout -k 5 "$limit" "${run[@]}" --restart bad.h5 >out.txt 2>err.txt || rc=$?
+      if [[ $rc == 2 ]]; then
+        [[ $(grep -c "^$app" err.txt) == 1 ]] || { cat err.txt >&2; fail "byte $k: not one line"; }
+        refused=$((refused + 1))
+      elif [[ $rc == 0 && $(hash_of out.txt) == "$full" ]]; then
+        harmless=$((harmless + 1))
+      else
+        cat err.txt >&2
+        fail "byte $((k * size / 32 + 7)) changed: exit $rc, hash $(hash_of out.txt) (uninterrupted $full)"
+      fi
+    done
+    echo "ok: 32 single-byte changes: $refused refused, $harmless harmless"
+    if [[ $app == sketchtrace ]]; then
+      "${run[@]}" --balance metric --cost-map cm.h5 >/dev/null
+      mutate cm.h5 bad_cm.h5 flip /cost
+      expect_one_line sketchtrace 2 "bad_cm.h5" "${run[@]}" --balance metric --cost-map bad_cm.h5
+      mutate cm.h5 bad_cm.h5 truncate
+      expect_one_line sketchtrace 2 "bad_cm.h5" "${run[@]}" --balance metric --cost-map bad_cm.h5
+    fi
+    ;;
+  *)
+    fail "unknown mode $mode"
+    ;;
+esac
