@@ -8,7 +8,7 @@
 namespace rtmini::bake {
 
 enum class Lookup { kKdTree, kSphericalFibonacci };
-enum class Balance { kStatic, kCost };
+enum class Balance { kStatic, kCost, kSpatial };
 
 struct BakeConfig {
   std::string input;
@@ -35,6 +35,8 @@ struct BakeConfig {
 };
 
 inline const char* to_string(Lookup l) { return l == Lookup::kKdTree ? "kdtree" : "sf"; }
-inline const char* to_string(Balance b) { return b == Balance::kStatic ? "static" : "cost"; }
+inline const char* to_string(Balance b) {
+  return b == Balance::kStatic ? "static" : b == Balance::kCost ? "cost" : "spatial";
+}
 
 }  // namespace rtmini::bake

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <chrono>
@@ -77,91 +78,130 @@ bool is_binary_map_path(const std::string& path) {
 
 namespace {
 
-// The binary form (io/bakeshop_binary.hpp): every rank holds the whole map after the last
-// all-gather, so rank 0 writes it alone; a view-independent vertex is expanded to N copies,
-// which the writer stores once again (same Mesh as reading the text form back).
-WriteStats write_baked_map_binary(const Communicator& comm, const std::string& path,
-                                  const BakedMap& map) {
-  const auto t0 = std::chrono::steady_clock::now();
-  WriteStats stats;
-  std::string error;
-  if (comm.is_root()) {
-    try {
-      Mesh mesh = *map.mesh;
-      const auto& off = *map.color_offset;
-      const auto& colors = *map.colors;
-      const auto& dirs = *map.directions;
-      const std::size_t nv = mesh.positions.size(), n = dirs.size();
-      ViewpointColors& vc = mesh.viewpoints;
-      vc.offsets.resize(nv + 1);
-      vc.dirs.reserve(nv * n);
-      vc.colors.reserve(nv * n);
-      for (std::size_t v = 0; v < nv; ++v) {
-        vc.offsets[v] = vc.dirs.size();
-        const bool uniform = off[v + 1] - off[v] == 1;
-        for (std::size_t j = 0; j < n; ++j) {
-          vc.dirs.push_back(dirs[j]);
-          vc.colors.push_back(colors[static_cast<std::size_t>(off[v]) + (uniform ? 0 : j)]);
-        }
-      }
-      vc.offsets[nv] = vc.dirs.size();
-      write_bakeshop_binary(path, mesh);
-      std::FILE* f = std::fopen(path.c_str(), "rb");
-      if (f) {
-        std::fseek(f, 0, SEEK_END);
-        stats.file_bytes = std::ftell(f);
-        std::fclose(f);
-      }
-    } catch (const std::exception& e) {
-      error = e.what();
-    }
+// Little-endian bytes of plain values (the layout of io/bakeshop_binary.hpp; x86 and ARM).
+struct Bytes {
+  std::string out;
+  std::int64_t base = 0;  // file offset of out[0]: sections align to file offsets
+  template <class T>
+  void put(T value) {
+    out.append(reinterpret_cast<const char*>(&value), sizeof(T));
   }
-  stats.bytes_written = stats.file_bytes;
-  // Every rank fails together when rank 0 could not write.
-  if (comm.max(error.empty() ? 0.0 : 1.0) > 0.5)
-    throw IoError(error.empty() ? path + ": binary map write failed on rank 0" : error);
-  stats.file_bytes = static_cast<std::int64_t>(comm.max(static_cast<double>(stats.file_bytes)));
-  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return stats;
+  void align8() {
+    const std::int64_t end = base + static_cast<std::int64_t>(out.size());
+    out.resize(out.size() + static_cast<std::size_t>((end + 7) / 8 * 8 - end), '\0');
+  }
+};
+
+std::int64_t align8(std::int64_t n) { return (n + 7) / 8 * 8; }
+
+bool float_exact(double v) { return static_cast<double>(static_cast<float>(v)) == v; }
+
+bool positions_fit_float(const Mesh& mesh) {
+  for (const Vec3d& p : mesh.positions)
+    if (!float_exact(p.x) || !float_exact(p.y) || !float_exact(p.z)) return false;
+  return true;
+}
+
+// Bytes before the colour section: header, positions, counts, uniform flags, directions.
+std::int64_t binary_head_bytes(std::int64_t nv, std::int64_t n, bool pos32) {
+  std::int64_t at = 64 + align8(nv * 3 * (pos32 ? 4 : 8));
+  at += align8(nv * 4) + align8(nv);
+  return at + align8(n * 3 * 4);
+}
+
+// This rank's vertices in binary form: uniform flags and stored colours (one for a vertex whose
+// colours are all the same bits, else all N), range by range.
+struct BinaryPart {
+  std::vector<std::uint8_t> uniform;
+  std::vector<std::int64_t> stored;  // colours stored per range
+  std::string colors;
+};
+
+BinaryPart binary_part(const BakedMap& map, const std::vector<VertexRange>& mine) {
+  const auto& off = *map.color_offset;
+  const auto& colors = *map.colors;
+  const std::size_t n = map.directions->size();
+  BinaryPart part;
+  for (const VertexRange& r : mine) {
+    std::int64_t stored = 0;
+    for (std::int64_t v = r.begin; v < r.end; ++v) {
+      const Vec3f* c = colors.data() + off[v];
+      const std::size_t have = static_cast<std::size_t>(off[v + 1] - off[v]);
+      bool same = true;
+      for (std::size_t k = 1; k < have && same; ++k)
+        same = std::memcmp(&c[k], &c[0], sizeof(Vec3f)) == 0;
+      part.uniform.push_back(same ? 1 : 0);
+      const std::size_t count = same ? 1 : n;
+      part.colors.append(reinterpret_cast<const char*>(c), count * sizeof(Vec3f));
+      stored += static_cast<std::int64_t>(count);
+    }
+    part.stored.push_back(stored);
+  }
+  return part;
+}
+
+// Header (with the colour count and file size), positions, counts, flags and directions.
+std::string binary_head(const BakedMap& map, const std::vector<std::uint8_t>& uniform,
+                        std::int64_t colors, std::int64_t file_size, bool pos32) {
+  const Mesh& mesh = *map.mesh;
+  const std::size_t nv = mesh.positions.size(), n = map.directions->size();
+  Bytes w;
+  w.out.append("BSB1", 4);
+  w.put<std::uint32_t>(1u | (pos32 ? 0u : 4u));  // shared directions; float64 positions
+  for (std::uint64_t x : {std::uint64_t(nv), std::uint64_t(mesh.materials.size()),
+                          std::uint64_t(mesh.faces.size()), std::uint64_t(mesh.objects.size()),
+                          std::uint64_t(n), std::uint64_t(colors), std::uint64_t(file_size)})
+    w.put(x);
+  for (const Vec3d& p : mesh.positions) {
+    if (pos32)
+      for (double x : {p.x, p.y, p.z}) w.put(static_cast<float>(x));
+    else
+      for (double x : {p.x, p.y, p.z}) w.put(x);
+  }
+  w.align8();
+  for (std::size_t i = 0; i < nv; ++i) w.put(static_cast<std::uint32_t>(n));
+  w.align8();
+  w.out.append(reinterpret_cast<const char*>(uniform.data()), uniform.size());
+  w.align8();
+  for (const Vec3f& d : *map.directions)
+    for (float x : {d.x, d.y, d.z}) w.put(x);
+  w.align8();
+  return w.out;
+}
+
+// Zero padding after the colours, then materials, faces and object names.
+std::string binary_tail(const Mesh& mesh, std::int64_t colors_end) {
+  Bytes w;
+  w.base = colors_end;
+  w.align8();
+  for (const Material& m : mesh.materials) {
+    for (const Vec3f& v : {m.diffuse, m.reflective, m.emissive})
+      for (float x : {v.x, v.y, v.z}) w.put(x);
+    for (float x : {m.shininess, m.ior, m.opacity}) w.put(x);
+  }
+  w.align8();
+  for (const Face& f : mesh.faces) {
+    for (int k = 0; k < 4; ++k) w.put<std::int32_t>(k < f.count ? f.v[k] : -1);
+    w.put<std::int32_t>(f.material);
+    w.put<std::int32_t>(f.object);
+  }
+  w.align8();
+  for (const std::string& name : mesh.objects) {
+    w.put(static_cast<std::uint32_t>(name.size()));
+    w.out.append(name);
+  }
+  w.align8();
+  return w.out;
 }
 
 }  // namespace
 
-WriteStats write_baked_map(const Communicator& comm, const std::string& path, const BakedMap& map,
-                           const std::vector<VertexRange>& mine) {
-  if (is_binary_map_path(path)) return write_baked_map_binary(comm, path, map);
-  const auto t0 = std::chrono::steady_clock::now();
-  WriteStats stats;
-  std::vector<std::string> texts;
-  texts.reserve(mine.size());
-  for (const VertexRange& r : mine) texts.push_back(format_vertex_range(map, r));
-  const std::string tail = comm.is_root() ? tail_text(*map.mesh) : std::string();
+namespace {
 
-  // Exclusive prefix sum of the block sizes, in vertex order, over every rank's blocks.
-  std::vector<std::int64_t> my_blocks;  // (begin, size) pairs
-  for (std::size_t i = 0; i < mine.size(); ++i) {
-    my_blocks.push_back(mine[i].begin);
-    my_blocks.push_back(static_cast<std::int64_t>(texts[i].size()));
-  }
-  std::vector<std::int64_t> all = comm.allgatherv(my_blocks);
-  std::vector<std::pair<std::int64_t, std::int64_t>> blocks;
-  for (std::size_t i = 0; i + 1 < all.size(); i += 2) blocks.emplace_back(all[i], all[i + 1]);
-  std::sort(blocks.begin(), blocks.end());
-  std::vector<Piece> pieces;
-  std::int64_t offset = 0;
-  for (const auto& b : blocks) {
-    for (std::size_t i = 0; i < mine.size(); ++i) {
-      if (mine[i].begin != b.first) continue;
-      for (std::int64_t o = 0; o < b.second; o += kMaxPiece)
-        pieces.push_back({offset + o, texts[i].data() + o, std::min(kMaxPiece, b.second - o)});
-    }
-    offset += b.second;
-  }
-  if (comm.is_root() && !tail.empty())
-    pieces.push_back({offset, tail.data(), static_cast<std::int64_t>(tail.size())});
-  stats.file_bytes = offset + static_cast<std::int64_t>(comm.max(double(tail.size())));
-  for (const Piece& p : pieces) stats.bytes_written += p.size;
-
+// Writes every rank's pieces at their offsets into `path` (collective MPI-IO under a temporary
+// name, renamed by rank 0 once all have closed it; without MPI one sequential atomic write).
+void write_pieces(const Communicator& comm, const std::string& path,
+                  const std::vector<Piece>& pieces, std::int64_t file_bytes) {
 #ifdef RTMINI_HAVE_MPI
   // Rank 0 checks the target (regular file or absent) and clears dead runs'
   // temporaries; the pid broadcast is the agreement before the collective open.
@@ -205,7 +245,7 @@ WriteStats write_baked_map(const Communicator& comm, const std::string& path, co
   std::string problem;
   if (comm.is_root()) {
     try {
-      commit_temporary(tmp, path, stats.file_bytes);
+      commit_temporary(tmp, path, file_bytes);
     } catch (const IoError& e) {
       problem = e.what();
     }
@@ -225,8 +265,108 @@ WriteStats write_baked_map(const Communicator& comm, const std::string& path, co
         const bool closed = std::fclose(f) == 0;
         if (!wrote || !closed) throw IoError(path + ": write failed: " + std::strerror(errno));
       },
-      stats.file_bytes);
+      file_bytes);
 #endif
+}
+
+// Splits [data, data + size) at `offset` into pieces MPI's int counts can take.
+void add_pieces(std::vector<Piece>& pieces, std::int64_t offset, const char* data,
+                std::int64_t size) {
+  for (std::int64_t o = 0; o < size; o += kMaxPiece)
+    pieces.push_back({offset + o, data + o, std::min(kMaxPiece, size - o)});
+}
+
+// The binary form: every rank writes the colours of its own vertices at the prefix sum of the
+// colours stored before them; rank 0 writes the header, positions, flags and directions (the
+// flags gathered, one byte per vertex) and the materials and faces after the colours. The same
+// bytes as io/bakeshop_binary.hpp's writer, without the whole map on any rank.
+WriteStats write_baked_map_binary(const Communicator& comm, const std::string& path,
+                                  const BakedMap& map, const std::vector<VertexRange>& mine) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Mesh& mesh = *map.mesh;
+  const BinaryPart part = binary_part(map, mine);
+  std::vector<std::int64_t> my_ranges;  // (begin, end, stored) triples
+  for (std::size_t i = 0; i < mine.size(); ++i)
+    my_ranges.insert(my_ranges.end(), {mine[i].begin, mine[i].end, part.stored[i]});
+  const std::vector<std::int64_t> all = comm.allgatherv(my_ranges);
+  const std::vector<std::uint8_t> flags = comm.gatherv(part.uniform);
+  std::vector<std::array<std::int64_t, 3>> ranges;
+  for (std::size_t i = 0; i + 2 < all.size(); i += 3)
+    ranges.push_back({all[i], all[i + 1], all[i + 2]});
+  const bool pos32 = positions_fit_float(mesh);
+  const std::int64_t nv = static_cast<std::int64_t>(mesh.positions.size());
+  const std::int64_t start =
+      binary_head_bytes(nv, static_cast<std::int64_t>(map.directions->size()), pos32);
+  std::vector<std::uint8_t> uniform(comm.is_root() ? static_cast<std::size_t>(nv) : 0);
+  std::size_t next_flag = 0;
+  for (const auto& r : ranges)  // gathered in the order of `all`
+    for (std::int64_t v = r[0]; v < r[1] && comm.is_root(); ++v) uniform[v] = flags[next_flag++];
+  std::sort(ranges.begin(), ranges.end());
+  std::vector<Piece> pieces;
+  std::int64_t at = start;
+  for (const auto& r : ranges) {
+    for (std::size_t i = 0; i < mine.size(); ++i) {
+      if (mine[i].begin != r[0]) continue;
+      std::int64_t skip = 0;
+      for (std::size_t k = 0; k < i; ++k) skip += part.stored[k];
+      add_pieces(pieces, at, part.colors.data() + skip * 12, r[2] * 12);
+    }
+    at += r[2] * 12;
+  }
+  std::string head, tail;
+  if (comm.is_root()) {
+    tail = binary_tail(mesh, at);
+    head = binary_head(map, uniform, (at - start) / 12, at + static_cast<std::int64_t>(tail.size()),
+                       pos32);
+    add_pieces(pieces, 0, head.data(), static_cast<std::int64_t>(head.size()));
+    add_pieces(pieces, at, tail.data(), static_cast<std::int64_t>(tail.size()));
+  }
+  WriteStats stats;
+  for (const Piece& p : pieces) stats.bytes_written += p.size;
+  stats.file_bytes = at + static_cast<std::int64_t>(comm.max(double(tail.size())));
+  write_pieces(comm, path, pieces, stats.file_bytes);
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return stats;
+}
+
+}  // namespace
+
+WriteStats write_baked_map(const Communicator& comm, const std::string& path, const BakedMap& map,
+                           const std::vector<VertexRange>& mine) {
+  if (is_binary_map_path(path)) return write_baked_map_binary(comm, path, map, mine);
+  const auto t0 = std::chrono::steady_clock::now();
+  WriteStats stats;
+  std::vector<std::string> texts;
+  texts.reserve(mine.size());
+  for (const VertexRange& r : mine) texts.push_back(format_vertex_range(map, r));
+  const std::string tail = comm.is_root() ? tail_text(*map.mesh) : std::string();
+
+  // Exclusive prefix sum of the block sizes, in vertex order, over every rank's blocks.
+  std::vector<std::int64_t> my_blocks;  // (begin, size) pairs
+  for (std::size_t i = 0; i < mine.size(); ++i) {
+    my_blocks.push_back(mine[i].begin);
+    my_blocks.push_back(static_cast<std::int64_t>(texts[i].size()));
+  }
+  std::vector<std::int64_t> all = comm.allgatherv(my_blocks);
+  std::vector<std::pair<std::int64_t, std::int64_t>> blocks;
+  for (std::size_t i = 0; i + 1 < all.size(); i += 2) blocks.emplace_back(all[i], all[i + 1]);
+  std::sort(blocks.begin(), blocks.end());
+  std::vector<Piece> pieces;
+  std::int64_t offset = 0;
+  for (const auto& b : blocks) {
+    for (std::size_t i = 0; i < mine.size(); ++i) {
+      if (mine[i].begin != b.first) continue;
+      for (std::int64_t o = 0; o < b.second; o += kMaxPiece)
+        pieces.push_back({offset + o, texts[i].data() + o, std::min(kMaxPiece, b.second - o)});
+    }
+    offset += b.second;
+  }
+  if (comm.is_root() && !tail.empty())
+    pieces.push_back({offset, tail.data(), static_cast<std::int64_t>(tail.size())});
+  stats.file_bytes = offset + static_cast<std::int64_t>(comm.max(double(tail.size())));
+  for (const Piece& p : pieces) stats.bytes_written += p.size;
+
+  write_pieces(comm, path, pieces, stats.file_bytes);
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return stats;
 }

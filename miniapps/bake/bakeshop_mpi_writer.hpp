@@ -5,7 +5,8 @@
 // padding and no post-processing pass (the seed stripped null bytes afterwards). The file is
 // written under a temporary name and renamed by rank 0 once every rank has closed it; without
 // MPI it is one sequential atomic write. Same bytes for any rank count. A .bsb path gets the
-// binary form instead (io/bakeshop_binary.hpp), written by rank 0.
+// binary form instead (io/bakeshop_binary.hpp's bytes): every rank writes its vertices'
+// colours, rank 0 the header, flags, directions, materials and faces.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -19,9 +20,9 @@ struct VertexRange {
   std::int64_t begin = 0, end = 0;
 };
 
-// The baked map as the writer sees it (host data). colors holds, for vertex v, entries
-// [color_offset[v], color_offset[v+1]): N view-dependent colours or 1 view-independent one
-// (expanded to N identical lines on output).
+// The baked map as the writer sees it (host data). colors holds, for each vertex v this rank
+// writes, entries [color_offset[v], color_offset[v+1]): N view-dependent colours or 1
+// view-independent one (expanded to N identical lines on output).
 struct BakedMap {
   const Mesh* mesh = nullptr;
   const std::vector<Vec3f>* colors = nullptr;

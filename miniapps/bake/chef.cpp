@@ -169,14 +169,45 @@ struct MirrorIteration {
   MapReader<LookupT> reader;
   Kokkos::View<Vec3*, MemSpace> positions, normal, diffuse, reflective, base, gather, views;
   Kokkos::View<int*, MemSpace> order;
-  Kokkos::View<std::int64_t*, MemSpace> color_offset;
+  Kokkos::View<std::int64_t*, MemSpace> color_offset;  // the map's offsets (MapLayout)
   Kokkos::View<CachedHit*, MemSpace> cache;
+  Kokkos::View<TracedHit*, MemSpace> traced;
   Kokkos::View<Vec3f*, MemSpace> next;
   std::int64_t vbegin, vend, item_begin, cache_offset;
   int iteration;
   bool with_gather;
   HitCacheMode cache_mode;
   Real coordinate_bound = 0;  // DeviceMesh::coordinate_bound, for offset_ray_origin
+
+  KOKKOS_INLINE_FUNCTION Hit mirror_hit(std::int64_t v, const Vec3& r, std::int64_t slot,
+                                        std::int64_t& rays) const {
+    Hit hit;
+    if (cache_mode == HitCacheMode::kUse) {
+      const CachedHit h = cache(slot);
+      hit.prim = h.prim;
+      hit.u = Real(h.u);
+      hit.v = Real(h.v);
+    } else if (cache_mode == HitCacheMode::kTraced) {
+      const TracedHit h = traced(slot);
+      hit.prim = h.prim;
+      hit.u = h.u;
+      hit.v = h.v;
+    } else {
+      Ray ray;
+      ray.org = offset_ray_origin(positions(v), normal(v), coordinate_bound);
+      ray.dir = r;
+      hit = bvh::closest_hit(accel, ray);
+      ++rays;
+      if (cache_mode == HitCacheMode::kFill) {
+        CachedHit h;
+        h.prim = hit.prim;
+        h.u = static_cast<float>(hit.u);
+        h.v = static_cast<float>(hit.v);
+        cache(slot) = h;
+      }
+    }
+    return hit;
+  }
 
   KOKKOS_INLINE_FUNCTION void operator()(std::int64_t item, std::int64_t& rays) const {
     const std::int64_t v = vertex_of_item(color_offset, vbegin, vend, item);
@@ -188,32 +219,50 @@ struct MirrorIteration {
       // Neighbouring work items take neighbouring directions: coherent traversal and lookups.
       const int view = order(item - first);
       out = first + view;
-      const Vec3 n = normal(v), d = views(view);
-      const Vec3 r = mirror_direction(d, n);
-      const std::int64_t slot = cache_offset + (item - item_begin);
-      Hit hit;
-      if (cache_mode == HitCacheMode::kUse) {
-        const CachedHit h = cache(slot);
-        hit.prim = h.prim;
-        hit.u = Real(h.u);
-        hit.v = Real(h.v);
-      } else {
-        Ray ray;
-        ray.org = offset_ray_origin(positions(v), n, coordinate_bound);
-        ray.dir = r;
-        hit = bvh::closest_hit(accel, ray);
-        ++rays;
-        if (cache_mode == HitCacheMode::kFill) {
-          CachedHit h;
-          h.prim = hit.prim;
-          h.u = static_cast<float>(hit.u);
-          h.v = static_cast<float>(hit.v);
-          cache(slot) = h;
-        }
-      }
+      const Vec3 r = mirror_direction(views(view), normal(v));
+      const Hit hit = mirror_hit(v, r, cache_offset + (item - item_begin), rays);
       c += reflective(v) * reader.read(hit.prim, hit.u, hit.v, r);
     }
     next(out) = Vec3f(c);
+  }
+};
+
+// The mirror rays of the view-dependent vertices of a batch, traced once (same directions,
+// order and cache slots as MirrorIteration) into the traced hits and the float cache.
+struct TraceMirrorHits {
+  Bvh accel;
+  Kokkos::View<Vec3*, MemSpace> positions, normal, views;
+  Kokkos::View<int*, MemSpace> order;
+  Kokkos::View<std::int64_t*, MemSpace> color_offset;
+  Kokkos::View<CachedHit*, MemSpace> cache;
+  Kokkos::View<TracedHit*, MemSpace> traced;
+  std::int64_t vbegin, vend, item_begin, cache_offset;
+  Real coordinate_bound;  // DeviceMesh::coordinate_bound, for offset_ray_origin
+
+  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t item, std::int64_t& rays) const {
+    const std::int64_t v = vertex_of_item(color_offset, vbegin, vend, item);
+    const std::int64_t first = color_offset(v);
+    const std::int64_t slot = cache_offset + (item - item_begin);
+    TracedHit t;
+    if (color_offset(v + 1) - first > 1) {
+      const Vec3 n = normal(v);
+      Ray ray;
+      ray.org = offset_ray_origin(positions(v), n, coordinate_bound);
+      ray.dir = mirror_direction(views(order(item - first)), n);
+      const Hit hit = bvh::closest_hit(accel, ray);
+      ++rays;
+      t.prim = hit.prim;
+      t.u = hit.u;
+      t.v = hit.v;
+      if (cache.extent(0) > 0) {
+        CachedHit h;
+        h.prim = hit.prim;
+        h.u = static_cast<float>(hit.u);
+        h.v = static_cast<float>(hit.v);
+        cache(slot) = h;
+      }
+    }
+    traced(slot) = t;
   }
 };
 
@@ -240,7 +289,7 @@ Kokkos::View<int*, MemSpace> coherent_order(int n) {
 
 struct TraceReference {
   ReferenceTracer tracer;
-  Kokkos::View<std::int64_t*, MemSpace> color_offset;
+  Kokkos::View<std::int64_t*, MemSpace> color_offset;  // the output's offsets (MapLayout)
   Kokkos::View<Vec3*, MemSpace> views;
   Kokkos::View<Vec3f*, MemSpace> out;
   std::int64_t vbegin, vend;
@@ -256,7 +305,7 @@ struct TraceReference {
 }  // namespace
 
 Chef::Chef(const BakeSceneDevice& scene, const BakeConfig& config, std::int64_t local_items)
-    : scene_(scene), config_(config) {
+    : scene_(scene), config_(config), map_offset_(scene.color_offset), local_items_(local_items) {
   const std::size_t nv = scene.normal.extent(0);
   base_ = Kokkos::View<Vec3*, MemSpace>("rtmini::bake::base", nv);
   if (config.gather_rays > 0) gather_ = Kokkos::View<Vec3*, MemSpace>("rtmini::bake::gather", nv);
@@ -292,10 +341,135 @@ std::int64_t Chef::trace_reference(std::int64_t begin, std::int64_t end,
                                base_,
                                Vec3(config_.background),
                                scene_.mesh.coordinate_bound};
-  const TraceReference k{tracer, scene_.color_offset, scene_.viewpoints, out, begin,
-                         end,    config_.iterations};
-  return trace_items("rtmini::bake::trace_reference", item_range(scene_.color_offset, begin, end),
-                     k);
+  const TraceReference k{tracer, map_offset_, scene_.viewpoints, out,
+                         begin,  end,         config_.iterations};
+  return trace_items("rtmini::bake::trace_reference", item_range(map_offset_, begin, end), k);
+}
+
+ReadCount Chef::trace_mirror_hits(std::int64_t begin, std::int64_t end, std::int64_t cache_offset,
+                                  Kokkos::View<const char*, MemSpace> owned,
+                                  Kokkos::View<char*, MemSpace> read) {
+  if (traced_.extent(0) == 0)
+    traced_ = Kokkos::View<TracedHit*, MemSpace>("rtmini::bake::traced_hits", local_items_);
+  const ItemRange items = item_range(scene_.color_offset, begin, end);
+  const TraceMirrorHits k{scene_.mesh.accel,
+                          scene_.mesh.positions,
+                          scene_.normal,
+                          scene_.viewpoints,
+                          order_,
+                          scene_.color_offset,
+                          cache_,
+                          traced_,
+                          begin,
+                          end,
+                          items.first,
+                          cache_offset,
+                          scene_.mesh.coordinate_bound};
+  ReadCount count;
+  count.rays = trace_items("rtmini::bake::trace_mirror_hits", items, k);
+  // Which vertices the hits read (flags: any rank writing 1 is enough), and how many are remote.
+  auto traced = traced_;
+  auto tri_vertices = scene_.mesh.tri_vertices;
+  const std::int64_t first_slot = cache_offset;
+  double reads = 0, remote = 0;
+  Kokkos::parallel_reduce(
+      "rtmini::bake::mark_read_vertices",
+      Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(0, items.end - items.first),
+      KOKKOS_LAMBDA(std::int64_t i, double& n, double& r) {
+        const int prim = traced(first_slot + i).prim;
+        if (prim < 0) return;
+        for (int k3 = 0; k3 < 3; ++k3) {
+          const int vert = tri_vertices(prim, k3);
+          read(vert) = 1;
+          n += 1;
+          if (!owned(vert)) r += 1;
+        }
+      },
+      reads, remote);
+  count.reads = static_cast<std::int64_t>(reads);
+  count.remote_reads = static_cast<std::int64_t>(remote);
+  return count;
+}
+
+namespace {
+// The remote colours the lookups at a batch's traced hits read (see Chef::mark_read_items).
+template <class LookupT>
+struct MarkReadItems {
+  LookupT lookup;
+  Real radius;
+  Kokkos::View<int* [3], MemSpace> tri_vertices;
+  Kokkos::View<Vec3*, MemSpace> normal, views;
+  Kokkos::View<int*, MemSpace> order;
+  Kokkos::View<std::int64_t*, MemSpace> color_offset, map_offset;
+  Kokkos::View<TracedHit*, MemSpace> traced;
+  Kokkos::View<const char*, MemSpace> owned;
+  Kokkos::View<char*, MemSpace> items;
+  std::int64_t vbegin, vend, item_begin, cache_offset;
+
+  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t item) const {
+    const std::int64_t v = vertex_of_item(color_offset, vbegin, vend, item);
+    const std::int64_t first = color_offset(v);
+    const int prim = traced(cache_offset + (item - item_begin)).prim;
+    if (prim < 0 || color_offset(v + 1) - first <= 1) return;
+    const Vec3 r = mirror_direction(views(order(item - first)), normal(v));
+    ViewNeighbors nb;
+    bool have_nb = false;
+    for (int k = 0; k < 3; ++k) {
+      const int vert = tri_vertices(prim, k);
+      if (owned(vert)) continue;
+      const std::int64_t at = map_offset(vert);
+      if (color_offset(vert + 1) - color_offset(vert) == 1) {
+        items(at) = 1;
+        continue;
+      }
+      if (!have_nb) {
+        nb = lookup.neighbors(r, radius);
+        have_nb = true;
+      }
+      for (int j = 0; j < nb.count; ++j) items(at + nb.index[j]) = 1;
+    }
+  }
+};
+
+template <class LookupT>
+void mark_read_items_with(const LookupT& lookup, const BakeSceneDevice& s, const BakeConfig& cfg,
+                          Kokkos::View<int*, MemSpace> order,
+                          Kokkos::View<std::int64_t*, MemSpace> map_offset,
+                          Kokkos::View<TracedHit*, MemSpace> traced, std::int64_t begin,
+                          std::int64_t end, std::int64_t cache_offset,
+                          Kokkos::View<const char*, MemSpace> owned,
+                          Kokkos::View<char*, MemSpace> items) {
+  const ItemRange r = item_range(s.color_offset, begin, end);
+  const MarkReadItems<LookupT> k{lookup,
+                                 fibonacci_radius(cfg.viewpoints),
+                                 s.mesh.tri_vertices,
+                                 s.normal,
+                                 s.viewpoints,
+                                 order,
+                                 s.color_offset,
+                                 map_offset,
+                                 traced,
+                                 owned,
+                                 items,
+                                 begin,
+                                 end,
+                                 r.first,
+                                 cache_offset};
+  Kokkos::parallel_for("rtmini::bake::mark_read_items",
+                       Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(r.first, r.end),
+                       k);
+}
+}  // namespace
+
+void Chef::mark_read_items(std::int64_t begin, std::int64_t end, std::int64_t cache_offset,
+                           Kokkos::View<const char*, MemSpace> owned,
+                           Kokkos::View<char*, MemSpace> items) const {
+  if (config_.lookup == Lookup::kKdTree)
+    mark_read_items_with(kdtree_, scene_, config_, order_, map_offset_, traced_, begin, end,
+                         cache_offset, owned, items);
+  else
+    mark_read_items_with(inverse_, scene_, config_, order_, map_offset_, traced_, begin, end,
+                         cache_offset, owned, items);
 }
 
 namespace {
@@ -382,13 +556,15 @@ template <class LookupT>
 std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, const LookupT& lookup,
                            Kokkos::View<Vec3*, MemSpace> base, Kokkos::View<Vec3*, MemSpace> gather,
                            Kokkos::View<CachedHit*, MemSpace> cache,
+                           Kokkos::View<TracedHit*, MemSpace> traced,
+                           Kokkos::View<std::int64_t*, MemSpace> map_offset,
                            Kokkos::View<int*, MemSpace> order, int it, std::int64_t begin,
                            std::int64_t end, std::int64_t cache_offset, HitCacheMode mode,
                            Kokkos::View<const Vec3f*, MemSpace> prev,
                            Kokkos::View<Vec3f*, MemSpace> next) {
   const Vec3f bg = cfg.background;
   MapReader<LookupT> reader{s.mesh.tri_vertices,
-                            s.color_offset,
+                            map_offset,
                             prev,
                             s.emissive,
                             lookup,
@@ -408,15 +584,30 @@ std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, cons
                             g, r);
     rays += r;
   }
-  const ItemRange items = item_range(s.color_offset, begin, end);
+  const ItemRange items = item_range(map_offset, begin, end);
   const std::int64_t item_begin = items.first;
-  MirrorIteration<LookupT> m{s.mesh.accel, reader,         s.mesh.positions,
-                             s.normal,     s.diffuse,      s.reflective,
-                             base,         gather,         s.viewpoints,
-                             order,        s.color_offset, cache,
-                             next,         begin,          end,
-                             item_begin,   cache_offset,   it,
-                             with_gather,  mode,           s.mesh.coordinate_bound};
+  MirrorIteration<LookupT> m{s.mesh.accel,
+                             reader,
+                             s.mesh.positions,
+                             s.normal,
+                             s.diffuse,
+                             s.reflective,
+                             base,
+                             gather,
+                             s.viewpoints,
+                             order,
+                             map_offset,
+                             cache,
+                             traced,
+                             next,
+                             begin,
+                             end,
+                             item_begin,
+                             cache_offset,
+                             it,
+                             with_gather,
+                             mode,
+                             s.mesh.coordinate_bound};
   return rays + trace_items("rtmini::bake::shade", items, m);
 }
 }  // namespace
@@ -425,12 +616,14 @@ std::int64_t Chef::bake_iteration(int it, std::int64_t begin, std::int64_t end,
                                   std::int64_t cache_offset, HitCacheMode cache,
                                   Kokkos::View<const Vec3f*, MemSpace> prev,
                                   Kokkos::View<Vec3f*, MemSpace> next) {
-  if (cache != HitCacheMode::kOff && cache_.extent(0) == 0) cache = HitCacheMode::kOff;
+  if (cache == HitCacheMode::kTraced ? traced_.extent(0) == 0
+                                     : cache != HitCacheMode::kOff && cache_.extent(0) == 0)
+    cache = HitCacheMode::kOff;
   if (config_.lookup == Lookup::kKdTree)
-    return run_iteration(scene_, config_, kdtree_, base_, gather_, cache_, order_, it, begin, end,
-                         cache_offset, cache, prev, next);
-  return run_iteration(scene_, config_, inverse_, base_, gather_, cache_, order_, it, begin, end,
-                       cache_offset, cache, prev, next);
+    return run_iteration(scene_, config_, kdtree_, base_, gather_, cache_, traced_, map_offset_,
+                         order_, it, begin, end, cache_offset, cache, prev, next);
+  return run_iteration(scene_, config_, inverse_, base_, gather_, cache_, traced_, map_offset_,
+                       order_, it, begin, end, cache_offset, cache, prev, next);
 }
 
 }  // namespace rtmini::bake

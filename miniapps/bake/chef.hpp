@@ -19,7 +19,23 @@ struct CachedHit {
   float u = 0.f, v = 0.f;
 };
 
-enum class HitCacheMode { kOff, kFill, kUse };
+// A mirror hit at full precision, traced once before the iterations (the owner-computes map
+// needs every hit up front to know which remote colours a rank reads). The first mirror
+// iteration shades from it, exactly as from a fresh trace; later ones read the float cache, as
+// before.
+struct TracedHit {
+  int prim = -1;
+  Real u = 0, v = 0;
+};
+
+// kTraced: shade from the traced hits (Chef::trace_mirror_hits).
+enum class HitCacheMode { kOff, kFill, kUse, kTraced };
+
+// What one rank's mirror rays read: colour reads (three hit-triangle vertices per hit) and those
+// of vertices another rank owns.
+struct ReadCount {
+  std::int64_t rays = 0, reads = 0, remote_reads = 0;
+};
 
 class Chef {
  public:
@@ -29,8 +45,28 @@ class Chef {
   // Base colours (emission + direct diffuse) of vertices [begin, end); returns shadow rays.
   std::int64_t bake_base(std::int64_t begin, std::int64_t end);
 
-  // Colours of iteration `it` for vertices [begin, end) into next (global item order), from
-  // prev (the full map of iteration it - 1). cache_offset: the batch's first slot in the
+  // Where each vertex's colours sit in the maps given to bake_iteration / trace_reference
+  // (MapLayout::device); the scene's global offsets until set.
+  void set_map_offset(Kokkos::View<std::int64_t*, MemSpace> offset) { map_offset_ = offset; }
+
+  // Traces the mirror rays of vertices [begin, end) once, keeps the hits (and fills the hit
+  // cache), flags in `read` every vertex a hit reads and counts the reads of vertices that are
+  // not `owned`.
+  ReadCount trace_mirror_hits(std::int64_t begin, std::int64_t end, std::int64_t cache_offset,
+                              Kokkos::View<const char*, MemSpace> owned,
+                              Kokkos::View<char*, MemSpace> read);
+  // After trace_mirror_hits and set_map_offset: flags in `items` (one per entry of the map
+  // layout) every colour of a vertex that is not `owned` that the lookups at the traced hits
+  // of vertices [begin, end) read: the remote colours this rank needs, entry by entry.
+  void mark_read_items(std::int64_t begin, std::int64_t end, std::int64_t cache_offset,
+                       Kokkos::View<const char*, MemSpace> owned,
+                       Kokkos::View<char*, MemSpace> items) const;
+  bool has_traced_hits() const { return traced_.extent(0) > 0; }
+  bool has_hit_cache() const { return cache_.extent(0) > 0; }
+  void release_traced_hits() { traced_ = Kokkos::View<TracedHit*, MemSpace>(); }
+
+  // Colours of iteration `it` for vertices [begin, end) into next (map-offset order), from
+  // prev (every colour iteration it - 1 reads). cache_offset: the batch's first slot in the
   // rank's hit cache. Returns rays traced.
   std::int64_t bake_iteration(int it, std::int64_t begin, std::int64_t end,
                               std::int64_t cache_offset, HitCacheMode cache,
@@ -38,8 +74,8 @@ class Chef {
                               Kokkos::View<Vec3f*, MemSpace> next);
 
   // The traced reference (reference_tracer.hpp) of vertices [begin, end) into out (global item
-  // order): config.iterations mirror iterations, no map lookups. Needs bake_base first.
-  // Returns mirror rays traced.
+  // order, by the map offset): config.iterations mirror iterations, no map lookups. Needs bake_base
+  // first. Returns mirror rays traced.
   std::int64_t trace_reference(std::int64_t begin, std::int64_t end,
                                Kokkos::View<Vec3f*, MemSpace> out);
 
@@ -61,6 +97,9 @@ class Chef {
   Kokkos::View<Vec3*, MemSpace> base_;    // per vertex (only this rank's are filled)
   Kokkos::View<Vec3*, MemSpace> gather_;  // per vertex, current iteration's diffuse gather
   Kokkos::View<CachedHit*, MemSpace> cache_;
+  Kokkos::View<TracedHit*, MemSpace> traced_;
+  Kokkos::View<std::int64_t*, MemSpace> map_offset_;
+  std::int64_t local_items_ = 0;
   Kokkos::View<int*, MemSpace> order_;  // viewpoints in a direction-coherent order
   FibonacciKdTree<MemSpace> kdtree_;
   FibonacciInverse<MemSpace> inverse_;

@@ -1,5 +1,6 @@
 #include "kitchen.hpp"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <memory>
 #include <sstream>
 
 #include "bakeshop_mpi_writer.hpp"
@@ -15,6 +17,8 @@
 #include "chef.hpp"
 #include "iteration_eta.hpp"
 #include "map_errors.hpp"
+#include "map_exchange.hpp"
+#include "rtmini/bvh/build_lbvh.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/obj_reader.hpp"
 #include "rtmini/io/timings.hpp"
@@ -29,6 +33,13 @@ namespace rtmini::bake {
 namespace {
 
 using Exec = Kokkos::DefaultExecutionSpace;
+
+// This process's peak resident set (Linux reports KiB).
+double peak_rss_bytes() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_maxrss) * 1024.0;
+}
 
 std::string human_bytes(double b) {
   const char* unit[] = {"B", "KiB", "MiB", "GiB", "TiB"};
@@ -55,20 +66,23 @@ std::string parameter_hash(const BakeConfig& c) {
   return hash_hex(fnv1a(params.data(), params.size(), fnv1a(bytes.data(), bytes.size())));
 }
 
+// local_colors: the colours this rank's map holds (owned + halo; the halo is known only after
+// the mirror rays are traced, so the caller passes its best bound).
 MemoryEstimate estimate_memory(const Mesh& mesh, const BakeSceneHost& s, std::int64_t my_items,
-                               std::int64_t my_vertices, int iterations, const BakeConfig& c,
-                               bool root) {
+                               std::int64_t my_vertices, std::int64_t local_colors, int iterations,
+                               const BakeConfig& c, bool root) {
   MemoryEstimate m;
   const std::int64_t nv = s.vertices(), nt = static_cast<std::int64_t>(mesh.triangle_count());
   const std::int64_t vec = sizeof(Vec3), col = sizeof(Vec3f);
   // Mesh SoA + BVH (about 2 nodes per leaf triangle group, the triangles again in leaf order).
   m.scene = nv * (vec * 6 + 8) + nt * (3 * vec * 2 + 4 * 6) + nt * sizeof(bvh::BvhNode) +
             static_cast<std::int64_t>(c.viewpoints) * (vec * 2 + 8);
-  m.maps = 2 * s.colors() * col;                                  // prev + next on the device
-  m.host = 2 * s.colors() * col + my_items * col;                 // map, gathered, packed
-  m.host += my_vertices * c.viewpoints * 60;                      // formatted output text
-  if (root && !c.checkpoint.empty()) m.host += s.colors() * col;  // checkpoint copy
-  if (!c.reference.empty()) m.host += nv * c.viewpoints * col;    // the reference's colours
+  m.maps = 2 * local_colors * col;                   // prev + next on the device
+  m.host = local_colors * col + 2 * my_items * col;  // local map, exchange buffers
+  m.host += my_vertices * c.viewpoints * 60;         // formatted output text
+  // The root holds the whole map once for a checkpoint or a comparison.
+  if (root && (!c.checkpoint.empty() || !c.reference.empty())) m.host += s.colors() * col;
+  if (!c.reference.empty()) m.host += nv * c.viewpoints * col;  // the reference's colours
   if (c.cache_hits && iterations > 1) m.hit_cache = Chef::hit_cache_bytes(my_items);
   return m;
 }
@@ -77,19 +91,21 @@ KOKKOS_INLINE_FUNCTION std::int64_t quantise(float x) {
   return static_cast<std::int64_t>(math::floor(double(x) * 65536.0 + 0.5));
 }
 
-// Order-independent hash over (vertex, viewpoint, quantised colour) of this rank's vertices.
-// Copies a device map into the host map (sizes match).
+// Copies a device map into the host map (sized to match).
 void download(Kokkos::View<const Vec3f*, MemSpace> from, std::vector<Vec3f>& to) {
+  to.resize(from.extent(0));
   Kokkos::deep_copy(
       Kokkos::View<Vec3f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(to.data(),
                                                                                        to.size()),
       from);
 }
 
-std::uint64_t map_hash(const BakeSceneDevice& s, Kokkos::View<const Vec3f*, MemSpace> map,
-                       const std::vector<Batch>& batches, int rank, int n) {
+// Order-independent hash over (vertex, viewpoint, quantised colour) of this rank's vertices;
+// `off`: where each vertex's colours sit in `map`.
+std::uint64_t map_hash(Kokkos::View<const std::int64_t*, MemSpace> off,
+                       Kokkos::View<const Vec3f*, MemSpace> map, const std::vector<Batch>& batches,
+                       int rank, int n) {
   std::uint64_t total = 0;
-  auto off = s.color_offset;
   for (const Batch& b : batches) {
     if (b.rank != rank) continue;
     std::uint64_t h = 0;
@@ -139,7 +155,7 @@ void print_errors(const char* what, const MapErrors& e) {
 
 struct IterationRecord {
   double trace = 0, allgather = 0, write = 0;
-  std::int64_t allgather_bytes = 0;
+  std::int64_t allgather_bytes = 0;  // the map exchange's bytes sent by this rank
 };
 
 struct ChunkRecord {
@@ -147,20 +163,26 @@ struct ChunkRecord {
   double start, end;
 };
 
+// The per-rank totals of a run: completion and idle time, rays and work.
+struct RankTotals {
+  double completion = 0, idle = 0;
+  std::int64_t rays = 0, work = 0;
+};
+
 void write_timings_file(const Communicator& comm, const BakeConfig& c, const PhaseTimer& timer,
                         const std::vector<std::string>& phase_names,
                         const std::vector<IterationRecord>& iters,
-                        const std::vector<ChunkRecord>& chunks, double completion, double idle,
-                        std::int64_t rays, std::int64_t work, const std::string& params_json) {
+                        const std::vector<ChunkRecord>& chunks, const RankTotals& totals,
+                        const std::string& params_json) {
   RankTimings mine;
   for (const auto& ch : chunks)
     mine.chunks.push_back({ch.iteration, ch.work_units, ch.rays, ch.start, ch.end});
   for (const auto& r : iters)
     mine.iterations.push_back({r.trace, r.allgather, r.write, r.allgather_bytes});
-  mine.completion = completion;
-  mine.idle = idle;
-  mine.rays = rays;
-  mine.work_units = work;
+  mine.completion = totals.completion;
+  mine.idle = totals.idle;
+  mine.rays = totals.rays;
+  mine.work_units = totals.work;
   write_rank_timings(c.timings, comm, timer, mine,
                      {"bake", to_string(c.balance), c.input, params_json, phase_names});
 }
@@ -195,342 +217,605 @@ std::vector<Batch> make_batches(const BakeSceneHost& scene, int ranks, Balance b
   return out;
 }
 
-int run_bake(Communicator& comm, const BakeConfig& c) {
-  RunReport report;
-  report.app = "bake";
-  PhaseTimer& timer = report.timer;
-  const bool root = comm.is_root();
-  const bool progress = c.progress || ::isatty(2);
-  install_stop_handlers();
+std::vector<Batch> make_spatial_batches(const BakeSceneHost& scene,
+                                        const std::vector<Vec3d>& positions, int ranks,
+                                        std::int64_t block_size) {
+  const std::int64_t nv = scene.vertices();
+  if (nv == 0) return {};
+  const std::int64_t b =
+      block_size > 0 ? block_size : std::max<std::int64_t>(64, nv / (16 * ranks));
+  const std::int64_t count = (nv + b - 1) / b;
+  std::vector<Vec3> centre(static_cast<std::size_t>(count), Vec3(Real(0)));
+  Vec3 lo(Real(1e30)), hi(Real(-1e30));
+  for (std::int64_t k = 0; k < count; ++k) {
+    const std::int64_t end = std::min(nv, (k + 1) * b);
+    for (std::int64_t v = k * b; v < end; ++v)
+      centre[k] += Vec3(Real(positions[v].x), Real(positions[v].y), Real(positions[v].z));
+    centre[k] = centre[k] * (Real(1) / Real(end - k * b));
+    lo = vmin(lo, centre[k]);
+    hi = vmax(hi, centre[k]);
+  }
+  const Vec3 ext = hi - lo;
+  const Vec3 inv(ext.x > 0 ? 1 / ext.x : 0, ext.y > 0 ? 1 / ext.y : 0, ext.z > 0 ? 1 / ext.z : 0);
+  std::vector<std::uint64_t> key(static_cast<std::size_t>(count));
+  for (std::int64_t k = 0; k < count; ++k)
+    key[k] = bvh::detail::morton_key((centre[k] - lo) * inv, static_cast<std::uint32_t>(k));
+  std::sort(key.begin(), key.end());
+  // A block goes to the rank whose share of the total cost holds the block's middle.
+  const double total = static_cast<double>(scene.colors());
+  std::vector<Batch> out;
+  double before = 0;
+  for (std::uint64_t kk : key) {
+    const std::int64_t k = static_cast<std::int64_t>(kk & 0xffffffffULL);
+    const std::int64_t begin = k * b, end = std::min(nv, (k + 1) * b);
+    const double cost = static_cast<double>(scene.color_offset[end] - scene.color_offset[begin]);
+    const int rank = std::min(ranks - 1, static_cast<int>((before + cost / 2) * ranks / total));
+    out.push_back({begin, end, rank});
+    before += cost;
+  }
+  std::sort(out.begin(), out.end(),
+            [](const Batch& x, const Batch& y) { return x.begin < y.begin; });
+  std::vector<Batch> merged;
+  for (const Batch& x : out) {
+    if (!merged.empty() && merged.back().rank == x.rank && merged.back().end == x.begin)
+      merged.back().end = x.end;
+    else
+      merged.push_back(x);
+  }
+  return merged;
+}
 
-  timer.start("read");
-  const Mesh mesh = read_mesh(c.input);
-  timer.stop();
-  if (mesh.positions.empty() || mesh.faces.empty())
-    throw InputError(c.input, 0, "the scene has no vertices or no faces");
-  check_representable(bounds_of(mesh.positions), bounds_of(mesh.positions).centre(), c.input);
+namespace {
 
-  timer.start("setup");
-  const BakeSceneHost host = prepare_bake_scene(mesh, c.viewpoints, c.all_view_dependent);
-  const bool needs_iterations = host.reflective_vertices > 0 || c.gather_rays > 0;
+// How this rank's map is laid out and refreshed: which vertices it holds besides its own.
+enum class Halo {
+  kAll,     // one rank, or diffuse gather rays (they may read any vertex): the whole map
+  kOwned,   // nothing is read across ranks (no iterations, or the traced reference)
+  kTraced,  // the vertices the traced mirror hits read
+};
+
+// One bake from reading the scene to the report: the state each phase hands the next.
+class BakeRun {
+ public:
+  BakeRun(Communicator& comm, const BakeConfig& c) : comm_(comm), c_(c), root_(comm.is_root()) {}
+  int run();
+
+ private:
+  void read();
+  void plan();
+  nlohmann::json parameters() const;
+  void print_banner(const MemoryEstimate& mem, double max_mem) const;
+  bool check_memory();
+  void setup();
+  void plan_map();
+  void trace_halo(std::vector<char>& present);
+  std::vector<std::int64_t> halo_entries(const std::vector<char>& present) const;
+  void bake_base();
+  void restart();
+  int iterate();
+  HitCacheMode hit_mode(int it) const;
+  std::int64_t trace(int it, Kokkos::View<Vec3f*, MemSpace> out);
+  void report_progress(int it, std::int64_t entries_done);
+  void report_stopped(int it);
+  void exchange(IterationRecord& rec);
+  void checkpoint(int it);
+  bool stop_after(int it, double t0);
+  std::vector<Vec3f> global_map();
+  void write();
+  void compare();
+  void report_results();
+
+  Communicator& comm_;
+  const BakeConfig& c_;
+  const bool root_;
+  RunReport report_;
+  PhaseTimer& timer_ = report_.timer;
+
+  Mesh mesh_;
+  BakeSceneHost host_;
+  int iterations_ = 0;
+  bool needs_iterations_ = false;
+  Halo halo_ = Halo::kAll;
+  std::vector<Batch> batches_;
+  std::vector<int> owner_;  // rank of each vertex
+  std::vector<VertexRange> my_ranges_;
+  std::vector<std::int64_t> my_cache_offset_;
+  std::int64_t my_items_ = 0, my_vertices_ = 0;
+  nlohmann::json params_;
+  std::string phash_;
+  Checkpoint restart_cp_;
+  ReferenceMap reference_;
+
+  std::unique_ptr<BakeSceneDevice> scene_;
+  std::unique_ptr<Chef> chef_;
+  MapLayout layout_;
+  std::unique_ptr<MapExchange> exchange_;
+  Kokkos::View<char*, MemSpace> owned_;  // per vertex, with the traced halo
+  ReadCount reads_;
+  Kokkos::View<Vec3f*, MemSpace> prev_, next_;
+  std::vector<Vec3f> map_;  // host copy of the local map (checkpoints, output)
+
+  int first_ = 0;
+  std::vector<IterationRecord> iter_records_;
+  std::vector<ChunkRecord> chunks_;
+  RankTotals totals_;
+  WriteStats written_;
+  // Rank 0's own colour entries stand for the whole run (the batches are cut to equal cost).
+  std::unique_ptr<ProgressLine> progress_line_;
+  IterationEta eta_;
+  double iterate_start_ = 0;
+};
+
+void BakeRun::read() {
+  timer_.start("read");
+  mesh_ = read_mesh(c_.input);
+  timer_.stop();
+  if (mesh_.positions.empty() || mesh_.faces.empty())
+    throw InputError(c_.input, 0, "the scene has no vertices or no faces");
+  check_representable(bounds_of(mesh_.positions), bounds_of(mesh_.positions).centre(), c_.input);
+}
+
+// The colour layout, the iteration count, the vertex batches and who owns which vertex.
+void BakeRun::plan() {
+  host_ = prepare_bake_scene(mesh_, c_.viewpoints, c_.all_view_dependent);
+  needs_iterations_ = host_.reflective_vertices > 0 || c_.gather_rays > 0;
   // The traced reference is one pass (it follows the K mirror bounces itself).
-  const int iterations = needs_iterations && !c.trace_reference ? c.iterations : 0;
-  const std::vector<Batch> batches = make_batches(host, comm.size(), c.balance, c.batch_size);
-  std::vector<VertexRange> my_ranges;
-  std::vector<std::int64_t> my_cache_offset;
-  std::int64_t my_items = 0, my_vertices = 0;
-  for (const Batch& b : batches) {
-    if (b.rank != comm.rank()) continue;
-    my_vertices += b.end - b.begin;
-    my_ranges.push_back({b.begin, b.end});
-    my_cache_offset.push_back(my_items);
-    my_items += host.color_offset[b.end] - host.color_offset[b.begin];
+  iterations_ = needs_iterations_ && !c_.trace_reference ? c_.iterations : 0;
+  batches_ = c_.balance == Balance::kSpatial
+                 ? make_spatial_batches(host_, mesh_.positions, comm_.size(), c_.batch_size)
+                 : make_batches(host_, comm_.size(), c_.balance, c_.batch_size);
+  owner_.assign(static_cast<std::size_t>(host_.vertices()), 0);
+  for (const Batch& b : batches_) {
+    std::fill(owner_.begin() + b.begin, owner_.begin() + b.end, b.rank);
+    if (b.rank != comm_.rank()) continue;
+    my_vertices_ += b.end - b.begin;
+    my_ranges_.push_back({b.begin, b.end});
+    my_cache_offset_.push_back(my_items_);
+    my_items_ += host_.color_offset[b.end] - host_.color_offset[b.begin];
   }
+  if (comm_.size() == 1 || (c_.gather_rays > 0 && iterations_ > 0))
+    halo_ = Halo::kAll;
+  else if (iterations_ == 0)
+    halo_ = Halo::kOwned;
+  else
+    halo_ = Halo::kTraced;
+  params_ = parameters();
+  report_.parameters = params_;
+  report_.scene = {
+      {"vertices", host_.vertices()},          {"faces", mesh_.faces.size()},
+      {"triangles", mesh_.triangle_count()},   {"reflective_vertices", host_.reflective_vertices},
+      {"emissive_faces", host_.lights.size()}, {"colors", host_.colors()}};
+}
+
+nlohmann::json BakeRun::parameters() const {
+  return {{"input", c_.input},
+          {"output", c_.output},
+          {"viewpoints", c_.viewpoints},
+          {"iterations", c_.iterations},
+          {"shadow_samples", c_.shadow_samples},
+          {"gather_rays", c_.gather_rays},
+          {"seed", c_.seed},
+          {"lookup", to_string(c_.lookup)},
+          {"balance", to_string(c_.balance)},
+          {"batch_size", c_.batch_size},
+          {"batches", batches_.size()},
+          {"bvh", c_.sah ? "sah" : "lbvh"},
+          {"background", {c_.background.x, c_.background.y, c_.background.z}},
+          {"max_memory", c_.max_memory},
+          {"time_limit_minutes", c_.time_limit_minutes},
+          {"hit_cache", c_.cache_hits},
+          {"all_view_dependent", c_.all_view_dependent},
+          {"checkpoint", c_.checkpoint},
+          {"restart", c_.restart},
+          {"reference", c_.reference},
+          {"trace_reference", c_.trace_reference}};
+}
+
+void BakeRun::print_banner(const MemoryEstimate& mem, double max_mem) const {
+  std::printf("%s\n", build_banner().c_str());
+  std::printf("bake: view-dependent ray-trace map (Robinson & Jacoby-Cooper), %d rank(s)\n",
+              comm_.size());
+  for (auto it = params_.begin(); it != params_.end(); ++it)
+    std::printf("  %-20s %s\n", it.key().c_str(), it.value().dump().c_str());
+  std::printf("  scene: %lld vertices (%lld reflective), %zu faces, %zu triangles, %zu lights\n",
+              static_cast<long long>(host_.vertices()),
+              static_cast<long long>(host_.reflective_vertices), mesh_.faces.size(),
+              mesh_.triangle_count(), host_.lights.size());
+  std::printf("  colour map: %lld entries (view-independent vertices keep one colour)\n",
+              static_cast<long long>(host_.colors()));
+  if (c_.trace_reference)
+    std::printf("  traced reference: %d mirror bounces traced per colour, no map lookups\n",
+                needs_iterations_ ? c_.iterations : 0);
+  if (!needs_iterations_ && c_.iterations > 0)
+    std::printf("  note: no reflective vertex and no gather rays: iterations 1..%d skipped\n",
+                c_.iterations);
+  if (host_.lights.empty()) std::printf("  note: no emissive faces: no shadow rays\n");
+  std::printf(
+      "  memory estimate (max over ranks): %s (scene %s, maps %s, hit cache %s, host %s)%s\n",
+      human_bytes(max_mem).c_str(), human_bytes(double(mem.scene)).c_str(),
+      human_bytes(double(mem.maps)).c_str(), human_bytes(double(mem.hit_cache)).c_str(),
+      human_bytes(double(mem.host)).c_str(),
+      halo_ == Halo::kTraced ? " + the halo (known after the mirror trace)" : "");
+  std::fflush(stdout);
+}
+
+// Prints the banner and refuses a run over --max-memory (false: exit 3).
+bool BakeRun::check_memory() {
+  const std::int64_t local = halo_ == Halo::kAll ? host_.colors() : my_items_;
   const MemoryEstimate mem =
-      estimate_memory(mesh, host, my_items, my_vertices, iterations, c, root);
-  const double max_mem = comm.max(static_cast<double>(mem.total()));
-
-  nlohmann::json params = {{"input", c.input},
-                           {"output", c.output},
-                           {"viewpoints", c.viewpoints},
-                           {"iterations", c.iterations},
-                           {"shadow_samples", c.shadow_samples},
-                           {"gather_rays", c.gather_rays},
-                           {"seed", c.seed},
-                           {"lookup", to_string(c.lookup)},
-                           {"balance", to_string(c.balance)},
-                           {"batch_size", c.batch_size},
-                           {"batches", batches.size()},
-                           {"bvh", c.sah ? "sah" : "lbvh"},
-                           {"background", {c.background.x, c.background.y, c.background.z}},
-                           {"max_memory", c.max_memory},
-                           {"time_limit_minutes", c.time_limit_minutes},
-                           {"hit_cache", c.cache_hits},
-                           {"all_view_dependent", c.all_view_dependent},
-                           {"checkpoint", c.checkpoint},
-                           {"restart", c.restart},
-                           {"reference", c.reference},
-                           {"trace_reference", c.trace_reference}};
-  report.parameters = params;
-  report.scene = {
-      {"vertices", host.vertices()},          {"faces", mesh.faces.size()},
-      {"triangles", mesh.triangle_count()},   {"reflective_vertices", host.reflective_vertices},
-      {"emissive_faces", host.lights.size()}, {"colors", host.colors()}};
-  if (root) {
-    std::printf("%s\n", build_banner().c_str());
-    std::printf("bake: view-dependent ray-trace map (Robinson & Jacoby-Cooper), %d rank(s)\n",
-                comm.size());
-    for (auto it = params.begin(); it != params.end(); ++it)
-      std::printf("  %-20s %s\n", it.key().c_str(), it.value().dump().c_str());
-    std::printf("  scene: %lld vertices (%lld reflective), %zu faces, %zu triangles, %zu lights\n",
-                static_cast<long long>(host.vertices()),
-                static_cast<long long>(host.reflective_vertices), mesh.faces.size(),
-                mesh.triangle_count(), host.lights.size());
-    std::printf("  colour map: %lld entries (view-independent vertices keep one colour)\n",
-                static_cast<long long>(host.colors()));
-    if (c.trace_reference)
-      std::printf("  traced reference: %d mirror bounces traced per colour, no map lookups\n",
-                  needs_iterations ? c.iterations : 0);
-    if (!needs_iterations && c.iterations > 0)
-      std::printf("  note: no reflective vertex and no gather rays: iterations 1..%d skipped\n",
-                  c.iterations);
-    if (host.lights.empty()) std::printf("  note: no emissive faces: no shadow rays\n");
-    std::printf(
-        "  memory estimate (max over ranks): %s (scene %s, maps %s, hit cache %s, host %s)\n",
-        human_bytes(max_mem).c_str(), human_bytes(double(mem.scene)).c_str(),
-        human_bytes(double(mem.maps)).c_str(), human_bytes(double(mem.hit_cache)).c_str(),
-        human_bytes(double(mem.host)).c_str());
-    std::fflush(stdout);
-  }
-  if (c.max_memory > 0 && max_mem > static_cast<double>(c.max_memory)) {
-    if (root)
+      estimate_memory(mesh_, host_, my_items_, my_vertices_, local, iterations_, c_, root_);
+  const double max_mem = comm_.max(static_cast<double>(mem.total()));
+  if (root_) print_banner(mem, max_mem);
+  if (c_.max_memory > 0 && max_mem > static_cast<double>(c_.max_memory)) {
+    if (root_)
       std::cerr << "bake: estimated memory " << human_bytes(max_mem) << " exceeds --max-memory "
-                << human_bytes(double(c.max_memory)) << "; use more ranks or fewer viewpoints\n";
-    return kExitResource;
+                << human_bytes(double(c_.max_memory)) << "; use more ranks or fewer viewpoints\n";
+    return false;
   }
-  const std::string phash = parameter_hash(c);
-  Checkpoint restart_cp;
-  if (!c.restart.empty()) {
-    restart_cp = read_checkpoint(c.restart, phash, host.colors());
-    if (restart_cp.iteration > iterations)
-      throw InputError(c.restart, 0,
-                       "checkpoint is at iteration " + std::to_string(restart_cp.iteration) +
-                           ", beyond --iterations " + std::to_string(iterations));
-  }
-  // Every rank reads and checks the reference (so all ranks agree on a bad one, exit 2)
-  // before anything is baked or written.
-  ReferenceMap reference;
-  if (!c.reference.empty()) reference = read_reference_map(c.reference, mesh);
-  const BakeSceneDevice scene = upload_bake_scene(
-      mesh, host, c.viewpoints, c.sah ? bvh::BuildQuality::kSah : bvh::BuildQuality::kLbvh);
-  Chef chef(scene, c, my_items);
-  Kokkos::View<Vec3f*, MemSpace> prev("rtmini::bake::map_prev", host.colors());
-  Kokkos::View<Vec3f*, MemSpace> next("rtmini::bake::map_next", host.colors());
-  std::vector<Vec3f> map(static_cast<std::size_t>(host.colors()));
-  timer.stop();
+  return true;
+}
 
-  // Base colours of this rank's vertices (needed by every iteration, also after a restart).
-  timer.start("base");
-  std::int64_t rays = 0, work = 0;
-  if (c.trace_reference && comm.size() > 1) {
+// Validates the restart and the reference (every rank, so all agree on a bad one: exit 2)
+// before anything is baked, then uploads the scene.
+void BakeRun::setup() {
+  phash_ = parameter_hash(c_);
+  if (!c_.restart.empty()) {
+    restart_cp_ = read_checkpoint(c_.restart, phash_, host_.colors());
+    if (restart_cp_.iteration > iterations_)
+      throw InputError(c_.restart, 0,
+                       "checkpoint is at iteration " + std::to_string(restart_cp_.iteration) +
+                           ", beyond --iterations " + std::to_string(iterations_));
+  }
+  if (!c_.reference.empty()) reference_ = read_reference_map(c_.reference, mesh_);
+  scene_ = std::make_unique<BakeSceneDevice>(upload_bake_scene(
+      mesh_, host_, c_.viewpoints, c_.sah ? bvh::BuildQuality::kSah : bvh::BuildQuality::kLbvh));
+  chef_ = std::make_unique<Chef>(*scene_, c_, my_items_);
+}
+
+// The vertices this rank holds, their layout and the exchange that keeps the remote ones fresh
+// (phase "map": it traces the mirror rays, so it counts as bake time).
+void BakeRun::plan_map() {
+  timer_.start("map");
+  std::vector<char> present(static_cast<std::size_t>(host_.vertices()), halo_ == Halo::kAll);
+  for (const VertexRange& r : my_ranges_)
+    std::fill(present.begin() + r.begin, present.begin() + r.end, 1);
+  if (halo_ == Halo::kTraced) trace_halo(present);
+  layout_ = make_map_layout(host_, present);
+  chef_->set_map_offset(layout_.device);
+  const std::vector<std::int64_t> halo = halo_entries(present);
+  exchange_ = std::make_unique<MapExchange>(comm_, host_, layout_, owner_, halo);
+  prev_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_prev", layout_.colors());
+  next_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_next", layout_.colors());
+  const double local = static_cast<double>(layout_.colors());
+  const double max_local = comm_.max(local), sum_local = comm_.sum(local);
+  const double reads = static_cast<double>(comm_.sum(reads_.reads));
+  const double remote = static_cast<double>(comm_.sum(reads_.remote_reads));
+  const double bytes = static_cast<double>(comm_.sum(exchange_->send_colors())) * sizeof(Vec3f);
+  report_.scene["map"] = {{"halo", halo_ == Halo::kAll     ? "all"
+                                   : halo_ == Halo::kOwned ? "owned"
+                                                           : "traced"},
+                          {"local_colors_max", max_local},
+                          {"local_colors_mean", sum_local / comm_.size()},
+                          {"mirror_reads", reads},
+                          {"remote_read_fraction", reads > 0 ? remote / reads : 0.0},
+                          {"exchange_bytes_per_iteration", bytes}};
+  params_["map"] = report_.scene["map"];
+  timer_.stop();
+  if (root_)
+    std::printf(
+        "  map per rank: %.0f colours max (%.1f %% of the whole map), %.3g %% of mirror "
+        "reads remote, %s exchanged per iteration\n",
+        max_local, 100.0 * max_local / std::max<double>(1.0, double(host_.colors())),
+        reads > 0 ? 100.0 * remote / reads : 0.0, human_bytes(bytes).c_str());
+}
+
+// The colours (global entry numbers, ascending) this rank reads from other ranks: every colour of
+// a present remote vertex, or with the traced halo only those the lookups at the hits read.
+std::vector<std::int64_t> BakeRun::halo_entries(const std::vector<char>& present) const {
+  std::vector<char> read;
+  if (halo_ == Halo::kTraced) {
+    Kokkos::View<char*, MemSpace> items("rtmini::bake::read_items", layout_.colors());
+    for (std::size_t k = 0; k < my_ranges_.size(); ++k)
+      chef_->mark_read_items(my_ranges_[k].begin, my_ranges_[k].end, my_cache_offset_[k], owned_,
+                             items);
+    read.resize(static_cast<std::size_t>(layout_.colors()));
+    Kokkos::deep_copy(
+        Kokkos::View<char*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
+            read.data(), read.size()),
+        items);
+  }
+  std::vector<std::int64_t> halo;
+  for (std::int64_t v = 0; v < host_.vertices(); ++v) {
+    if (!present[v] || owner_[v] == comm_.rank()) continue;
+    for (std::int64_t j = 0; j < host_.color_count(v); ++j)
+      if (read.empty() || read[layout_.offset[v] + j]) halo.push_back(host_.color_offset[v] + j);
+  }
+  return halo;
+}
+
+// Traces this rank's mirror rays once and adds every vertex they read to `present`.
+void BakeRun::trace_halo(std::vector<char>& present) {
+  const std::size_t nv = present.size();
+  owned_ = Kokkos::View<char*, MemSpace>("rtmini::bake::owned", nv);
+  Kokkos::View<char*, MemSpace> read("rtmini::bake::read", nv);
+  auto owned = owned_;
+  Kokkos::deep_copy(
+      owned, Kokkos::View<const char*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
+                 present.data(), nv));
+  for (std::size_t k = 0; k < my_ranges_.size(); ++k) {
+    const ReadCount n = chef_->trace_mirror_hits(my_ranges_[k].begin, my_ranges_[k].end,
+                                                 my_cache_offset_[k], owned, read);
+    reads_.rays += n.rays;
+    reads_.reads += n.reads;
+    reads_.remote_reads += n.remote_reads;
+  }
+  std::vector<char> flags(nv);
+  Kokkos::deep_copy(Kokkos::View<char*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
+                        flags.data(), nv),
+                    read);
+  for (std::size_t v = 0; v < nv; ++v) present[v] = present[v] || flags[v];
+  totals_.rays += reads_.rays;
+}
+
+// Base colours of this rank's vertices (needed by every iteration, also after a restart).
+void BakeRun::bake_base() {
+  timer_.start("base");
+  if (c_.trace_reference && comm_.size() > 1) {
     // The traced recursion reads the base colour of any vertex a mirror ray reaches: each
     // rank computes all of them (the same counter-based samples, so the same colours).
-    rays += chef.bake_base(0, host.vertices());
+    totals_.rays += chef_->bake_base(0, host_.vertices());
   } else {
-    for (const VertexRange& r : my_ranges) rays += chef.bake_base(r.begin, r.end);
+    for (const VertexRange& r : my_ranges_) totals_.rays += chef_->bake_base(r.begin, r.end);
   }
-  timer.stop();
+  timer_.stop();
+}
 
-  int first = 0;
-  if (!c.restart.empty()) {
-    map = std::move(restart_cp.colors);
-    first = restart_cp.iteration + 1;
-    Kokkos::deep_copy(
-        prev,
-        Kokkos::View<const Vec3f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
-            map.data(), map.size()));
-    if (root)
-      std::printf("  restart: iteration %d of %s done, resuming at %d\n", restart_cp.iteration,
-                  c.restart.c_str(), first);
+// Resumes from the checkpoint: its global map, cut to this rank's layout.
+void BakeRun::restart() {
+  if (c_.restart.empty()) return;
+  map_ = localise_map(host_, layout_, restart_cp_.colors);
+  std::vector<Vec3f>().swap(restart_cp_.colors);
+  first_ = restart_cp_.iteration + 1;
+  Kokkos::deep_copy(
+      prev_, Kokkos::View<const Vec3f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
+                 map_.data(), map_.size()));
+  if (root_)
+    std::printf("  restart: iteration %d of %s done, resuming at %d\n", restart_cp_.iteration,
+                c_.restart.c_str(), first_);
+}
+
+// Where iteration `it` finds its mirror hits. The first iteration after the start traces them
+// (or reads the hits traced up front, the same bits); later ones read the float cache.
+HitCacheMode BakeRun::hit_mode(int it) const {
+  if (it == 0) return HitCacheMode::kOff;
+  if (chef_->has_traced_hits())
+    return it >= 2 && it > first_ && chef_->has_hit_cache() ? HitCacheMode::kUse
+                                                            : HitCacheMode::kTraced;
+  const bool cache_filled = it >= 2 && it > first_;
+  return cache_filled       ? HitCacheMode::kUse
+         : it < iterations_ ? HitCacheMode::kFill
+                            : HitCacheMode::kOff;
+}
+
+// This rank's batches of iteration `it` into `out`; returns rays traced.
+std::int64_t BakeRun::trace(int it, Kokkos::View<Vec3f*, MemSpace> out) {
+  const HitCacheMode mode = hit_mode(it);
+  const double t0 = timer_.now();
+  std::int64_t rays = 0, entries_done = 0;
+  for (std::size_t k = 0; k < my_ranges_.size(); ++k) {
+    const VertexRange r = my_ranges_[k];
+    const double cs = timer_.now();
+    const std::int64_t crays =
+        c_.trace_reference
+            ? chef_->trace_reference(r.begin, r.end, out)
+            : chef_->bake_iteration(it, r.begin, r.end, my_cache_offset_[k], mode, prev_, out);
+    Kokkos::fence();
+    const std::int64_t items = host_.color_offset[r.end] - host_.color_offset[r.begin];
+    chunks_.push_back({comm_.rank(), it, items, crays, cs, timer_.now()});
+    rays += crays;
+    totals_.work += items;
+    entries_done += items;
+    eta_.batch_done(timer_.now() - cs);
+    if (progress_line_->due()) report_progress(it, entries_done);
   }
+  // The traced hits have served their one iteration once the float cache takes over.
+  if (mode == HitCacheMode::kTraced && chef_->has_hit_cache() && it < iterations_)
+    chef_->release_traced_hits();
+  return rays;
+}
 
-  std::vector<IterationRecord> iter_records;
-  std::vector<ChunkRecord> chunks;
-  const bool device_resident = comm.size() == 1;
-  std::vector<Vec3f> pack(device_resident ? 0 : static_cast<std::size_t>(my_items));
-  const bool contiguous_in_rank_order =
-      std::is_sorted(batches.begin(), batches.end(),
-                     [](const Batch& a, const Batch& b) { return a.rank < b.rank; });
-  bool cache_filled = false;
-  double idle = 0, completion = 0;
-  int exit_code = kExitOk;
-  timer.start("iterate");
-  int stopped_after = 0;
-  // Rank 0's own colour entries stand for the whole run (the batches are cut to equal cost).
-  ProgressLine progress_line("bake", "colours", progress && root);
-  IterationEta eta;
-  const double iterate_start = timer.now();
-  for (int it = first; it <= iterations; ++it) {
+// The progress line during iteration `it`: entries done, ETA from the measured batch costs of
+// the last iteration of each hit-cache mode (iteration_eta.hpp).
+void BakeRun::report_progress(int it, std::int64_t entries_done) {
+  std::vector<int> upcoming;
+  for (int j = it + 1; j <= iterations_; ++j) upcoming.push_back(static_cast<int>(hit_mode(j)));
+  const double left = eta_.remaining(static_cast<int>(hit_mode(it)), my_ranges_.size(), upcoming);
+  if (left < 0) return;  // no honest estimate yet
+  const double spent = timer_.now() - iterate_start_;
+  progress_line_->update(static_cast<double>((it - first_) * my_items_ + entries_done),
+                         static_cast<double>((iterations_ - first_ + 1) * my_items_), spent,
+                         spent + left);
+}
+
+// The new map becomes the previous one; its halo entries come from their owners. One rank
+// holds everything: the map never leaves the device (on a GPU two host copies would cost more
+// than the iteration).
+void BakeRun::exchange(IterationRecord& rec) {
+  std::swap(prev_, next_);
+  const double t0 = timer_.now();
+  rec.allgather_bytes = exchange_->run(comm_, prev_);
+  rec.allgather = timer_.now() - t0;
+}
+
+// The whole map on the root (every rank takes part): owned colours gathered in vertex order.
+std::vector<Vec3f> BakeRun::global_map() {
+  download(prev_, map_);
+  return gather_global_map(comm_, host_, layout_, map_, owner_);
+}
+
+void BakeRun::checkpoint(int it) {
+  if (c_.checkpoint.empty()) return;
+  std::vector<Vec3f> colors = global_map();
+  if (root_) {
+    Checkpoint cp;
+    cp.iteration = it;
+    cp.parameter_hash = phash_;
+    cp.vertices = host_.vertices();
+    cp.viewpoints = c_.viewpoints;
+    cp.colors = std::move(colors);
+    write_checkpoint(c_.checkpoint, cp);
+  }
+  comm_.barrier();
+}
+
+// Stop early with a valid checkpoint: test hook, signal, or a time limit the next iteration
+// (estimated from this one) would overrun. All ranks decide together.
+bool BakeRun::stop_after(int it, double t0) {
+  const double elapsed = timer_.now(), last = elapsed - t0;
+  const bool over_time = c_.time_limit_minutes > 0 && elapsed + last > c_.time_limit_minutes * 60.0;
+  const bool stop =
+      comm_.max((c_.stop_after_iteration == it || stop_requested() || over_time) ? 1.0 : 0.0) > 0.5;
+  if (stop && root_)
+    std::fprintf(stderr, "bake: stopping after iteration %d (%s); %s\n", it,
+                 over_time ? "time limit" : "stop requested",
+                 c_.checkpoint.empty() ? "no --checkpoint given, progress is lost"
+                                       : ("restart with --restart " + c_.checkpoint).c_str());
+  return stop;
+}
+
+int BakeRun::iterate() {
+  const bool progress = c_.progress || ::isatty(2);
+  progress_line_ = std::make_unique<ProgressLine>("bake", "colours", progress && root_);
+  timer_.start("iterate");
+  iterate_start_ = timer_.now();
+  for (int it = first_; it <= iterations_; ++it) {
     IterationRecord rec;
-    const double t0 = timer.now();
-    const HitCacheMode mode = it == 0           ? HitCacheMode::kOff
-                              : cache_filled    ? HitCacheMode::kUse
-                              : it < iterations ? HitCacheMode::kFill
-                                                : HitCacheMode::kOff;
-    std::size_t packed = 0;
-    std::int64_t entries_done = 0;
-    for (std::size_t k = 0; k < my_ranges.size(); ++k) {
-      const VertexRange r = my_ranges[k];
-      const double cs = timer.now();
-      const std::int64_t crays =
-          c.trace_reference
-              ? chef.trace_reference(r.begin, r.end, next)
-              : chef.bake_iteration(it, r.begin, r.end, my_cache_offset[k], mode, prev, next);
-      Kokkos::fence();
-      const std::int64_t ib = host.color_offset[r.begin], ie = host.color_offset[r.end];
-      chunks.push_back({comm.rank(), it, ie - ib, crays, cs, timer.now()});
-      rays += crays;
-      work += ie - ib;
-      entries_done += ie - ib;
-      eta.batch_done(timer.now() - cs);
-      if (progress_line.due()) {
-        const double spent = timer.now() - iterate_start;
-        const double left =
-            eta.remaining(static_cast<int>(mode), my_ranges.size(),
-                          modes_after(it, iterations, cache_filled || mode == HitCacheMode::kFill));
-        if (left >= 0)
-          progress_line.update(static_cast<double>((it - first) * my_items + entries_done),
-                               static_cast<double>((iterations - first + 1) * my_items), spent,
-                               spent + left);
-      }
-      if (device_resident) continue;
-      Kokkos::deep_copy(
-          Kokkos::View<Vec3f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
-              pack.data() + packed, ie - ib),
-          Kokkos::subview(next, std::make_pair(ib, ie)));
-      packed += static_cast<std::size_t>(ie - ib);
-    }
-    if (mode == HitCacheMode::kFill) cache_filled = true;
-    const double t1 = timer.now();
-    eta.iteration_done(static_cast<int>(mode));
+    const double t0 = timer_.now();
+    totals_.rays += trace(it, next_);
+    const double t1 = timer_.now();
     rec.trace = t1 - t0;
-    completion = t1;
-    // All-gather: every rank gets every batch's colours (the seed's MPI_Allgather step).
-    // One rank already holds the whole map in `next`: it becomes `prev` without leaving the
-    // device (on a GPU the two host copies and the gather would cost more than the iteration).
-    const std::int64_t bytes_before = comm.bytes_sent();
-    comm.barrier();
-    const double t_wait = timer.now();
-    idle += t_wait - t1;
-    if (device_resident) {
-      std::swap(prev, next);
-      if (!c.checkpoint.empty() || it == iterations) download(prev, map);
-    } else {
-      std::vector<Vec3f> gathered = comm.allgatherv(pack);
-      if (contiguous_in_rank_order) {
-        map.swap(gathered);
-      } else {
-        std::vector<std::size_t> pos(static_cast<std::size_t>(comm.size()), 0);
-        std::vector<std::size_t> rank_start(static_cast<std::size_t>(comm.size()) + 1, 0);
-        for (const Batch& b : batches)
-          rank_start[b.rank + 1] += host.color_offset[b.end] - host.color_offset[b.begin];
-        for (int r = 0; r < comm.size(); ++r) rank_start[r + 1] += rank_start[r];
-        for (const Batch& b : batches) {
-          const std::int64_t ib = host.color_offset[b.begin], ie = host.color_offset[b.end];
-          std::copy(gathered.begin() + rank_start[b.rank] + pos[b.rank],
-                    gathered.begin() + rank_start[b.rank] + pos[b.rank] + (ie - ib),
-                    map.begin() + ib);
-          pos[b.rank] += static_cast<std::size_t>(ie - ib);
-        }
+    eta_.iteration_done(static_cast<int>(hit_mode(it)));
+    totals_.completion = t1;
+    comm_.barrier();
+    totals_.idle += timer_.now() - t1;
+    exchange(rec);
+    const double t2 = timer_.now();
+    checkpoint(it);
+    rec.write = timer_.now() - t2;
+    iter_records_.push_back(rec);
+    if (progress && root_)
+      std::fprintf(stderr, "bake: iteration %d/%d done (%.3f s trace, %.3f s exchange)\n", it,
+                   iterations_, rec.trace, rec.allgather);
+    if (it < iterations_ && stop_after(it, t0)) {
+      timer_.stop();
+      report_stopped(it);
+      return kExitCheckpointed;
+    }
+  }
+  timer_.stop();
+  progress_line_->finish(static_cast<double>(totals_.work), static_cast<double>(totals_.work));
+  return kExitOk;
+}
+
+// A stopped run's last stdout line is still the contract's figure-of-merit line: the
+// iterations a --restart has left to do.
+void BakeRun::report_stopped(int it) {
+  report_.fom_name = "iterations_missing";
+  report_.fom_unit = "iterations";
+  report_.fom_value = static_cast<double>(iterations_ - it);
+  report_.finish(comm_, c_.summary);
+}
+
+// Every rank writes its own vertices (collective MPI-IO), in either form.
+void BakeRun::write() {
+  timer_.start("write");
+  std::vector<Vec3f> dirs(static_cast<std::size_t>(c_.viewpoints));
+  for (int i = 0; i < c_.viewpoints; ++i) dirs[i] = Vec3f(fibonacci_point(i, c_.viewpoints));
+  download(prev_, map_);
+  const BakedMap baked{&mesh_, &map_, &layout_.offset, &dirs};
+  written_ = write_baked_map(comm_, c_.output, baked, my_ranges_);
+  timer_.stop();
+  if (!iter_records_.empty()) iter_records_.back().write += written_.seconds;
+}
+
+// The errors against --reference, on the root with the whole map.
+void BakeRun::compare() {
+  timer_.start("compare");
+  if (!c_.reference.empty()) {
+    const std::vector<Vec3f> global = global_map();
+    if (root_) {
+      using HostIn =
+          Kokkos::View<const Vec3f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>;
+      Kokkos::View<Vec3f*, MemSpace> ref("rtmini::bake::reference", reference_.colors.size());
+      Kokkos::deep_copy(ref, HostIn(reference_.colors.data(), reference_.colors.size()));
+      Kokkos::View<Vec3f*, MemSpace> map("rtmini::bake::global_map", global.size());
+      Kokkos::deep_copy(map, HostIn(global.data(), global.size()));
+      const MapErrors e = errors_from_sums(chef_->lookup_errors(map, ref, reference_.viewpoints));
+      report_.errors = error_json(e);
+      report_.errors["reference"] = c_.reference;
+      report_.errors["reference_viewpoints"] = reference_.viewpoints;
+      report_.errors["lookup"] = to_string(c_.lookup);
+      print_errors("map read along the reference's directions", e);
+      if (reference_.viewpoints == c_.viewpoints) {
+        const MapErrors st = compare_stored(global, host_.color_offset, reference_);
+        report_.errors["stored"] = error_json(st);
+        print_errors("stored colours, viewpoint by viewpoint", st);
       }
-      Kokkos::deep_copy(
-          prev,
-          Kokkos::View<const Vec3f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
-              map.data(), map.size()));
-    }
-    const double t2 = timer.now();
-    rec.allgather = t2 - t_wait;
-    rec.allgather_bytes = comm.bytes_sent() - bytes_before;
-    if (!c.checkpoint.empty()) {
-      if (root) {
-        Checkpoint cp;
-        cp.iteration = it;
-        cp.parameter_hash = phash;
-        cp.vertices = host.vertices();
-        cp.viewpoints = c.viewpoints;
-        cp.colors = map;
-        write_checkpoint(c.checkpoint, cp);
-      }
-      comm.barrier();
-    }
-    rec.write = timer.now() - t2;
-    iter_records.push_back(rec);
-    if (progress && root)
-      std::fprintf(stderr, "bake: iteration %d/%d done (%.3f s trace, %.3f s all-gather)\n", it,
-                   iterations, rec.trace, rec.allgather);
-    if (it == iterations) break;
-    // Stop early with a valid checkpoint: test hook, signal, or a time limit the next
-    // iteration (estimated from this one) would overrun. All ranks decide together.
-    const double elapsed = timer.now(), last = elapsed - t0;
-    const bool over_time = c.time_limit_minutes > 0 && elapsed + last > c.time_limit_minutes * 60.0;
-    const bool stop =
-        comm.max((c.stop_after_iteration == it || stop_requested() || over_time) ? 1.0 : 0.0) > 0.5;
-    if (stop) {
-      if (root)
-        std::fprintf(stderr, "bake: stopping after iteration %d (%s); %s\n", it,
-                     over_time ? "time limit" : "stop requested",
-                     c.checkpoint.empty() ? "no --checkpoint given, progress is lost"
-                                          : ("restart with --restart " + c.checkpoint).c_str());
-      exit_code = kExitCheckpointed;
-      stopped_after = it;
-      break;
     }
   }
-  timer.stop();
-  progress_line.finish(static_cast<double>(work), static_cast<double>(work));
-  if (exit_code != kExitOk) {
-    // A stopped run's last stdout line is still the contract's figure-of-merit
-    // line: the iterations a --restart has left to do.
-    report.fom_name = "iterations_missing";
-    report.fom_unit = "iterations";
-    report.fom_value = static_cast<double>(iterations - stopped_after);
-    report.finish(comm, c.summary);
-    return exit_code;
-  }
+  timer_.stop();
+}
 
-  timer.start("write");
-  std::vector<Vec3f> dirs(static_cast<std::size_t>(c.viewpoints));
-  for (int i = 0; i < c.viewpoints; ++i) dirs[i] = Vec3f(fibonacci_point(i, c.viewpoints));
-  const BakedMap baked{&mesh, &map, &host.color_offset, &dirs};
-  const WriteStats ws = write_baked_map(comm, c.output, baked, my_ranges);
-  timer.stop();
-  if (!iter_records.empty()) iter_records.back().write += ws.seconds;
-
-  timer.start("compare");
-  if (!c.reference.empty() && root) {
-    Kokkos::View<Vec3f*, MemSpace> ref("rtmini::bake::reference", reference.colors.size());
-    Kokkos::deep_copy(
-        ref, Kokkos::View<const Vec3f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
-                 reference.colors.data(), reference.colors.size()));
-    const MapErrors e = errors_from_sums(chef.lookup_errors(prev, ref, reference.viewpoints));
-    report.errors = error_json(e);
-    report.errors["reference"] = c.reference;
-    report.errors["reference_viewpoints"] = reference.viewpoints;
-    report.errors["lookup"] = to_string(c.lookup);
-    print_errors("map read along the reference's directions", e);
-    if (reference.viewpoints == c.viewpoints) {
-      const MapErrors st = compare_stored(map, host.color_offset, reference);
-      report.errors["stored"] = error_json(st);
-      print_errors("stored colours, viewpoint by viewpoint", st);
-    }
-  }
-  timer.stop();
-
+void BakeRun::report_results() {
   const std::uint64_t hash =
-      comm.sum_wrap(map_hash(scene, prev, batches, comm.rank(), c.viewpoints));
-  const double total_rays = static_cast<double>(comm.sum(rays));
-  const double bake_time = comm.max(timer.total("base") + timer.total("iterate"));
-  const double baked_colors = static_cast<double>(host.vertices()) * c.viewpoints *
-                              static_cast<double>(iterations - first + 1);
-  report.fom_name = "baked viewpoint colours";
-  report.fom_unit = "M/s";
-  report.fom_value = bake_time > 0 ? baked_colors / bake_time * 1e-6 : 0.0;
-  report.verification_hash = hash;
-  report.scene["rays_traced"] = total_rays;
-  report.scene["rays_per_second"] = bake_time > 0 ? total_rays / bake_time : 0.0;
-  report.scene["output_bytes"] = ws.file_bytes;
-  if (!c.timings.empty())
-    write_timings_file(comm, c, timer, {"read", "setup", "base", "iterate", "write"}, iter_records,
-                       chunks, completion, idle, rays, work, params.dump());
-  if (root) {
+      comm_.sum_wrap(map_hash(layout_.device, prev_, batches_, comm_.rank(), c_.viewpoints));
+  const double total_rays = static_cast<double>(comm_.sum(totals_.rays));
+  const double bake_time =
+      comm_.max(timer_.total("base") + timer_.total("map") + timer_.total("iterate"));
+  const double baked_colors = static_cast<double>(host_.vertices()) * c_.viewpoints *
+                              static_cast<double>(iterations_ - first_ + 1);
+  report_.fom_name = "baked viewpoint colours";
+  report_.fom_unit = "M/s";
+  report_.fom_value = bake_time > 0 ? baked_colors / bake_time * 1e-6 : 0.0;
+  report_.verification_hash = hash;
+  report_.scene["rays_traced"] = total_rays;
+  report_.scene["rays_per_second"] = bake_time > 0 ? total_rays / bake_time : 0.0;
+  report_.scene["output_bytes"] = written_.file_bytes;
+  report_.scene["peak_rss_bytes_per_rank"] =
+      comm_.allgatherv(std::vector<double>{peak_rss_bytes()});
+  if (!c_.timings.empty())
+    write_timings_file(comm_, c_, timer_, {"read", "setup", "base", "map", "iterate", "write"},
+                       iter_records_, chunks_, totals_, params_.dump());
+  if (root_)
     std::printf(
         "  bake time %.4f s (base + iterations), %.4g rays (%.4g Mrays/s), write %.4f s, "
         "%s written\n",
-        bake_time, total_rays, bake_time > 0 ? total_rays / bake_time * 1e-6 : 0.0, ws.seconds,
-        human_bytes(double(ws.file_bytes)).c_str());
-  }
-  report.finish(comm, c.summary);
+        bake_time, total_rays, bake_time > 0 ? total_rays / bake_time * 1e-6 : 0.0,
+        written_.seconds, human_bytes(double(written_.file_bytes)).c_str());
+  report_.finish(comm_, c_.summary);
+}
+
+int BakeRun::run() {
+  report_.app = "bake";
+  install_stop_handlers();
+  read();
+  timer_.start("setup");
+  plan();
+  if (!check_memory()) return kExitResource;
+  setup();
+  timer_.stop();
+  bake_base();
+  plan_map();
+  restart();
+  if (const int code = iterate(); code != kExitOk) return code;
+  write();
+  compare();
+  report_results();
   return kExitOk;
 }
+
+}  // namespace
+
+int run_bake(Communicator& comm, const BakeConfig& c) { return BakeRun(comm, c).run(); }
 
 }  // namespace rtmini::bake

@@ -22,6 +22,14 @@ struct Batch {
 std::vector<Batch> make_batches(const BakeSceneHost& scene, int ranks, Balance balance,
                                 std::int64_t batch_size);
 
+// Spatial ownership: blocks of block_size consecutive vertices (default vertices / (16 ranks),
+// at least 64), ordered by the Morton code of their centroid and cut into `ranks` runs of about
+// equal cost (colours), so a rank owns a compact region of the scene and its rays read more of
+// its own colours. Batches are returned in vertex order, neighbouring blocks of one rank merged.
+std::vector<Batch> make_spatial_batches(const BakeSceneHost& scene,
+                                        const std::vector<Vec3d>& positions, int ranks,
+                                        std::int64_t block_size);
+
 // Runs the whole bake; returns the process exit code.
 int run_bake(Communicator& comm, const BakeConfig& config);
 

@@ -77,7 +77,8 @@ void MapCli::add_to(CLI::App& app, BakeConfig& c) {
                "no map lookups)");
   app.add_option("--lookup", lookup, "viewpoint lookup: kdtree or sf (spherical Fibonacci)");
   app.add_option("--balance", balance,
-                 "batch cuts: cost (equal work) or static (equal vertex counts)");
+                 "batch cuts: cost (equal work), static (equal vertex counts) or spatial "
+                 "(blocks in Morton order, equal work per rank)");
   app.add_option("--batch-size", c.batch_size, "vertices per batch (0 = vertices/ranks)");
   app.add_option("--max-memory", max_memory, "refuse runs estimated above this (e.g. 2G)");
   app.add_option("--time-limit", c.time_limit_minutes,
@@ -103,8 +104,10 @@ void MapCli::finish(BakeConfig& c) const {
     c.balance = Balance::kStatic;
   else if (balance == "cost")
     c.balance = Balance::kCost;
+  else if (balance == "spatial")
+    c.balance = Balance::kSpatial;
   else
-    throw InputError("--balance must be static or cost (got '" + balance + "')");
+    throw InputError("--balance must be static, cost or spatial (got '" + balance + "')");
   if (bvh_kind != "lbvh" && bvh_kind != "sah")
     throw InputError("--bvh must be lbvh or sah (got '" + bvh_kind + "')");
   c.sah = bvh_kind == "sah";

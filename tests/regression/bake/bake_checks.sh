@@ -86,6 +86,39 @@ case $case_name in
       fail "verification hashes differ"
     echo "byte-identical for 1 and $ranks ranks (batch 157, cost balance, sf lookup)"
     ;;
+  distributed)
+    # Owner-computes map, mirror rays only (the traced halo): $ranks ranks give the bytes and the
+    # hash of 1 rank, each rank holds less than the whole map, and a checkpoint written on
+    # $ranks ranks restarts on another rank count with another ownership (--balance spatial).
+    args=("$INPUTS/cornell_big/cornell_big_raw.bs" --viewpoints 60 --iterations 3 --lookup sf)
+    other=$((ranks == 1 ? 2 : ranks - 1))
+    run 1 "${args[@]}" -o one.bs --summary one.json >log1.txt 2>&1 || { cat log1.txt; fail "1-rank bake failed"; }
+    run "$ranks" "${args[@]}" -o many.bs --summary many.json >log2.txt 2>&1 ||
+      { cat log2.txt; fail "$ranks-rank bake failed"; }
+    cmp one.bs many.bs || fail "outputs differ between 1 and $ranks ranks"
+    grep "map per rank" log2.txt
+    run "$ranks" "${args[@]}" -o part.bs --checkpoint cp.h5 --stop-after-iteration 1 >log3.txt 2>&1
+    [ $? -eq 4 ] || { cat log3.txt; fail "stop after iteration 1 did not exit 4"; }
+    run "$other" "${args[@]}" -o part.bs --checkpoint cp.h5 --restart cp.h5 --balance spatial \
+      >log4.txt 2>&1 || { cat log4.txt; fail "restart on $other ranks failed"; }
+    cmp one.bs part.bs || fail "checkpoint of $ranks ranks restarted on $other (spatial) differs"
+    /usr/bin/python3 - "$ranks" <<'PY' || fail "summary"
+import json, sys
+r = int(sys.argv[1])
+one, many = json.load(open("one.json")), json.load(open("many.json"))
+assert one["verification_hash"] == many["verification_hash"]
+m = many["scene"]["map"]
+colors = many["scene"]["colors"]
+print("local colours max", m["local_colors_max"], "of", colors, "remote reads", m["remote_read_fraction"],
+      "exchange bytes/iteration", m["exchange_bytes_per_iteration"], "peak RSS per rank",
+      many["scene"]["peak_rss_bytes_per_rank"])
+if r > 1:
+    assert m["halo"] == "traced", m
+    assert m["local_colors_max"] < colors, (m, colors)
+    assert m["exchange_bytes_per_iteration"] > 0
+PY
+    echo "owner-computes map: identical on 1 and $ranks ranks, restart on $other ranks"
+    ;;
   restart)
     # Stop after iteration 1 (exit 4, checkpoint), restart, compare with an uninterrupted run.
     args=("$INPUTS/cornell_big/cornell_big_raw.bs" --viewpoints 60 --iterations 4)
@@ -136,7 +169,7 @@ f = h5py.File("t.h5", "r")
 assert f.attrs["ranks"] == r, f.attrs["ranks"]
 assert f["iterations/trace_time"].shape == (r, 3), f["iterations/trace_time"].shape
 assert f["iterations/allgather_bytes"].shape == (r, 3)
-assert f["phases/start"].shape == (r, 5)
+assert f["phases/start"].shape == (r, 6)
 assert len(f["chunks/rank"]) == 7 * 3, len(f["chunks/rank"])  # 1924 / 300 -> 7 batches
 assert sorted(set(f["chunks/rank"][:])) == list(range(r))
 s = json.load(open("s.json"))

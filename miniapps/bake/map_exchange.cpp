@@ -1,0 +1,181 @@
+#include "map_exchange.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace rtmini::bake {
+namespace {
+
+using Exec = Kokkos::DefaultExecutionSpace;
+using HostUnmanaged = Kokkos::MemoryTraits<Kokkos::Unmanaged>;
+
+std::vector<int> displacements(const std::vector<int>& counts) {
+  std::vector<int> d(counts.size(), 0);
+  for (std::size_t r = 1; r < counts.size(); ++r) d[r] = d[r - 1] + counts[r - 1];
+  return d;
+}
+
+int checked_int(std::int64_t n) {
+  if (n > 2147483647) throw std::runtime_error("rtmini: a map exchange exceeds 2^31 entries");
+  return static_cast<int>(n);
+}
+
+// MPI_Alltoallv of trivially copyable T, counts in elements; returns the received elements.
+template <class T>
+void alltoallv(const Communicator& comm, const T* send, const std::vector<int>& send_counts,
+               T* recv, const std::vector<int>& recv_counts) {
+#ifdef RTMINI_HAVE_MPI
+  MPI_Datatype type;
+  MPI_Type_contiguous(static_cast<int>(sizeof(T)), MPI_BYTE, &type);
+  MPI_Type_commit(&type);
+  const auto sd = displacements(send_counts), rd = displacements(recv_counts);
+  // Non-blocking plus Communicator::wait, so a rank that failed elsewhere cannot leave the
+  // others waiting here forever (the collective-failure contract, docs/architecture.md).
+  MPI_Request req;
+  MPI_Ialltoallv(send, send_counts.data(), sd.data(), type, recv, recv_counts.data(), rd.data(),
+                 type, comm.native(), &req);
+  comm.wait(req);
+  MPI_Type_free(&type);
+#else
+  (void)comm;
+  for (int i = 0; i < send_counts[0]; ++i) recv[i] = send[i];
+  (void)recv_counts;
+#endif
+}
+
+std::vector<int> exchange_counts(const Communicator& comm, const std::vector<int>& send_counts) {
+  std::vector<int> recv(send_counts.size(), 0);
+  const std::vector<int> ones(send_counts.size(), 1);
+  alltoallv(comm, send_counts.data(), ones, recv.data(), ones);
+  return recv;
+}
+
+Kokkos::View<std::int64_t*, MemSpace> upload(const char* label,
+                                             const std::vector<std::int64_t>& v) {
+  Kokkos::View<std::int64_t*, MemSpace> d(std::string(label), v.size());
+  Kokkos::deep_copy(
+      d, Kokkos::View<const std::int64_t*, Kokkos::HostSpace, HostUnmanaged>(v.data(), v.size()));
+  return d;
+}
+
+// The vertex that global colour entry g belongs to.
+std::int64_t vertex_of_entry(const BakeSceneHost& scene, std::int64_t g) {
+  const auto& off = scene.color_offset;
+  return std::upper_bound(off.begin(), off.end(), g) - off.begin() - 1;
+}
+
+// The local entries of global colour entries `global` (in order).
+std::vector<std::int64_t> entries_of(const BakeSceneHost& scene, const MapLayout& layout,
+                                     const std::vector<std::int64_t>& global) {
+  std::vector<std::int64_t> items(global.size());
+  for (std::size_t k = 0; k < global.size(); ++k) {
+    const std::int64_t v = vertex_of_entry(scene, global[k]);
+    items[k] = layout.offset[v] + (global[k] - scene.color_offset[v]);
+  }
+  return items;
+}
+
+}  // namespace
+
+MapLayout make_map_layout(const BakeSceneHost& scene, const std::vector<char>& present) {
+  MapLayout l;
+  const std::int64_t nv = scene.vertices();
+  l.offset.assign(static_cast<std::size_t>(nv) + 1, 0);
+  for (std::int64_t v = 0; v < nv; ++v)
+    l.offset[v + 1] = l.offset[v] + (present[v] ? scene.color_count(v) : 0);
+  l.device = upload("rtmini::bake::map_offset", l.offset);
+  return l;
+}
+
+MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
+                         const MapLayout& layout, const std::vector<int>& owner,
+                         const std::vector<std::int64_t>& halo) {
+  const int ranks = comm.size();
+  // Requests: the halo entries grouped by owner (ascending within each group, as `halo` is).
+  std::vector<int> ask(ranks, 0);
+  std::vector<int> owner_of(halo.size());
+  for (std::size_t k = 0; k < halo.size(); ++k)
+    ++ask[owner_of[k] = owner[vertex_of_entry(scene, halo[k])]];
+  std::vector<std::int64_t> asked(halo.size());
+  {
+    std::vector<int> pos = displacements(ask);
+    for (std::size_t k = 0; k < halo.size(); ++k) asked[pos[owner_of[k]]++] = halo[k];
+  }
+  const std::vector<int> told = exchange_counts(comm, ask);
+  std::vector<std::int64_t> wanted(static_cast<std::size_t>(total(told)));
+  alltoallv(comm, asked.data(), ask, wanted.data(), told);
+
+  // What this rank sends (its own entries each asker wants) and where what it gets goes.
+  send_counts_ = told;
+  recv_counts_ = ask;
+  const std::vector<std::int64_t> send = entries_of(scene, layout, wanted);
+  const std::vector<std::int64_t> recv = entries_of(scene, layout, asked);
+  send_displs_ = displacements(send_counts_);
+  recv_displs_ = displacements(recv_counts_);
+  send_items_ = upload("rtmini::bake::exchange_send_items", send);
+  recv_items_ = upload("rtmini::bake::exchange_recv_items", recv);
+  send_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_send", send.size());
+  recv_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_recv", recv.size());
+  host_send_.resize(send.size());
+  host_recv_.resize(recv.size());
+}
+
+std::int64_t MapExchange::run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map) {
+  if (comm.size() == 1) return 0;
+  using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>;
+  auto send_items = send_items_, recv_items = recv_items_;
+  auto send_buf = send_buf_, recv_buf = recv_buf_;
+  Kokkos::parallel_for(
+      "rtmini::bake::exchange_pack", Policy(0, static_cast<std::int64_t>(send_items.extent(0))),
+      KOKKOS_LAMBDA(std::int64_t i) { send_buf(i) = map(send_items(i)); });
+  // Through host buffers: works with any MPI (a CUDA-aware one could take the device views).
+  Kokkos::deep_copy(
+      Kokkos::View<Vec3f*, Kokkos::HostSpace, HostUnmanaged>(host_send_.data(), host_send_.size()),
+      send_buf);
+  alltoallv(comm, host_send_.data(), send_counts_, host_recv_.data(), recv_counts_);
+  Kokkos::deep_copy(recv_buf, Kokkos::View<const Vec3f*, Kokkos::HostSpace, HostUnmanaged>(
+                                  host_recv_.data(), host_recv_.size()));
+  Kokkos::parallel_for(
+      "rtmini::bake::exchange_scatter", Policy(0, static_cast<std::int64_t>(recv_items.extent(0))),
+      KOKKOS_LAMBDA(std::int64_t i) { map(recv_items(i)) = recv_buf(i); });
+  Kokkos::fence();
+  return send_colors() * static_cast<std::int64_t>(sizeof(Vec3f));
+}
+
+std::vector<Vec3f> gather_global_map(const Communicator& comm, const BakeSceneHost& scene,
+                                     const MapLayout& layout, const std::vector<Vec3f>& local,
+                                     const std::vector<int>& owner) {
+  const std::int64_t nv = scene.vertices();
+  std::vector<Vec3f> mine;
+  for (std::int64_t v = 0; v < nv; ++v)
+    if (owner[v] == comm.rank())
+      mine.insert(mine.end(), local.begin() + layout.offset[v],
+                  local.begin() + layout.offset[v + 1]);
+  if (comm.size() == 1) return mine;
+  const std::vector<Vec3f> all = comm.gatherv(mine);
+  if (!comm.is_root()) return {};
+  // gatherv concatenates in rank order, each rank's vertices ascending.
+  std::vector<std::int64_t> start(static_cast<std::size_t>(comm.size()) + 1, 0);
+  for (std::int64_t v = 0; v < nv; ++v) start[owner[v] + 1] += scene.color_count(v);
+  for (int r = 0; r < comm.size(); ++r) start[r + 1] += start[r];
+  std::vector<Vec3f> global(static_cast<std::size_t>(scene.colors()));
+  for (std::int64_t v = 0; v < nv; ++v) {
+    const std::int64_t n = scene.color_count(v);
+    std::copy(all.begin() + start[owner[v]], all.begin() + start[owner[v]] + n,
+              global.begin() + scene.color_offset[v]);
+    start[owner[v]] += n;
+  }
+  return global;
+}
+
+std::vector<Vec3f> localise_map(const BakeSceneHost& scene, const MapLayout& layout,
+                                const std::vector<Vec3f>& global) {
+  std::vector<Vec3f> local(static_cast<std::size_t>(layout.colors()));
+  for (std::int64_t v = 0; v < scene.vertices(); ++v)
+    if (layout.present(v))
+      std::copy(global.begin() + scene.color_offset[v], global.begin() + scene.color_offset[v + 1],
+                local.begin() + layout.offset[v]);
+  return local;
+}
+
+}  // namespace rtmini::bake

@@ -1,0 +1,65 @@
+#!/bin/bash
+# The distributed-map measurements of results/bake/distributed.md (issue 19) on one 16-core host:
+#   strong scaling, bunny_room N=300 K=4 .bsb: 1x1 1x16 2x8 4x4 8x2 16x1 (ranks x threads,
+#     --map-by slot:PE=t --bind-to core), and 2x8 4x4 16x1 again with --balance spatial;
+#   weak scaling, 1..16 ranks x 1 thread on the two-sheet scene (make_sheets_scene.py) grown
+#     with the ranks (side 150 sqrt(P)), N=200 K=3;
+#   one bake that does not fit replicated: 1,008,204 vertices (side 710) at N=1000 K=2 on 16x1.
+# Every run writes its summary (verification hash, peak RSS per rank, map statistics) and
+# timings (.h5) to OUT_DIR; table.md collects them. Usage (from the repository root, build/ built):
+#   results/bake/run_distributed.sh OUT_DIR [strong|weak|big|all]
+set -eu
+out=$1
+what=${2:-all}
+src=$(cd "$(dirname "$0")/../.." && pwd)
+bake=$src/build/miniapps/bake/bake
+gen=$src/build/inputs/rtmini-gen-inputs
+mkdir -p "$out"
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_PROC_BIND=false
+{
+  echo "commit $(git -C "$src" rev-parse --short=12 HEAD 2>/dev/null || echo unknown)"
+  echo "date $(date -u +%Y-%m-%dT%H:%M:%SZ)"
+  echo "machine $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2)," \
+    "$(free -g | awk '/Mem:/{print $2}') GiB"
+  echo "load before: $(cut -d' ' -f1-3 /proc/loadavg)"
+} >"$out/provenance.txt"
+
+# run NAME RANKS THREADS ARGS...: one bake, pinned, with its log, summary and timings.
+run() {
+  local name=$1 np=$2 t=$3
+  shift 3
+  echo "== $name ($np x $t)" >&2
+  OMP_NUM_THREADS=$t /usr/bin/time -f "wall %e s" -o "$out/$name.time" \
+    mpirun -n "$np" --map-by "slot:PE=$t" --bind-to core "$bake" "$@" \
+    --summary "$out/$name.json" --timings "$out/$name.h5" >"$out/$name.log" 2>&1 ||
+    echo "   $name failed: see $out/$name.log" >&2
+}
+
+if [ "$what" = strong ] || [ "$what" = all ]; then
+  "$gen" bunny_room --scene "$src/inputs/meshes/stanford-bunny.obj" -o "$out/bunny_room.bs"
+  for pt in 1x1 1x16 2x8 4x4 8x2 16x1; do
+    run "strong_$pt" "${pt%x*}" "${pt#*x}" "$out/bunny_room.bs" -o "$out/strong.bsb" \
+      --viewpoints 300 --iterations 4
+  done
+  for pt in 2x8 4x4 16x1; do  # the same with spatial (Morton-block) ownership
+    run "spatial_$pt" "${pt%x*}" "${pt#*x}" "$out/bunny_room.bs" -o "$out/strong.bsb" \
+      --viewpoints 300 --iterations 4 --balance spatial
+  done
+  rm -f "$out/strong.bsb"
+fi
+if [ "$what" = weak ] || [ "$what" = all ]; then
+  for np in 1 2 4 8 16; do
+    side=$(python3 -c "import math; print(round(150 * math.sqrt($np)))")
+    python3 "$src/results/bake/make_sheets_scene.py" "$side" "$out/sheets_$np.bs"
+    run "weak_$np" "$np" 1 "$out/sheets_$np.bs" -o "$out/weak.bsb" --viewpoints 200 --iterations 3
+    rm -f "$out/sheets_$np.bs" "$out/weak.bsb"
+  done
+fi
+if [ "$what" = big ] || [ "$what" = all ]; then
+  python3 "$src/results/bake/make_sheets_scene.py" 710 "$out/sheets_1m.bs"
+  run big_16x1 16 1 "$out/sheets_1m.bs" -o "$out/big.bsb" --viewpoints 1000 --iterations 2
+  ls -l "$out/big.bsb" >>"$out/big_16x1.log" 2>&1 || true
+  rm -f "$out/sheets_1m.bs" "$out/big.bsb"
+fi
+echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)" >>"$out/provenance.txt"
+python3 "$src/results/bake/distributed_table.py" "$out" >"$out/table.md" && cat "$out/table.md"
