@@ -600,7 +600,6 @@ HitCacheMode BakeRun::hit_mode(int it) const {
 // This rank's batches of iteration `it` into `out`; returns rays traced.
 std::int64_t BakeRun::trace(int it, Kokkos::View<Vec3f*, MemSpace> out) {
   const HitCacheMode mode = hit_mode(it);
-  const double t0 = timer_.now();
   std::int64_t rays = 0, entries_done = 0;
   for (std::size_t k = 0; k < my_ranges_.size(); ++k) {
     const VertexRange r = my_ranges_[k];

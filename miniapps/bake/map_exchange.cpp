@@ -9,15 +9,22 @@ namespace {
 using Exec = Kokkos::DefaultExecutionSpace;
 using HostUnmanaged = Kokkos::MemoryTraits<Kokkos::Unmanaged>;
 
-std::vector<int> displacements(const std::vector<int>& counts) {
-  std::vector<int> d(counts.size(), 0);
-  for (std::size_t r = 1; r < counts.size(); ++r) d[r] = d[r - 1] + counts[r - 1];
-  return d;
-}
-
 int checked_int(std::int64_t n) {
   if (n > 2147483647) throw std::runtime_error("rtmini: a map exchange exceeds 2^31 entries");
   return static_cast<int>(n);
+}
+
+// MPI's displacements are ints: summed in 64 bits so an oversized exchange fails loudly
+// instead of wrapping around.
+std::vector<int> displacements(const std::vector<int>& counts) {
+  std::vector<int> d(counts.size(), 0);
+  std::int64_t sum = 0;
+  for (std::size_t r = 0; r < counts.size(); ++r) {
+    d[r] = checked_int(sum);
+    sum += counts[r];
+  }
+  checked_int(sum);
+  return d;
 }
 
 // MPI_Alltoallv of trivially copyable T, counts in elements; returns the received elements.

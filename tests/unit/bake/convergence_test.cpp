@@ -49,8 +49,9 @@ ErrorStats lookup_error(const Mesh& mesh, int n) {
                         refl.data(), refl.size()));
   const auto kd = build_fibonacci_kdtree<MemSpace>(n);
   const Real radius = fibonacci_radius(n);
-  const ReferenceTracer tracer{s.mesh.accel, s.mesh.tri_vertices, s.color_offset, s.mesh.positions,
-                               s.normal,     s.reflective,        chef.base(),    Vec3(Real(0))};
+  const ReferenceTracer tracer{
+      s.mesh.accel, s.mesh.tri_vertices, s.color_offset, s.mesh.positions,       s.normal,
+      s.reflective, chef.base(),         Vec3(Real(0)),  s.mesh.coordinate_bound};
   const auto off = s.color_offset;
   const int count = static_cast<int>(refl.size());
   double err = 0, truth_sum = 0;
