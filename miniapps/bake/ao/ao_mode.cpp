@@ -9,6 +9,7 @@
 #include "device_scene.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/report/hash.hpp"
+#include "rtmini/report/progress.hpp"
 #include "rtmini/report/rank_timings.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/report/version.hpp"
@@ -177,8 +178,10 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
   // array (and everything after it) is identical for any rank count.
   const std::int64_t first = total * comm.rank() / comm.size();
   const std::int64_t last = total * (comm.rank() + 1) / comm.size();
+  // Rank 0 shows its own share: ranks hold equal sample counts, so it speaks for all.
+  ProgressLine trace_line("bake ao rays", "passes", o.progress && root);
   const std::vector<std::uint16_t> mine =
-      ao::trace_samples(device.query(), dplan, ts, first, last, report.timer);
+      ao::trace_samples(device.query(), dplan, ts, first, last, report.timer, &trace_line);
 
   report.timer.start("gather");
   const std::vector<std::uint16_t> occluded = comm.gatherv(mine, 0);
@@ -192,6 +195,11 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
   // Rank 0 maps, solves and writes; the others time the same (empty) phases so
   // every rank reduces the same phase list in RunReport::finish.
   ao::SampleValues values;
+  // Steps, not an ETA: the mapping and each solve step are single loops that cannot report
+  // partial work.
+  const int mapping_steps = o.least_squares ? ao::kLeastSquaresSteps : 1;
+  ProgressLine mapping_line("bake ao mapping", "steps", o.progress && root);
+  mapping_line.update(0, mapping_steps, 0, mapping_steps);
   report.timer.start("mapping");
   if (root) {
     values = ao::make_sample_values(plan, o.seed, occluded, o.rays);
@@ -200,9 +208,12 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
   report.timer.stop();
   if (o.least_squares) {
     report.timer.start("solve");
-    if (root) result.values = ao::map_least_squares(scene, values, o.regularization, &lsq);
+    if (root)
+      result.values =
+          ao::map_least_squares(scene, values, o.regularization, &lsq, true, &mapping_line);
     report.timer.stop();
   }
+  mapping_line.finish(mapping_steps, mapping_steps);
   report.timer.start("write");
   if (root && !o.output.empty()) ao::write_ao_output(o.output, result, o.ply_ascii);
   report.timer.stop();

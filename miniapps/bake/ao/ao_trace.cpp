@@ -1,6 +1,7 @@
 #include "ao_trace.hpp"
 
 #include <algorithm>
+#include <functional>
 
 #include "rtmini/geometry/offset.hpp"
 
@@ -45,15 +46,45 @@ void trace_all_passes(const OcclusionQuery& query, const Kokkos::View<Vec3*, Mem
                       const Kokkos::View<Vec3*, MemSpace>& nrm,
                       const Kokkos::View<Vec3*, MemSpace>& dirs,
                       const Kokkos::View<std::uint16_t*, MemSpace>& hits, std::int64_t n,
-                      const TraceSettings& s) {
+                      const TraceSettings& s,
+                      const std::function<void(std::int64_t rays)>& after_pass = nullptr) {
   Kokkos::deep_copy(hits, std::uint16_t(0));
   for (int p = 0; p < s.passes; ++p) {
     const int k0 = static_cast<int>(static_cast<std::int64_t>(s.rays) * p / s.passes);
     const int k1 = static_cast<int>(static_cast<std::int64_t>(s.rays) * (p + 1) / s.passes);
     trace_pass(query, pos, nrm, dirs, hits, n, k0, k1, s.offset, s.max_distance,
                s.coordinate_bound);
+    if (after_pass) after_pass(n * (k1 - k0));
   }
 }
+
+// Rank-local progress of the ray passes. Passes of one batch trace nearly equal ray counts, the
+// last batch fewer: the rays are the honest cost, the passes what is shown.
+class PassProgress {
+ public:
+  PassProgress(ProgressLine* line, const TraceSettings& s, std::int64_t points, std::int64_t cap)
+      : line_(line && line->enabled() ? line : nullptr),
+        total_passes_(static_cast<double>((points + cap - 1) / cap) * s.passes),
+        total_rays_(static_cast<double>(points) * s.rays) {}
+
+  // Null when no line is drawn, so an unwatched run keeps its kernels unfenced.
+  std::function<void(std::int64_t)> callback() {
+    if (!line_) return nullptr;
+    return [this](std::int64_t rays) {
+      Kokkos::fence();  // a pass counts as done once it has run, not once it is queued
+      passes_ += 1;
+      rays_ += static_cast<double>(rays);
+      line_->update(passes_, total_passes_, rays_, total_rays_);
+    };
+  }
+  void finish() {
+    if (line_) line_->finish(passes_, total_passes_);
+  }
+
+ private:
+  ProgressLine* line_;
+  double total_passes_, total_rays_, passes_ = 0, rays_ = 0;
+};
 
 }  // namespace detail
 
@@ -102,7 +133,8 @@ DeviceSamplePlan upload_plan(const AoScene& scene, const SamplePlan& plan) {
 
 std::vector<std::uint16_t> trace_samples(const OcclusionQuery& query, const DeviceSamplePlan& plan,
                                          const TraceSettings& s, std::int64_t first,
-                                         std::int64_t last, PhaseTimer& timer) {
+                                         std::int64_t last, PhaseTimer& timer,
+                                         ProgressLine* progress) {
   std::vector<std::uint16_t> out(static_cast<std::size_t>(std::max<std::int64_t>(0, last - first)));
   const std::int64_t cap = std::min<std::int64_t>(s.batch, std::max<std::int64_t>(1, last - first));
   Kokkos::View<Vec3*, MemSpace> pos(
@@ -117,6 +149,8 @@ std::vector<std::uint16_t> trace_samples(const OcclusionQuery& query, const Devi
   const auto offsets = plan.offsets;
   const std::int64_t num_tris = static_cast<std::int64_t>(tris.extent(0));
   const std::uint64_t seed = s.seed;
+  detail::PassProgress pass_progress(progress, s, last - first, cap);
+  const auto after_pass = pass_progress.callback();
   for (std::int64_t b0 = first; b0 < last; b0 += cap) {
     const std::int64_t n = std::min(cap, last - b0);
     timer.start("samples");
@@ -140,11 +174,12 @@ std::vector<std::uint16_t> trace_samples(const OcclusionQuery& query, const Devi
         });
     timer.stop();
     timer.start("rays");
-    detail::trace_all_passes(query, pos, nrm, dirs, hits, n, s);
+    detail::trace_all_passes(query, pos, nrm, dirs, hits, n, s, after_pass);
     timer.stop();
     Kokkos::deep_copy(hits_h, hits);
     std::copy(hits_h.data(), hits_h.data() + n, out.begin() + (b0 - first));
   }
+  pass_progress.finish();
   return out;
 }
 

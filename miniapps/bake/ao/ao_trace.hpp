@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "device_scene.hpp"
+#include "rtmini/report/progress.hpp"
 #include "rtmini/report/timer.hpp"
 #include "sample_plan.hpp"
 
@@ -37,10 +38,12 @@ struct DeviceSamplePlan {
 DeviceSamplePlan upload_plan(const AoScene& scene, const SamplePlan& plan);
 
 // Occluded-ray counts for sample points [first, last), in order. Timer phases:
-// "samples" (point generation) and "rays" (tracing), summed over batches.
+// "samples" (point generation) and "rays" (tracing), summed over batches. `progress` (may be
+// null) counts ray passes, their rays being the cost for the ETA; it is finished here.
 std::vector<std::uint16_t> trace_samples(const OcclusionQuery& query, const DeviceSamplePlan& plan,
                                          const TraceSettings& settings, std::int64_t first,
-                                         std::int64_t last, PhaseTimer& timer);
+                                         std::int64_t last, PhaseTimer& timer,
+                                         ProgressLine* progress = nullptr);
 
 // Occluded-ray counts for explicit points and unit normals (tests, probes).
 std::vector<std::uint16_t> trace_points(const OcclusionQuery& query,

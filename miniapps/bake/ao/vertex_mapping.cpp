@@ -13,6 +13,12 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
+// Step `done` of the least-squares solve is complete. The steps are single parallel loops of
+// unlike cost, so they are counted but give no ETA (zero measured cost: "ETA ?").
+void step_done(ProgressLine* progress, int done) {
+  if (progress) progress->update(done, kLeastSquaresSteps, 0.0, kLeastSquaresSteps);
+}
+
 // Calls fn(b0, b1, b2, a) for every sample of global triangle g of receiver r:
 // barycentric weights of its three vertices and the sample's visibility.
 template <class Fn>
@@ -218,7 +224,8 @@ void factor_group(const AoMesh& mesh, const MeshPattern& pat, const TriangleBloc
 }  // namespace
 
 std::vector<float> map_least_squares(const AoScene& scene, const SampleValues& sv, double weight,
-                                     LeastSquaresStats* stats, bool share_factorization) {
+                                     LeastSquaresStats* stats, bool share_factorization,
+                                     ProgressLine* progress) {
   using Clock = std::chrono::steady_clock;
   using HostSpace = Kokkos::DefaultHostExecutionSpace;
   using DynamicHostPolicy = Kokkos::RangePolicy<HostSpace, Kokkos::Schedule<Kokkos::Dynamic>>;
@@ -258,6 +265,7 @@ std::vector<float> map_least_squares(const AoScene& scene, const SampleValues& s
         });
       });
   st.assemble_s += seconds_since(t0);
+  step_done(progress, 1);
 
   // Patterns once per stored mesh.
   t0 = Clock::now();
@@ -267,6 +275,7 @@ std::vector<float> map_least_squares(const AoScene& scene, const SampleValues& s
     if (!patterns.count(mesh_id)) patterns.emplace(mesh_id, make_pattern(scene.meshes[mesh_id]));
   }
   st.regularize_s += seconds_since(t0);
+  step_done(progress, 2);
 
   // One sparse Cholesky per group of identical systems, groups in parallel (the
   // sample factors per mesh), then one solve per receiver, receivers in parallel.
@@ -284,6 +293,7 @@ std::vector<float> map_least_squares(const AoScene& scene, const SampleValues& s
                          factor_group(mesh, patterns.at(plan.meshes[r]),
                                       blocks.data() + plan.tri_base[r], weight, systems[c]);
                        });
+  step_done(progress, 3);
   std::vector<char> failed(nr, 0);
   std::vector<double> solve_s(nr, 0.0);
   Kokkos::parallel_for("rtmini::bake::ao::lsq_solve",

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "ao_scene.hpp"
+#include "rtmini/report/progress.hpp"
 #include "sample_plan.hpp"
 
 namespace rtmini::ao {
@@ -38,9 +39,12 @@ struct LeastSquaresStats {
 // sparse Cholesky (SimplicialLDLT). weight = 0 is the pure fit. Instances of one
 // mesh with the same per-triangle counts and relative areas have the same matrix:
 // it is factored once and solved per instance (share_factorization = false
-// factors every instance on its own, for verification).
+// factors every instance on its own, for verification). `progress` (may be null) counts the
+// kLeastSquaresSteps steps below; the caller finishes it.
+constexpr int kLeastSquaresSteps = 4;  // data blocks, patterns, factorizations, solves
 std::vector<float> map_least_squares(const AoScene& scene, const SampleValues& samples,
                                      double weight, LeastSquaresStats* stats = nullptr,
-                                     bool share_factorization = true);
+                                     bool share_factorization = true,
+                                     ProgressLine* progress = nullptr);
 
 }  // namespace rtmini::ao

@@ -1,5 +1,6 @@
 #include "render_map.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -13,6 +14,17 @@ namespace rtmini::bake {
 namespace {
 
 using Exec = Kokkos::DefaultExecutionSpace;
+
+// With a progress line the frame is traced in up to 64 dispatches of equal pixel counts (their
+// pixel counts are the cost of the ETA), each of at least 32768 pixels so the per-dispatch
+// barrier stays cheap; without one, in a single dispatch. Each pixel is independent and the hit
+// count an integer sum, so the image and hash are the same either way.
+constexpr std::int64_t kMaxProgressDispatches = 64, kMinDispatchPixels = 32768;
+
+std::int64_t dispatch_count(std::int64_t pixels, const ProgressLine* progress) {
+  if (!progress || !progress->enabled()) return 1;
+  return std::clamp<std::int64_t>(pixels / kMinDispatchPixels, 1, kMaxProgressDispatches);
+}
 
 // One pixel: spp camera rays, each coloured by MapReader::read at its closest hit along the
 // ray direction (the camera-ray direction into the surface: the baker's viewpoint convention).
@@ -55,7 +67,7 @@ struct RenderPixels {
 template <class LookupT>
 std::int64_t run_kernel(const BakedMapDevice& map, const LookupT& lookup,
                         const DeviceCamera& camera, const RenderParams& p,
-                        Kokkos::View<float* [3], MemSpace> out) {
+                        Kokkos::View<float* [3], MemSpace> out, ProgressLine* progress) {
   const MapReader<LookupT> reader{map.mesh.tri_vertices,
                                   map.color_offset,
                                   map.colors,
@@ -66,12 +78,20 @@ std::int64_t run_kernel(const BakedMapDevice& map, const LookupT& lookup,
   const int grid = static_cast<int>(std::sqrt(static_cast<double>(p.spp)) + 1e-9);
   const RenderPixels<LookupT> kernel{map.mesh.accel, reader, camera, out,
                                      p.width,        p.spp,  grid,   p.seed};
+  const std::int64_t pixels = static_cast<std::int64_t>(p.width) * p.height;
+  const std::int64_t dispatches = dispatch_count(pixels, progress);
   std::int64_t hits = 0;
-  Kokkos::parallel_reduce(
-      "rtmini::bake::render::pixels",
-      Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>, Kokkos::Schedule<Kokkos::Dynamic>>(
-          0, static_cast<std::int64_t>(p.width) * p.height),
-      kernel, hits);
+  for (std::int64_t d = 0; d < dispatches; ++d) {
+    const std::int64_t begin = pixels * d / dispatches, end = pixels * (d + 1) / dispatches;
+    std::int64_t dispatch_hits = 0;
+    // A reduce into a host value returns once its pixels are done: the progress is real.
+    Kokkos::parallel_reduce("rtmini::bake::render::pixels",
+                            Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>,
+                                                Kokkos::Schedule<Kokkos::Dynamic>>(begin, end),
+                            kernel, dispatch_hits);
+    hits += dispatch_hits;
+    if (progress) progress->update(static_cast<double>(end), static_cast<double>(pixels));
+  }
   return hits;
 }
 
@@ -84,14 +104,16 @@ std::uint64_t bits(float f) {
 }  // namespace
 
 RenderResult render_baked_map(const BakedMapDevice& map, const DeviceCamera& camera,
-                              const RenderParams& p) {
+                              const RenderParams& p, ProgressLine* progress) {
   const std::int64_t pixels = static_cast<std::int64_t>(p.width) * p.height;
   Kokkos::View<float* [3], MemSpace> out("rtmini::bake::render::image", pixels);
   RenderResult r;
   if (p.lookup == Lookup::kKdTree)
-    r.hits = run_kernel(map, build_fibonacci_kdtree<MemSpace>(map.viewpoints), camera, p, out);
+    r.hits =
+        run_kernel(map, build_fibonacci_kdtree<MemSpace>(map.viewpoints), camera, p, out, progress);
   else
-    r.hits = run_kernel(map, build_fibonacci_inverse<MemSpace>(map.viewpoints), camera, p, out);
+    r.hits = run_kernel(map, build_fibonacci_inverse<MemSpace>(map.viewpoints), camera, p, out,
+                        progress);
   r.rays = pixels * p.spp;
   auto host = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out);
   r.image = Image(p.width, p.height, 3);

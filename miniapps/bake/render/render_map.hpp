@@ -7,6 +7,7 @@
 #include "bake_config.hpp"
 #include "baked_map.hpp"
 #include "rtmini/io/image.hpp"
+#include "rtmini/report/progress.hpp"
 #include "rtmini/scene/camera.hpp"
 
 namespace rtmini::bake {
@@ -26,7 +27,8 @@ struct RenderResult {
   std::uint64_t verification = 0;  // order-independent hash of the pixel bits
 };
 
+// `progress` (may be null): pixels done; the caller finishes it.
 RenderResult render_baked_map(const BakedMapDevice& map, const DeviceCamera& camera,
-                              const RenderParams& params);
+                              const RenderParams& params, ProgressLine* progress = nullptr);
 
 }  // namespace rtmini::bake

@@ -18,6 +18,7 @@
 #include "rtmini/io/srgb.hpp"
 #include "rtmini/report/hash.hpp"
 #include "rtmini/report/image_metrics.hpp"
+#include "rtmini/report/progress.hpp"
 #include "rtmini/report/rank_timings.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/report/version.hpp"
@@ -217,8 +218,11 @@ int run_render_mode(Communicator& comm, RenderOptions o, const CLI::App& app) {
     report.timer.stop();
     report.timer.start("render");
     const double t0 = report.timer.now();
+    ProgressLine render_line("bake render", "px", o.progress);  // only rank 0 renders
     const bake::RenderResult r =
-        bake::render_baked_map(device, make_camera(cam, p.width, p.height), p);
+        bake::render_baked_map(device, make_camera(cam, p.width, p.height), p, &render_line);
+    const double pixels = static_cast<double>(p.width) * p.height;
+    render_line.finish(pixels, pixels);
     const double seconds = report.timer.now() - t0;
     report.timer.stop();
     report.fom_value = seconds > 0 ? static_cast<double>(r.rays) / seconds * 1e-6 : 0.0;
