@@ -77,11 +77,7 @@ BakeSceneHost prepare_bake_scene(const Mesh& mesh, int viewpoints, bool all_view
 namespace {
 template <class T>
 Kokkos::View<T*, MemSpace> upload(const char* label, const std::vector<T>& host) {
-  Kokkos::View<T*, MemSpace> d(std::string(label), host.size());
-  Kokkos::View<const T*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(host.data(),
-                                                                                       host.size());
-  Kokkos::deep_copy(d, h);
-  return d;
+  return compat::upload<MemSpace>(label, host);
 }
 }  // namespace
 

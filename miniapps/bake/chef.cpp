@@ -280,11 +280,7 @@ Kokkos::View<int*, MemSpace> coherent_order(int n) {
   std::sort(key.begin(), key.end());
   std::vector<int> order(n);
   for (int i = 0; i < n; ++i) order[i] = key[i].second;
-  Kokkos::View<int*, MemSpace> d("rtmini::bake::view_order", n);
-  Kokkos::deep_copy(d,
-                    Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
-                        order.data(), order.size()));
-  return d;
+  return compat::upload<MemSpace>("rtmini::bake::view_order", order);
 }
 
 struct TraceReference {

@@ -93,11 +93,7 @@ KOKKOS_INLINE_FUNCTION std::int64_t quantise(float x) {
 
 // Copies a device map into the host map (sized to match).
 void download(Kokkos::View<const Vec3f*, MemSpace> from, std::vector<Vec3f>& to) {
-  to.resize(from.extent(0));
-  Kokkos::deep_copy(
-      Kokkos::View<Vec3f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(to.data(),
-                                                                                       to.size()),
-      from);
+  compat::download(from, to);
 }
 
 // Order-independent hash over (vertex, viewpoint, quantised colour) of this rank's vertices;
@@ -518,11 +514,7 @@ std::vector<std::int64_t> BakeRun::halo_entries(const std::vector<char>& present
     for (std::size_t k = 0; k < my_ranges_.size(); ++k)
       chef_->mark_read_items(my_ranges_[k].begin, my_ranges_[k].end, my_cache_offset_[k], owned_,
                              items);
-    read.resize(static_cast<std::size_t>(layout_.colors()));
-    Kokkos::deep_copy(
-        Kokkos::View<char*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
-            read.data(), read.size()),
-        items);
+    compat::download(items, read);
   }
   std::vector<std::int64_t> halo;
   for (std::int64_t v = 0; v < host_.vertices(); ++v) {
@@ -539,9 +531,7 @@ void BakeRun::trace_halo(std::vector<char>& present) {
   owned_ = Kokkos::View<char*, MemSpace>("rtmini::bake::owned", nv);
   Kokkos::View<char*, MemSpace> read("rtmini::bake::read", nv);
   auto owned = owned_;
-  Kokkos::deep_copy(
-      owned, Kokkos::View<const char*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
-                 present.data(), nv));
+  Kokkos::deep_copy(owned, compat::host_view(present.data(), nv));
   for (std::size_t k = 0; k < my_ranges_.size(); ++k) {
     const ReadCount n = chef_->trace_mirror_hits(my_ranges_[k].begin, my_ranges_[k].end,
                                                  my_cache_offset_[k], owned, read);
@@ -549,10 +539,8 @@ void BakeRun::trace_halo(std::vector<char>& present) {
     reads_.reads += n.reads;
     reads_.remote_reads += n.remote_reads;
   }
-  std::vector<char> flags(nv);
-  Kokkos::deep_copy(Kokkos::View<char*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
-                        flags.data(), nv),
-                    read);
+  std::vector<char> flags;
+  compat::download(read, flags);
   for (std::size_t v = 0; v < nv; ++v) present[v] = present[v] || flags[v];
   totals_.rays += reads_.rays;
 }
@@ -576,9 +564,7 @@ void BakeRun::restart() {
   map_ = localise_map(host_, layout_, restart_cp_.colors);
   std::vector<Vec3f>().swap(restart_cp_.colors);
   first_ = restart_cp_.iteration + 1;
-  Kokkos::deep_copy(
-      prev_, Kokkos::View<const Vec3f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
-                 map_.data(), map_.size()));
+  Kokkos::deep_copy(prev_, compat::host_view(map_.data(), map_.size()));
   if (root_)
     std::printf("  restart: iteration %d of %s done, resuming at %d\n", restart_cp_.iteration,
                 c_.restart.c_str(), first_);
@@ -743,12 +729,8 @@ void BakeRun::compare() {
   if (!c_.reference.empty()) {
     const std::vector<Vec3f> global = global_map();
     if (root_) {
-      using HostIn =
-          Kokkos::View<const Vec3f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>;
-      Kokkos::View<Vec3f*, MemSpace> ref("rtmini::bake::reference", reference_.colors.size());
-      Kokkos::deep_copy(ref, HostIn(reference_.colors.data(), reference_.colors.size()));
-      Kokkos::View<Vec3f*, MemSpace> map("rtmini::bake::global_map", global.size());
-      Kokkos::deep_copy(map, HostIn(global.data(), global.size()));
+      const auto ref = compat::upload<MemSpace>("rtmini::bake::reference", reference_.colors);
+      const auto map = compat::upload<MemSpace>("rtmini::bake::global_map", global);
       const MapErrors e = errors_from_sums(chef_->lookup_errors(map, ref, reference_.viewpoints));
       report_.errors = error_json(e);
       report_.errors["reference"] = c_.reference;

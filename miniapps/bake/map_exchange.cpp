@@ -7,7 +7,6 @@ namespace rtmini::bake {
 namespace {
 
 using Exec = Kokkos::DefaultExecutionSpace;
-using HostUnmanaged = Kokkos::MemoryTraits<Kokkos::Unmanaged>;
 
 int checked_int(std::int64_t n) {
   if (n > 2147483647) throw std::runtime_error("rtmini: a map exchange exceeds 2^31 entries");
@@ -59,10 +58,7 @@ std::vector<int> exchange_counts(const Communicator& comm, const std::vector<int
 
 Kokkos::View<std::int64_t*, MemSpace> upload(const char* label,
                                              const std::vector<std::int64_t>& v) {
-  Kokkos::View<std::int64_t*, MemSpace> d(std::string(label), v.size());
-  Kokkos::deep_copy(
-      d, Kokkos::View<const std::int64_t*, Kokkos::HostSpace, HostUnmanaged>(v.data(), v.size()));
-  return d;
+  return compat::upload<MemSpace>(label, v);
 }
 
 // The vertex that global colour entry g belongs to.
@@ -136,12 +132,9 @@ std::int64_t MapExchange::run(const Communicator& comm, Kokkos::View<Vec3f*, Mem
       "rtmini::bake::exchange_pack", Policy(0, static_cast<std::int64_t>(send_items.extent(0))),
       KOKKOS_LAMBDA(std::int64_t i) { send_buf(i) = map(send_items(i)); });
   // Through host buffers: works with any MPI (a CUDA-aware one could take the device views).
-  Kokkos::deep_copy(
-      Kokkos::View<Vec3f*, Kokkos::HostSpace, HostUnmanaged>(host_send_.data(), host_send_.size()),
-      send_buf);
+  Kokkos::deep_copy(compat::host_view(host_send_.data(), host_send_.size()), send_buf);
   alltoallv(comm, host_send_.data(), send_counts_, host_recv_.data(), recv_counts_);
-  Kokkos::deep_copy(recv_buf, Kokkos::View<const Vec3f*, Kokkos::HostSpace, HostUnmanaged>(
-                                  host_recv_.data(), host_recv_.size()));
+  Kokkos::deep_copy(recv_buf, compat::host_view(host_recv_.data(), host_recv_.size()));
   Kokkos::parallel_for(
       "rtmini::bake::exchange_scatter", Policy(0, static_cast<std::int64_t>(recv_items.extent(0))),
       KOKKOS_LAMBDA(std::int64_t i) { map(recv_items(i)) = recv_buf(i); });

@@ -46,6 +46,9 @@ using std::tan;
 #include <Kokkos_Sort.hpp>
 #include <cstdint>
 #include <cstring>
+#include <string>
+#include <type_traits>
+#include <vector>
 
 #ifndef KOKKOS_VERSION
 #error "Kokkos_Core.hpp did not define KOKKOS_VERSION"
@@ -124,6 +127,31 @@ inline void print_kokkos_help(const char* program) {
   int count = 2;
   Kokkos::initialize(count, args);
   Kokkos::finalize();
+}
+
+// Host memory the caller owns, seen as a one-dimensional View without a copy: the host side of
+// a deep_copy to or from a device View. Spelled once here rather than at every transfer.
+template <class T>
+using HostView = Kokkos::View<T*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged> >;
+
+template <class T>
+HostView<T> host_view(T* data, std::size_t n) {
+  return HostView<T>(data, n);
+}
+
+// A new View in `Space` holding a copy of `host` (the label names it in Kokkos' tools).
+template <class Space, class T>
+Kokkos::View<T*, Space> upload(const std::string& label, const std::vector<T>& host) {
+  Kokkos::View<T*, Space> out(label, host.size());
+  Kokkos::deep_copy(out, host_view(host.data(), host.size()));
+  return out;
+}
+
+// `to` resized to `from` and filled with its contents.
+template <class T, class... Props>
+void download(const Kokkos::View<T*, Props...>& from, std::vector<std::remove_const_t<T> >& to) {
+  to.resize(from.extent(0));
+  Kokkos::deep_copy(host_view(to.data(), to.size()), from);
 }
 
 }  // namespace rtmini::compat

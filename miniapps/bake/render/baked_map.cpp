@@ -108,11 +108,7 @@ BakedMapHost make_baked_map(Mesh mesh, const std::string& path, bool text_lines)
 namespace {
 template <class T>
 Kokkos::View<T*, MemSpace> upload(const char* label, const std::vector<T>& host) {
-  Kokkos::View<T*, MemSpace> d(std::string(label), host.size());
-  Kokkos::deep_copy(
-      d, Kokkos::View<const T*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
-             host.data(), host.size()));
-  return d;
+  return compat::upload<MemSpace>(label, host);
 }
 }  // namespace
 

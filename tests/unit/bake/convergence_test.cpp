@@ -43,10 +43,7 @@ ErrorStats lookup_error(const Mesh& mesh, int n) {
   std::vector<int> refl;
   for (std::int64_t v = 0; v < nv; ++v)
     if (host.color_count(v) > 1) refl.push_back(static_cast<int>(v));
-  Kokkos::View<int*, MemSpace> rv("reflective", refl.size());
-  Kokkos::deep_copy(rv,
-                    Kokkos::View<int*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
-                        refl.data(), refl.size()));
+  const auto rv = compat::upload<MemSpace>("reflective", refl);
   const auto kd = build_fibonacci_kdtree<MemSpace>(n);
   const Real radius = fibonacci_radius(n);
   const ReferenceTracer tracer{

@@ -28,14 +28,9 @@ Bvh<MemorySpace> upload(const HostBvh& h, BuildQuality quality) {
   bvh.nodes = Kokkos::View<BvhNode*, MemorySpace>("rtmini::bvh::nodes", h.nodes.size());
   bvh.tris = Kokkos::View<Triangle*, MemorySpace>("rtmini::bvh::tris", h.tris.size());
   bvh.prim = Kokkos::View<int*, MemorySpace>("rtmini::bvh::prim", h.prim.size());
-  Kokkos::deep_copy(bvh.nodes,
-                    Kokkos::View<const BvhNode*, Kokkos::HostSpace, Kokkos::MemoryUnmanaged>(
-                        h.nodes.data(), h.nodes.size()));
-  Kokkos::deep_copy(bvh.tris,
-                    Kokkos::View<const Triangle*, Kokkos::HostSpace, Kokkos::MemoryUnmanaged>(
-                        h.tris.data(), h.tris.size()));
-  Kokkos::deep_copy(bvh.prim, Kokkos::View<const int*, Kokkos::HostSpace, Kokkos::MemoryUnmanaged>(
-                                  h.prim.data(), h.prim.size()));
+  Kokkos::deep_copy(bvh.nodes, compat::host_view(h.nodes.data(), h.nodes.size()));
+  Kokkos::deep_copy(bvh.tris, compat::host_view(h.tris.data(), h.tris.size()));
+  Kokkos::deep_copy(bvh.prim, compat::host_view(h.prim.data(), h.prim.size()));
   return bvh;
 }
 
