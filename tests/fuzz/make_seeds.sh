@@ -15,7 +15,8 @@ small=16384  # bytes; larger inputs only slow the fuzzer down
 
 # seed TARGET FILE: FILE as a seed when it is small, else its first 100 lines.
 seed() {
-  local dst=$out/$1/$(basename "$(dirname "$2")")_$(basename "$2")
+  local dst
+  dst=$out/$1/$(basename "$(dirname "$2")")_$(basename "$2")
   if (($(stat -c %s "$2") <= small)); then cp "$2" "$dst"; else head -n 100 "$2" >"$dst"; fi
 }
 
