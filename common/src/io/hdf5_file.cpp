@@ -101,7 +101,7 @@ constexpr std::size_t kTrailerBytes = sizeof(kTrailerMagic) + 8;
 bool hash_prefix(std::FILE* f, std::uint64_t bytes, std::uint64_t& hash) {
   XXH64_state_t state;
   XXH64_reset(&state, 0);
-  std::vector<char> buffer(std::size_t(1) << 20);
+  std::vector<char> buffer(static_cast<std::size_t>(std::min<std::uint64_t>(bytes, 1 << 20)));
   for (std::uint64_t left = bytes; left > 0;) {
     const std::size_t want = static_cast<std::size_t>(std::min<std::uint64_t>(left, buffer.size()));
     if (std::fread(buffer.data(), 1, want, f) != want) return false;
