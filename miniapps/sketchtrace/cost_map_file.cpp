@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <fstream>
 
+#include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/hdf5_file.hpp"
 
@@ -10,7 +11,11 @@ namespace rtmini::sketch {
 
 bool read_cost_map_file(const std::string& path, const CostMapKey& key, std::size_t cells,
                         std::vector<float>& cost) {
-  if (path.empty() || !std::ifstream(path)) return false;
+  if (path.empty()) return false;
+  // The file is replaced when it does not match, so it must be replaceable; checked
+  // before opening it, which would block forever on a fifo.
+  check_replaceable(path);
+  if (!std::ifstream(path)) return false;
   Hdf5File f = Hdf5File::open(path);
   if (f.string_attribute("/", "app") != "sketchtrace-cost-map" ||
       f.string_attribute("/", "signature") != key.signature ||

@@ -18,7 +18,8 @@ struct CostMapKey {
 // False when there is no file at `path` (or `path` is empty) or it was probed for
 // another key: the caller probes again and replaces it. True with `cost` filled when
 // the map matches and holds exactly `cells` values. A corrupt file or one of the wrong
-// size is an InputError (exit 2), never used.
+// size is an InputError (exit 2), never used; a path naming something other than a regular
+// file is an IoError (exit 3: it could not be replaced either).
 bool read_cost_map_file(const std::string& path, const CostMapKey& key, std::size_t cells,
                         std::vector<float>& cost);
 

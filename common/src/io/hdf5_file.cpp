@@ -1,5 +1,6 @@
 #include "rtmini/io/hdf5_file.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -137,6 +138,10 @@ void append_trailer(const std::string& tmp, const std::string& final_path) {
 
 // InputError unless `path` ends in a trailer matching its content.
 void verify_trailer(const std::string& path) {
+  // (Opening a fifo would block until someone writes to it.)
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+    throw InputError(path, 0, "not a regular file");
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (f == nullptr) throw InputError(path, 0, "cannot open as an HDF5 file");
   std::uint64_t hash = 0;

@@ -11,8 +11,9 @@
 #                        full filesystem (small tmpfs mounts; skipped with a reason where
 #                        mounting is not allowed) and onto a fifo: exit 3, one line, no
 #                        final file, no temporary left, the fifo untouched; bake's MPI-IO
-#                        map with both Open MPI I/O components. Stale temporaries of dead
-#                        runs are removed, those of live processes kept.
+#                        map with both Open MPI I/O components; sketchtrace's cost map,
+#                        bake ao's .bin/.ply/.obj/.glb and bake render's images too. Stale
+#                        temporaries of dead runs are removed, those of live processes kept.
 #   corrupt APP          APP's checkpoint (and sketchtrace's cost map) with one bit flipped
 #                        in each dataset, truncated, and with single bytes changed across
 #                        the file: restart gives exit 2 and one line, or (a harmless byte)
@@ -155,16 +156,36 @@ case $mode in
       run=("$BAKE" "$INPUTS/cube/cube.bs" "${bake_args[@]}")
       writers=("-o x.bsb" "--summary x.json" "--timings x.h5" "--checkpoint x.h5")
     fi
-    for w in "${writers[@]}"; do
-      read -r flag name rest <<<"$w"
+    # every_place "FLAG NAME [REST]" CMD...: CMD FLAG <place>/NAME REST into every place and
+    # onto a fifo.
+    every_place() {
+      local flag name rest dir
+      read -r flag name rest <<<"$1"
+      shift
       # shellcheck disable=SC2086
       for dir in "${places[@]}"; do
-        output_case "$app" "$dir" "$dir/$name" "${run[@]}" $flag "$dir/$name" $rest
+        output_case "$app" "$dir" "$dir/$name" "$@" $flag "$dir/$name" $rest
       done
       [[ -p $work/fifo/$name ]] || mkfifo "$work/fifo/$name"
       # shellcheck disable=SC2086
-      output_case "$app" "$work/fifo" "$work/fifo/$name" "${run[@]}" $flag "$work/fifo/$name" $rest
+      output_case "$app" "$work/fifo" "$work/fifo/$name" "$@" $flag "$work/fifo/$name" $rest
+    }
+    for w in "${writers[@]}"; do
+      every_place "$w" "${run[@]}"
     done
+    if [[ $app == sketchtrace ]]; then
+      every_place "--cost-map cm.h5 --balance metric" "${run[@]}"
+    else
+      # bake ao's four formats and bake render's three image formats.
+      for ext in bin ply obj glb; do
+        every_place "-o ao.$ext" "$BAKE" ao "$INPUTS/cube/cube.bs" -r 4
+      done
+      "$BAKE" "$INPUTS/cube/cube.bs" "${bake_args[@]}" -o "$work/map.bs" >/dev/null 2>&1 ||
+        fail "the map for bake render was not written"
+      for ext in png ppm exr; do
+        every_place "-o render.$ext" "$BAKE" render "$work/map.bs" --width 16 --height 12
+      done
+    fi
     if [[ $app == bake ]]; then
       # The text map is written collectively through MPI-IO: both components, 2 ranks.
       for io in ompio romio321; do
