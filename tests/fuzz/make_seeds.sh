@@ -57,6 +57,9 @@ printf 'm.toml\n-g\n2\n50\n0.1\n-d\n0.02\n-m\n5\n-w\n0.5\n--passes\n4\n' >"$out/
 printf 'm.bs\n--no-ground-plane\n--no_least_squares\n--batch\n100\n-i\n3\n--ply-ascii\n' \
   >"$out/ao_options/flags"
 
+# Command lines that once showed a problem (tests/data/bad/ao_options_*.args).
+cp "$bad"/ao_options_*.args "$out/ao_options/"
+
 # Small outputs of this build's apps.
 work=$out/.work
 mkdir -p "$work"
