@@ -4,7 +4,8 @@
 # must print exactly one "app...: file...: reason" line. Before the collective
 # outcome these runs hung until killed.
 #   one_rank APP NP      the input missing, then malformed, on the last rank only
-#                        and on rank 0 only (MPMD launch: the other ranks get a good file)
+#                        and on rank 0 only (MPMD launch: the other ranks get a good file);
+#                        with HDF5 a truncated --restart checkpoint on rank 0 only
 #   sketch_restart NP    sketchtrace --restart with a checkpoint of other parameters
 #   sketch_reference NP  sketchtrace --reference naming a file that does not exist
 #   outputs APP          every writer of APP into a missing directory, a read-only and a
@@ -20,7 +21,7 @@
 #                        exit 0 and the uninterrupted run's hash; never a crash. The fuzzers'
 #                        HDF5 reproducers (tests/data/bad/h5_*.h5): exit 2, one stderr line.
 # Environment: SKETCH, BAKE (binaries), INPUTS, BAD (bad bake inputs), SKETCH_BAD,
-# MPIEXEC, NPFLAG.
+# MPIEXEC, NPFLAG, HDF5 (ON when built with HDF5).
 set -euo pipefail
 mode=$1
 work=$2
@@ -119,6 +120,25 @@ case $mode in
     # Every rank failing the same way names no rank.
     expect_one_line "$app" 2 "^$app: .*$(basename "$malformed")" \
       "$MPIEXEC" "$NPFLAG" "$np" --oversubscribe "$bin" "$malformed" "${args[@]}"
+    if [[ $HDF5 == ON ]]; then
+      # A checkpoint truncated on rank 0 only (the rank that reads it; the others name a
+      # good one).
+      if [[ $app == sketchtrace ]]; then
+        ck_args=("${args[@]}" --chunk-pixels 500)
+        stop=(--stop-after-chunks 2)
+      else
+        ck_args=("${args[@]}" --iterations 3)
+        stop=(--stop-after-iteration 1)
+      fi
+      rc=0
+      "$bin" "$good" "${ck_args[@]}" --checkpoint ck.h5 "${stop[@]}" >/dev/null 2>&1 || rc=$?
+      [[ $rc == 4 ]] || fail "the stopped run gave exit $rc"
+      head -c "$(($(stat -c %s ck.h5) / 2))" ck.h5 >cut.h5
+      expect_one_line "$app" 2 "\\(rank 0\\): .*cut.h5" \
+        "$MPIEXEC" "$NPFLAG" 1 --oversubscribe "$bin" "$good" "${ck_args[@]}" --restart cut.h5 : \
+        "$NPFLAG" $((np - 1)) --oversubscribe "$bin" "$good" "${ck_args[@]}" --restart ck.h5
+      rm -f out.png out.bs
+    fi
     ;;
   sketch_restart)
     np=$1
