@@ -8,6 +8,7 @@
 #include "bake_config.hpp"
 #include "bake_scene.hpp"
 #include "map_errors.hpp"
+#include "map_reader.hpp"
 #include "rtmini/sampling/fibonacci_lookup.hpp"
 
 namespace rtmini::bake {
@@ -46,8 +47,12 @@ class Chef {
   std::int64_t bake_base(std::int64_t begin, std::int64_t end);
 
   // Where each vertex's colours sit in the maps given to bake_iteration / trace_reference
-  // (MapLayout::device); the scene's global offsets until set.
-  void set_map_offset(Kokkos::View<std::int64_t*, MemSpace> offset) { map_offset_ = offset; }
+  // (MapLayout::device, and its sparse remote vertices if any); the scene's global offsets
+  // until set.
+  void set_map_offset(Kokkos::View<std::int64_t*, MemSpace> offset, SparseColors sparse = {}) {
+    map_offset_ = offset;
+    sparse_ = sparse;
+  }
 
   // Traces the mirror rays of vertices [begin, end) once, keeps the hits (and fills the hit
   // cache), flags in `read` every vertex a hit reads and counts the reads of vertices that are
@@ -99,6 +104,7 @@ class Chef {
   Kokkos::View<CachedHit*, MemSpace> cache_;
   Kokkos::View<TracedHit*, MemSpace> traced_;
   Kokkos::View<std::int64_t*, MemSpace> map_offset_;
+  SparseColors sparse_;
   std::int64_t local_items_ = 0;
   Kokkos::View<int*, MemSpace> order_;  // viewpoints in a direction-coherent order
   FibonacciKdTree<MemSpace> kdtree_;

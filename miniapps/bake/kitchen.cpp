@@ -285,6 +285,7 @@ class BakeRun {
   void setup();
   void plan_map();
   void trace_halo(std::vector<char>& present);
+  std::vector<char> read_items() const;
   std::vector<std::int64_t> halo_entries(const std::vector<char>& present) const;
   void bake_base();
   void restart();
@@ -478,6 +479,10 @@ void BakeRun::plan_map() {
   if (halo_ == Halo::kTraced) trace_halo(present);
   layout_ = make_map_layout(host_, present);
   chef_->set_map_offset(layout_.device);
+  if (halo_ == Halo::kTraced) {
+    layout_ = make_sparse_layout(host_, layout_, read_items(), owner_, comm_.rank());
+    chef_->set_map_offset(layout_.device, layout_.sparse);
+  }
   const std::vector<std::int64_t> halo = halo_entries(present);
   exchange_ = std::make_unique<MapExchange>(comm_, host_, layout_, owner_, halo);
   prev_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_prev", layout_.colors());
@@ -505,22 +510,25 @@ void BakeRun::plan_map() {
         reads > 0 ? 100.0 * remote / reads : 0.0, human_bytes(bytes).c_str());
 }
 
-// The colours (global entry numbers, ascending) this rank reads from other ranks: every colour of
-// a present remote vertex, or with the traced halo only those the lookups at the hits read.
-std::vector<std::int64_t> BakeRun::halo_entries(const std::vector<char>& present) const {
+// One flag per entry of the (dense) layout: the remote colours this rank's traced lookups read.
+std::vector<char> BakeRun::read_items() const {
+  Kokkos::View<char*, MemSpace> items("rtmini::bake::read_items", layout_.colors());
+  for (std::size_t k = 0; k < my_ranges_.size(); ++k)
+    chef_->mark_read_items(my_ranges_[k].begin, my_ranges_[k].end, my_cache_offset_[k], owned_,
+                           items);
   std::vector<char> read;
-  if (halo_ == Halo::kTraced) {
-    Kokkos::View<char*, MemSpace> items("rtmini::bake::read_items", layout_.colors());
-    for (std::size_t k = 0; k < my_ranges_.size(); ++k)
-      chef_->mark_read_items(my_ranges_[k].begin, my_ranges_[k].end, my_cache_offset_[k], owned_,
-                             items);
-    compat::download(items, read);
-  }
+  compat::download(items, read);
+  return read;
+}
+
+// The colours (global entry numbers, ascending) this rank reads from other ranks: every colour of
+// a present remote vertex, or with the traced (sparse) halo only those the lookups read.
+std::vector<std::int64_t> BakeRun::halo_entries(const std::vector<char>& present) const {
   std::vector<std::int64_t> halo;
   for (std::int64_t v = 0; v < host_.vertices(); ++v) {
-    if (!present[v] || owner_[v] == comm_.rank()) continue;
+    if (!present[v] || owner_[v] == comm_.rank() || !layout_.present(v)) continue;
     for (std::int64_t j = 0; j < host_.color_count(v); ++j)
-      if (read.empty() || read[layout_.offset[v] + j]) halo.push_back(host_.color_offset[v] + j);
+      if (layout_.keeps(v, j)) halo.push_back(host_.color_offset[v] + j);
   }
   return halo;
 }
