@@ -300,6 +300,45 @@ struct TraceReference {
 
 }  // namespace
 
+std::vector<float> estimate_mirror_hits(const BakeSceneDevice& scene, const BakeConfig& config,
+                                        std::int64_t begin, std::int64_t end, int samples,
+                                        std::int64_t& rays) {
+  Kokkos::View<float*, MemSpace> hits("rtmini::bake::pilot_hits", end - begin);
+  const Bvh accel = scene.mesh.accel;
+  const auto positions = scene.mesh.positions;
+  const auto normal = scene.normal;
+  const auto views = scene.viewpoints;
+  const auto color_offset = scene.color_offset;
+  const Real bound = scene.mesh.coordinate_bound;
+  const int n = config.viewpoints;
+  std::int64_t traced = 0;
+  Kokkos::parallel_reduce(
+      "rtmini::bake::pilot_mirror_hits",
+      Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>, Kokkos::Schedule<Kokkos::Dynamic>>(
+          begin, end),
+      KOKKOS_LAMBDA(std::int64_t v, std::int64_t & count) {
+        if (color_offset(v + 1) - color_offset(v) <= 1) return;
+        Ray ray;
+        ray.org = offset_ray_origin(positions(v), normal(v), bound);
+        int hit = 0;
+        for (int s = 0; s < samples; ++s) {
+          // Fibonacci points are ordered by height: every n/samples-th spans the sphere.
+          const int view =
+              static_cast<int>((2 * s + 1) * static_cast<std::int64_t>(n) / (2 * samples));
+          ray.dir = mirror_direction(views(view), normal(v));
+          hit += bvh::any_hit(accel, ray) ? 1 : 0;
+        }
+        count += samples;
+        hits(v - begin) =
+            static_cast<float>(n) * static_cast<float>(hit) / static_cast<float>(samples);
+      },
+      traced);
+  rays += traced;
+  std::vector<float> out;
+  compat::download(hits, out);
+  return out;
+}
+
 Chef::Chef(const BakeSceneDevice& scene, const BakeConfig& config, std::int64_t local_items)
     : scene_(scene), config_(config), map_offset_(scene.color_offset), local_items_(local_items) {
   const std::size_t nv = scene.normal.extent(0);

@@ -4,6 +4,7 @@
 // samples); iteration k adds reflective x the previous map seen along each viewpoint's mirror
 // ray (and, with --gather-rays, diffuse x the previous map over the cosine hemisphere).
 #include <cstdint>
+#include <vector>
 
 #include "bake_config.hpp"
 #include "bake_scene.hpp"
@@ -37,6 +38,13 @@ enum class HitCacheMode { kOff, kFill, kUse, kTraced };
 struct ReadCount {
   std::int64_t rays = 0, reads = 0, remote_reads = 0;
 };
+
+// Mirror hits of each vertex in [begin, end), estimated from `samples` of its N mirror rays
+// (viewpoints spread evenly over the sphere) and scaled to N; 0 for view-independent vertices.
+// The pilot of the cost balance (kitchen.cpp); adds the rays it traces to `rays`.
+std::vector<float> estimate_mirror_hits(const BakeSceneDevice& scene, const BakeConfig& config,
+                                        std::int64_t begin, std::int64_t end, int samples,
+                                        std::int64_t& rays);
 
 class Chef {
  public:
