@@ -300,7 +300,7 @@ struct TraceReference {
 
 }  // namespace
 
-std::vector<float> estimate_mirror_hits(const BakeSceneDevice& scene, const BakeConfig& config,
+std::vector<float> estimate_lookup_hits(const BakeSceneDevice& scene, const BakeConfig& config,
                                         std::int64_t begin, std::int64_t end, int samples,
                                         std::int64_t& rays) {
   Kokkos::View<float*, MemSpace> hits("rtmini::bake::pilot_hits", end - begin);
@@ -309,11 +309,12 @@ std::vector<float> estimate_mirror_hits(const BakeSceneDevice& scene, const Bake
   const auto normal = scene.normal;
   const auto views = scene.viewpoints;
   const auto color_offset = scene.color_offset;
+  const auto tri_vertices = scene.mesh.tri_vertices;
   const Real bound = scene.mesh.coordinate_bound;
   const int n = config.viewpoints;
   std::int64_t traced = 0;
   Kokkos::parallel_reduce(
-      "rtmini::bake::pilot_mirror_hits",
+      "rtmini::bake::pilot_lookup_hits",
       Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>, Kokkos::Schedule<Kokkos::Dynamic>>(
           begin, end),
       KOKKOS_LAMBDA(std::int64_t v, std::int64_t & count) {
@@ -326,7 +327,15 @@ std::vector<float> estimate_mirror_hits(const BakeSceneDevice& scene, const Bake
           const int view =
               static_cast<int>((2 * s + 1) * static_cast<std::int64_t>(n) / (2 * samples));
           ray.dir = mirror_direction(views(view), normal(v));
-          hit += bvh::any_hit(accel, ray) ? 1 : 0;
+          const int prim = bvh::closest_hit(accel, ray).prim;
+          if (prim < 0) continue;
+          // Only a view-dependent vertex of the hit triangle costs a viewpoint lookup.
+          bool lookup = false;
+          for (int k = 0; k < 3; ++k) {
+            const int q = tri_vertices(prim, k);
+            lookup = lookup || color_offset(q + 1) - color_offset(q) > 1;
+          }
+          hit += lookup ? 1 : 0;
         }
         count += samples;
         hits(v - begin) =

@@ -39,10 +39,11 @@ struct ReadCount {
   std::int64_t rays = 0, reads = 0, remote_reads = 0;
 };
 
-// Mirror hits of each vertex in [begin, end), estimated from `samples` of its N mirror rays
-// (viewpoints spread evenly over the sphere) and scaled to N; 0 for view-independent vertices.
-// The pilot of the cost balance (kitchen.cpp); adds the rays it traces to `rays`.
-std::vector<float> estimate_mirror_hits(const BakeSceneDevice& scene, const BakeConfig& config,
+// Mirror hits of each vertex in [begin, end) that cost a viewpoint lookup (the hit triangle has a
+// view-dependent vertex), estimated from `samples` of its N mirror rays (viewpoints spread evenly
+// over the sphere) and scaled to N; 0 for view-independent vertices. The pilot of the cost
+// balance (kitchen.cpp); adds the rays it traces to `rays`.
+std::vector<float> estimate_lookup_hits(const BakeSceneDevice& scene, const BakeConfig& config,
                                         std::int64_t begin, std::int64_t end, int samples,
                                         std::int64_t& rays);
 

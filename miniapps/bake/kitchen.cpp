@@ -185,10 +185,10 @@ void write_timings_file(const Communicator& comm, const BakeConfig& c, const Pha
 
 }  // namespace
 
-std::vector<double> mirror_hit_cost(const BakeSceneHost& scene, const std::vector<float>& hits) {
+std::vector<double> lookup_hit_cost(const BakeSceneHost& scene, const std::vector<float>& hits) {
   std::vector<double> cost(static_cast<std::size_t>(scene.vertices()));
   for (std::int64_t v = 0; v < scene.vertices(); ++v)
-    cost[v] = static_cast<double>(scene.color_count(v)) + kMirrorHitCost * double(hits[v]);
+    cost[v] = static_cast<double>(scene.color_count(v)) + kLookupHitCost * double(hits[v]);
   return cost;
 }
 
@@ -297,7 +297,7 @@ class BakeRun {
   void plan_map();
   void trace_halo(std::vector<char>& present);
   void assign_batches(std::vector<Batch> batches);
-  void balance_by_mirror_hits();
+  void balance_by_lookup_hits();
   std::vector<char> read_items() const;
   std::vector<std::int64_t> halo_entries(const std::vector<char>& present) const;
   void bake_base();
@@ -405,18 +405,19 @@ void BakeRun::assign_batches(std::vector<Batch> batches) {
   }
 }
 
-// With ranks reading each other's colours along mirror rays, a colour whose ray hits costs
-// about kMirrorHitCost misses (kitchen.hpp), and where the rays hit varies across the mesh
-// (bunny_room: 0.4 to 0.9 hits per colour between the 16 ranks' ranges). A pilot of
-// kPilotRays mirror rays per vertex, traced by every rank for its share of the vertices,
-// estimates the hits; the cost balance then cuts the ranges by colours plus hits.
-void BakeRun::balance_by_mirror_hits() {
+// With ranks reading each other's colours along mirror rays, a colour whose ray hits a
+// view-dependent vertex costs about kLookupHitCost others (kitchen.hpp), and where the rays hit
+// varies across the mesh (bunny_room: 0.01 to 0.9 lookup hits per colour between the 16 ranks'
+// colour-balanced ranges). A pilot of kPilotRays mirror rays per vertex, traced by every rank for
+// its share of the vertices, estimates those hits; the cost balance then cuts the ranges by
+// colours plus hits.
+void BakeRun::balance_by_lookup_hits() {
   constexpr int kPilotRays = 8;
   const std::int64_t nv = host_.vertices(), p = comm_.size(), r = comm_.rank();
   const std::vector<float> mine =
-      estimate_mirror_hits(*scene_, c_, nv * r / p, nv * (r + 1) / p, kPilotRays, totals_.rays);
+      estimate_lookup_hits(*scene_, c_, nv * r / p, nv * (r + 1) / p, kPilotRays, totals_.rays);
   assign_batches(make_batches(host_, comm_.size(), c_.balance, c_.batch_size,
-                              mirror_hit_cost(host_, comm_.allgatherv(mine))));
+                              lookup_hit_cost(host_, comm_.allgatherv(mine))));
 }
 
 nlohmann::json BakeRun::parameters() const {
@@ -501,7 +502,7 @@ void BakeRun::setup() {
   if (!c_.reference.empty()) reference_ = read_reference_map(c_.reference, mesh_);
   scene_ = std::make_unique<BakeSceneDevice>(upload_bake_scene(
       mesh_, host_, c_.viewpoints, c_.sah ? bvh::BuildQuality::kSah : bvh::BuildQuality::kLbvh));
-  if (halo_ == Halo::kTraced && c_.balance == Balance::kCost) balance_by_mirror_hits();
+  if (halo_ == Halo::kTraced && c_.balance == Balance::kCost) balance_by_lookup_hits();
   chef_ = std::make_unique<Chef>(*scene_, c_, my_items_);
 }
 
