@@ -507,13 +507,16 @@ void BakeRun::setup() {
 }
 
 // The vertices this rank holds, their layout and the exchange that keeps the remote ones fresh
-// (phase "map": it traces the mirror rays, so it counts as bake time).
+// (phases "map", tracing the mirror rays, and "halo", finding the colours they read and planning
+// the exchange; both count as bake time).
 void BakeRun::plan_map() {
   timer_.start("map");
   std::vector<char> present(static_cast<std::size_t>(host_.vertices()), halo_ == Halo::kAll);
   for (const VertexRange& r : my_ranges_)
     std::fill(present.begin() + r.begin, present.begin() + r.end, 1);
   if (halo_ == Halo::kTraced) trace_halo(present);
+  timer_.stop();
+  timer_.start("halo");
   layout_ = make_map_layout(host_, present);
   chef_->set_map_offset(layout_.device);
   if (halo_ == Halo::kTraced) {
@@ -796,8 +799,8 @@ void BakeRun::report_results() {
   const std::uint64_t hash =
       comm_.sum_wrap(map_hash(layout_.device, prev_, batches_, comm_.rank(), c_.viewpoints));
   const double total_rays = static_cast<double>(comm_.sum(totals_.rays));
-  const double bake_time =
-      comm_.max(timer_.total("base") + timer_.total("map") + timer_.total("iterate"));
+  const double bake_time = comm_.max(timer_.total("base") + timer_.total("map") +
+                                     timer_.total("halo") + timer_.total("iterate"));
   const double baked_colors = static_cast<double>(host_.vertices()) * c_.viewpoints *
                               static_cast<double>(iterations_ - first_ + 1);
   report_.fom_name = "baked viewpoint colours";
@@ -810,8 +813,9 @@ void BakeRun::report_results() {
   report_.scene["peak_rss_bytes_per_rank"] =
       comm_.allgatherv(std::vector<double>{peak_rss_bytes()});
   if (!c_.timings.empty())
-    write_timings_file(comm_, c_, timer_, {"read", "setup", "base", "map", "iterate", "write"},
-                       iter_records_, chunks_, totals_, params_.dump());
+    write_timings_file(comm_, c_, timer_,
+                       {"read", "setup", "base", "map", "halo", "iterate", "write"}, iter_records_,
+                       chunks_, totals_, params_.dump());
   if (root_)
     std::printf(
         "  bake time %.4f s (base + iterations), %.4g rays (%.4g Mrays/s), write %.4f s, "
