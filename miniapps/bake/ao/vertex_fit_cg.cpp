@@ -258,6 +258,12 @@ KOKKOS_INLINE_FUNCTION std::int64_t find_column(const DView<int>& cols, std::int
   return lo;
 }
 
+// Index of entry (a, b) of a symmetric 3x3 block stored as 00 01 02 11 12 22.
+KOKKOS_INLINE_FUNCTION int packed_symmetric(int a, int b) {
+  const int i = a < b ? a : b, j = a < b ? b : a;
+  return 3 * i - i * (i - 1) / 2 + (j - i);
+}
+
 // A = weight * Laplacian + the first member's blocks (+1 on the diagonal of rows no sample
 // reaches), each entry summed in the host path's order: the Laplacian, then the triangles
 // ascending, corners row-major. Also the Jacobi preconditioner and the touched rows.
@@ -286,7 +292,6 @@ void assemble_values(DeviceSystems& d, const DView<double>& blocks, double weigh
         const std::int64_t diag = find_column(cols, lo, hi, v);
         for (std::int64_t k = lo; k < hi; ++k) vals(k) = -1.0 * weight;
         vals(diag) = static_cast<double>(hi - lo - 1) * weight;  // the vertex degree
-        constexpr int kSym[9] = {0, 1, 2, 1, 3, 4, 2, 4, 5};
         bool reached = false;
         for (std::int64_t e = inc_ptr(i); e < inc_ptr(i + 1); ++e) {
           const std::int64_t t = inc(e);
@@ -296,7 +301,7 @@ void assemble_values(DeviceSystems& d, const DView<double>& blocks, double weigh
           for (int a = 0; a < 3; ++a) {
             if (tris(3 * t + a) != v) continue;
             for (int b = 0; b < 3; ++b)
-              vals(find_column(cols, lo, hi, tris(3 * t + b))) += m[kSym[3 * a + b]];
+              vals(find_column(cols, lo, hi, tris(3 * t + b))) += m[packed_symmetric(a, b)];
           }
         }
         if (!reached) vals(diag) += 1.0;  // no data: pulled weakly towards open (1)
