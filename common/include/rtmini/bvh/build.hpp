@@ -4,6 +4,7 @@
 
 #include "rtmini/bvh/build_lbvh.hpp"
 #include "rtmini/bvh/build_sah.hpp"
+#include "rtmini/bvh/gpu_collapse.hpp"
 #include "rtmini/bvh/wide.hpp"
 
 namespace rtmini::bvh {
@@ -95,6 +96,9 @@ Bvh<MemorySpace> build(const ExecSpace& space, Kokkos::View<const Triangle*, Mem
   collapse_zero_area(space, out);
   pad_node_boxes(space, out);
   add_wide_nodes(out);
+  // Devices trace the compressed 8-wide layout; the host keeps its SIMD layout unless asked.
+  if constexpr (!Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemorySpace>::accessible)
+    add_quantized_wide(space, out);
   return out;
 }
 

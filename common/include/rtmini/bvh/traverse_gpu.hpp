@@ -1,0 +1,253 @@
+#pragma once
+// Traversal of the compressed 8-wide BVH (gpu_wide.hpp), written for GPU threads: a node is
+// loaded as six 16-byte words, its eight child boxes are decoded and tested with fully unrolled
+// code (no dynamically indexed arrays, so nothing lands in local memory), and the stack holds
+// node groups (Ylitie et al. 2017): one entry is a visited node's remaining inner hits, taken in
+// octant order, so one push serves up to seven siblings. The top stack entries live in
+// registers; deeper ones spill to a local array, which only unusually deep paths touch.
+// Leaf triangles are tested as soon as their node is visited, nearest leaves first only by slot
+// order; results equal brute force exactly (same watertight test, same tie-break).
+#include "rtmini/bvh/bvh.hpp"
+
+#if defined(__CUDACC__)
+#define RTMINI_UNROLL _Pragma("unroll")
+#elif defined(__GNUC__) && !defined(__clang__)
+#define RTMINI_UNROLL _Pragma("GCC unroll 8")
+#else
+#define RTMINI_UNROLL
+#endif
+
+namespace rtmini::bvh::detail {
+
+KOKKOS_FORCEINLINE_FUNCTION int lowest_bit(std::uint32_t m) {  // m != 0
+#if defined(__CUDA_ARCH__)
+  return __ffs(static_cast<int>(m)) - 1;
+#else
+  return __builtin_ctz(m);
+#endif
+}
+KOKKOS_FORCEINLINE_FUNCTION int lowest_bit(std::uint64_t m) {  // m != 0
+#if defined(__CUDA_ARCH__)
+  return __ffsll(static_cast<long long>(m)) - 1;
+#else
+  return __builtin_ctzll(m);
+#endif
+}
+KOKKOS_FORCEINLINE_FUNCTION int popcount(std::uint32_t m) {
+#if defined(__CUDA_ARCH__)
+  return __popc(m);
+#else
+  return __builtin_popcount(m);
+#endif
+}
+
+// A node as words, loaded with 16-byte loads on the GPU.
+struct NodeWords {
+  std::uint32_t w[kQuantizedWords];
+  KOKKOS_FORCEINLINE_FUNCTION std::uint32_t byte(int word, int k) const {
+    return (w[word + (k >> 2)] >> ((k & 3) * 8)) & 0xffu;
+  }
+};
+
+template <class NodeView>
+KOKKOS_FORCEINLINE_FUNCTION NodeWords load_node(const NodeView& nodes, std::uint32_t i) {
+  NodeWords n;
+#if defined(__CUDA_ARCH__)
+  const uint4* src = reinterpret_cast<const uint4*>(nodes.data() + i);
+  RTMINI_UNROLL
+  for (int j = 0; j < kQuantizedWords / 4; ++j) {
+    const uint4 v = __ldg(src + j);
+    n.w[4 * j] = v.x;
+    n.w[4 * j + 1] = v.y;
+    n.w[4 * j + 2] = v.z;
+    n.w[4 * j + 3] = v.w;
+  }
+#else
+  memcpy(n.w, nodes.data() + i, sizeof n.w);
+#endif
+  return n;
+}
+
+// Pending node groups: base | inner mask << 32 | remaining hits (octant order) << 40.
+struct GroupStack {
+  static constexpr int kRegisters = 4;
+  std::uint64_t reg[kRegisters];
+  std::uint64_t spill[kStackSize];
+  int in_registers = 0, spilled = 0;
+
+  KOKKOS_FORCEINLINE_FUNCTION bool empty() const { return in_registers == 0; }
+  KOKKOS_FORCEINLINE_FUNCTION void push(std::uint64_t g) {
+    if (in_registers == kRegisters)
+      spill[spilled++] = reg[kRegisters - 1];
+    else
+      ++in_registers;
+    RTMINI_UNROLL
+    for (int j = kRegisters - 1; j > 0; --j) reg[j] = reg[j - 1];
+    reg[0] = g;
+  }
+  KOKKOS_FORCEINLINE_FUNCTION std::uint64_t pop() {
+    const std::uint64_t g = reg[0];
+    RTMINI_UNROLL
+    for (int j = 0; j < kRegisters - 1; ++j) reg[j] = reg[j + 1];
+    if (--in_registers == 0 && spilled > 0) {
+      reg[0] = spill[--spilled];
+      in_registers = 1;
+    }
+    return g;
+  }
+};
+
+KOKKOS_FORCEINLINE_FUNCTION std::uint32_t group_hits(std::uint64_t g) {
+  return static_cast<std::uint32_t>(g >> 40);
+}
+
+// Vertex coordinates along the ray's permuted axes, selected rather than indexed (an indexed
+// small array would live in local memory on the GPU); each value is the one intersect_triangle
+// computes, so the test below gives its results bit for bit.
+KOKKOS_FORCEINLINE_FUNCTION Real axis(const Vec3& v, int k) {
+  return k == 0 ? v.x : (k == 1 ? v.y : v.z);
+}
+
+KOKKOS_FORCEINLINE_FUNCTION bool intersect_triangle_selected(const WatertightRay& r,
+                                                             const Triangle& tri, Real tmin,
+                                                             Real tmax, Real& t_out, Real& u_out,
+                                                             Real& v_out) {
+  const Real ox = axis(r.org, r.kx), oy = axis(r.org, r.ky), oz = axis(r.org, r.kz);
+  const Real Ax = axis(tri.a, r.kx) - ox, Ay = axis(tri.a, r.ky) - oy, Az = axis(tri.a, r.kz) - oz;
+  const Real Bx = axis(tri.b, r.kx) - ox, By = axis(tri.b, r.ky) - oy, Bz = axis(tri.b, r.kz) - oz;
+  const Real Cx = axis(tri.c, r.kx) - ox, Cy = axis(tri.c, r.ky) - oy, Cz = axis(tri.c, r.kz) - oz;
+  const Real ax = Ax - r.sx * Az, ay = Ay - r.sy * Az;
+  const Real bx = Bx - r.sx * Bz, by = By - r.sy * Bz;
+  const Real cx = Cx - r.sx * Cz, cy = Cy - r.sy * Cz;
+  using rtmini::detail::mul_rn;
+  Real U = mul_rn(cx, by) - mul_rn(cy, bx);
+  Real V = mul_rn(ax, cy) - mul_rn(ay, cx);
+  Real W = mul_rn(bx, ay) - mul_rn(by, ax);
+  if (sizeof(Real) == 4 && (U == Real(0) || V == Real(0) || W == Real(0))) {
+    U = Real(mul_rn(double(cx), double(by)) - mul_rn(double(cy), double(bx)));
+    V = Real(mul_rn(double(ax), double(cy)) - mul_rn(double(ay), double(cx)));
+    W = Real(mul_rn(double(bx), double(ay)) - mul_rn(double(by), double(ax)));
+  }
+  if ((U < Real(0) || V < Real(0) || W < Real(0)) && (U > Real(0) || V > Real(0) || W > Real(0)))
+    return false;
+  const Real det = U + V + W;
+  if (det == Real(0)) return false;
+  const Real az = r.sz * Az, bz = r.sz * Bz, cz = r.sz * Cz;
+  const Real T = U * az + V * bz + W * cz;
+  const Real inv = Real(1) / det;
+  const Real t = T * inv;
+  if (!(t >= tmin && t <= tmax)) return false;
+  t_out = t;
+  u_out = V * inv;
+  v_out = W * inv;
+  return true;
+}
+
+template <class BvhT, bool kAnyHit, bool kStats, class Stats>
+KOKKOS_INLINE_FUNCTION bool traverse_quantized(const BvhT& bvh, const Ray& ray, Hit& hit,
+                                               Stats* stats) {
+  const WatertightRay wr(ray.org, ray.dir);
+  const Vec3 inv(safe_reciprocal(ray.dir.x), safe_reciprocal(ray.dir.y),
+                 safe_reciprocal(ray.dir.z));
+  const bool neg_x = inv.x < 0, neg_y = inv.y < 0, neg_z = inv.z < 0;
+  const std::uint32_t octant = (neg_x ? 1u : 0u) | (neg_y ? 2u : 0u) | (neg_z ? 4u : 0u);
+  const Real widen = slab_widening();
+  Real tmax = ray.tmax;
+  GroupStack stack;
+  std::uint64_t group = 0;
+  std::uint32_t node = 0;
+  bool found = false;
+  while (true) {
+    const NodeWords n = load_node(bvh.qwide, node);
+    if (kStats) ++stats->nodes;
+    const Real px = compat::bit_cast<float>(n.w[0]), py = compat::bit_cast<float>(n.w[1]),
+               pz = compat::bit_cast<float>(n.w[2]);
+    const Real sx = grid_step(n.byte(qword::kExponents, 0)),
+               sy = grid_step(n.byte(qword::kExponents, 1)),
+               sz = grid_step(n.byte(qword::kExponents, 2));
+    const std::uint32_t inner_mask = n.byte(qword::kExponents, 3);
+    // The near and far planes of each axis by the ray's direction, two words (eight slots) each.
+    constexpr int P = qword::kPlanes;
+    const std::uint32_t nx[2] = {neg_x ? n.w[P + 6] : n.w[P], neg_x ? n.w[P + 7] : n.w[P + 1]};
+    const std::uint32_t fx[2] = {neg_x ? n.w[P] : n.w[P + 6], neg_x ? n.w[P + 1] : n.w[P + 7]};
+    const std::uint32_t ny[2] = {neg_y ? n.w[P + 8] : n.w[P + 2], neg_y ? n.w[P + 9] : n.w[P + 3]};
+    const std::uint32_t fy[2] = {neg_y ? n.w[P + 2] : n.w[P + 8], neg_y ? n.w[P + 3] : n.w[P + 9]};
+    const std::uint32_t nz[2] = {neg_z ? n.w[P + 10] : n.w[P + 4],
+                                 neg_z ? n.w[P + 11] : n.w[P + 5]};
+    const std::uint32_t fz[2] = {neg_z ? n.w[P + 4] : n.w[P + 10],
+                                 neg_z ? n.w[P + 5] : n.w[P + 11]};
+    std::uint32_t inner_hits = 0;
+    std::uint64_t tri_hits = 0;
+    Real tn[kQuantizedWidth];
+    RTMINI_UNROLL
+    for (int k = 0; k < kQuantizedWidth; ++k) {
+      const int word = k >> 2, shift = (k & 3) * 8;
+      auto plane = [&](const std::uint32_t* w, Real p, Real s, Real o, Real iv) {
+        return (decode_plane(p, s, (w[word] >> shift) & 0xffu) - o) * iv;
+      };
+      Real near = plane(nx, px, sx, ray.org.x, inv.x);
+      const Real b = plane(ny, py, sy, ray.org.y, inv.y), c = plane(nz, pz, sz, ray.org.z, inv.z);
+      Real far = plane(fx, px, sx, ray.org.x, inv.x);
+      const Real e = plane(fy, py, sy, ray.org.y, inv.y), f = plane(fz, pz, sz, ray.org.z, inv.z);
+      near = b > near ? b : near;
+      near = c > near ? c : near;
+      near = ray.tmin > near ? ray.tmin : near;
+      far = e < far ? e : far;
+      far = f < far ? f : far;
+      far = far * widen;
+      const Real lim = tmax * widen;
+      far = lim < far ? lim : far;
+      tn[k] = near;
+      const bool box_hit = near <= far;
+      const std::uint32_t count = n.byte(qword::kTriCount, k);
+      if (inner_mask >> k & 1u) {
+        inner_hits |= (box_hit ? 1u : 0u) << (std::uint32_t(k) ^ octant);
+      } else if (box_hit && count > 0) {
+        tri_hits |= ((std::uint64_t(1) << count) - 1u) << n.byte(qword::kTriOffset, k);
+      }
+    }
+    // Leaf triangles now: a closer hit shrinks tmax before the inner children are taken.
+    const std::uint32_t tri_base = n.w[qword::kTriBase];
+    bool shrunk = false;
+    for (std::uint64_t m = tri_hits; m != 0; m &= m - 1) {
+      const std::uint32_t i = tri_base + static_cast<std::uint32_t>(lowest_bit(m));
+      if (kStats) ++stats->tests;
+      Real t, u, v;
+      if (!intersect_triangle_selected(wr, bvh.qwide_tris(i), ray.tmin, tmax, t, u, v)) continue;
+      const int id = bvh.qwide_prim(i);
+      if (kAnyHit || t < tmax || id < hit.prim || !found) {
+        tmax = t;
+        hit.t = t;
+        hit.u = u;
+        hit.v = v;
+        hit.prim = id;
+        found = true;
+        shrunk = true;
+      }
+      if (kAnyHit) return true;
+    }
+    if (!kAnyHit && shrunk && inner_hits != 0) {
+      RTMINI_UNROLL
+      for (int k = 0; k < kQuantizedWidth; ++k)
+        if (tn[k] > tmax * widen) inner_hits &= ~(1u << (std::uint32_t(k) ^ octant));
+    }
+    if (inner_hits != 0) {
+      if (group_hits(group) != 0) stack.push(group);
+      group = std::uint64_t(n.w[qword::kChildBase]) | std::uint64_t(inner_mask) << 32 |
+              std::uint64_t(inner_hits) << 40;
+    }
+    if (group_hits(group) == 0) {
+      if (stack.empty()) break;
+      group = stack.pop();
+    }
+    const int b = lowest_bit(group_hits(group));
+    group &= ~(std::uint64_t(1) << (40 + b));
+    const std::uint32_t k = static_cast<std::uint32_t>(b) ^ octant;
+    const std::uint32_t mask = static_cast<std::uint32_t>(group >> 32) & 0xffu;
+    node = static_cast<std::uint32_t>(group) +
+           static_cast<std::uint32_t>(popcount(mask & ((1u << k) - 1u)));
+  }
+  return found;
+}
+
+}  // namespace rtmini::bvh::detail
