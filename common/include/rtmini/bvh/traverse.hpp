@@ -370,8 +370,10 @@ KOKKOS_INLINE_FUNCTION bool traverse_wide(const BvhT& bvh, const Ray& ray, Hit& 
 template <class BvhT, bool kAnyHit, bool kStats>
 KOKKOS_INLINE_FUNCTION bool traverse_any_layout(const BvhT& bvh, const Ray& ray, Hit& hit,
                                                 TraversalStats* stats) {
-  if (bvh.qwide.extent(0) > 0)
-    return traverse_quantized<BvhT, kAnyHit, kStats>(bvh, ray, hit, stats);
+  if constexpr (HasQuantizedWide<BvhT>::value) {
+    if (bvh.qwide.extent(0) > 0)
+      return traverse_quantized<BvhT, kAnyHit, kStats>(bvh, ray, hit, stats);
+  }
   if constexpr (Kokkos::SpaceAccessibility<Kokkos::HostSpace,
                                            typename BvhT::memory_space>::accessible) {
     if (bvh.wide.extent(0) > 0) return traverse_wide<BvhT, kAnyHit, kStats>(bvh, ray, hit, stats);

@@ -7,6 +7,9 @@
 // registers; deeper ones spill to a local array, which only unusually deep paths touch.
 // Leaf triangles are tested as soon as their node is visited, nearest leaves first only by slot
 // order; results equal brute force exactly (same watertight test, same tie-break).
+#include <type_traits>
+#include <utility>
+
 #include "rtmini/bvh/bvh.hpp"
 
 #if defined(__CUDACC__)
@@ -41,6 +44,13 @@ KOKKOS_FORCEINLINE_FUNCTION int popcount(std::uint32_t m) {
 #endif
 }
 
+// Whether a BVH-shaped type carries the compressed wide layout (views of it may not).
+template <class T, class = void>
+struct HasQuantizedWide : std::false_type {};
+template <class T>
+struct HasQuantizedWide<T, std::void_t<decltype(std::declval<const T&>().qwide)>> : std::true_type {
+};
+
 // A node as words, loaded with 16-byte loads on the GPU.
 struct NodeWords {
   std::uint32_t w[kQuantizedWords];
@@ -53,7 +63,7 @@ template <class NodeView>
 KOKKOS_FORCEINLINE_FUNCTION NodeWords load_node(const NodeView& nodes, std::uint32_t i) {
   NodeWords n;
 #if defined(__CUDA_ARCH__)
-  const uint4* src = reinterpret_cast<const uint4*>(nodes.data() + i);
+  const uint4* src = reinterpret_cast<const uint4*>(&nodes(i));
   RTMINI_UNROLL
   for (int j = 0; j < kQuantizedWords / 4; ++j) {
     const uint4 v = __ldg(src + j);
@@ -63,7 +73,7 @@ KOKKOS_FORCEINLINE_FUNCTION NodeWords load_node(const NodeView& nodes, std::uint
     n.w[4 * j + 3] = v.w;
   }
 #else
-  memcpy(n.w, nodes.data() + i, sizeof n.w);
+  memcpy(n.w, &nodes(i), sizeof n.w);
 #endif
   return n;
 }
