@@ -29,7 +29,7 @@ TESTPID=$!
 wait $TESTPID
 pack
 L=$R/bench.txt
-bench() { local tag=$1 bin=$2; shift 2; echo "== $tag: $*" >> $L; timeout 60 $bin/bench/rtmini-bvh-bench "$@" >> $L 2>&1; echo "rc=$?" >> $L; }
+bench() { local tag=$1 bin=$2; shift 2; echo "== $tag: $*" >> $L; timeout 90 $bin/bench/rtmini-bvh-bench "$@" >> $L 2>&1; echo "rc=$?" >> $L; }
 for rep in 1 2; do
   for m in dragon stanford-bunny; do
     for q in sah lbvh; do
@@ -40,6 +40,8 @@ for rep in 1 2; do
   bench base $B inputs/meshes/dragon.obj --workload diffuse --quality sah
   bench new $N inputs/meshes/dragon.obj --workload diffuse --quality sah
 done
+bench base $B icosphere:8 --workload ao --quality lbvh --samples-per-face 1 --rays 16
+bench new $N icosphere:8 --workload ao --quality lbvh --samples-per-face 1 --rays 16
 pack; echo "bench done $(( $(date +%s) - t0 )) s"
 grep -E '^== |FOM|build:|per ray' $L | head -80
 for rep in 1 2; do

@@ -78,31 +78,29 @@ KOKKOS_FORCEINLINE_FUNCTION NodeWords load_node(const NodeView& nodes, std::uint
   return n;
 }
 
-// Pending node groups: base | inner mask << 32 | remaining hits (octant order) << 40.
+// Pending node groups (base | inner mask << 32 | remaining hits in octant order << 40): the top
+// four in scalar registers, deeper ones in `deep`, an array the caller owns (local memory on the
+// GPU, touched only by paths more than four groups deep). Scalars, not an array member: an
+// aggregate with a dynamically indexed part would be placed in local memory whole.
 struct GroupStack {
-  static constexpr int kRegisters = 4;
-  std::uint64_t reg[kRegisters];
-  std::uint64_t spill[kStackSize];
-  int in_registers = 0, spilled = 0;
+  std::uint64_t s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+  int depth = 0;
 
-  KOKKOS_FORCEINLINE_FUNCTION bool empty() const { return in_registers == 0; }
-  KOKKOS_FORCEINLINE_FUNCTION void push(std::uint64_t g) {
-    if (in_registers == kRegisters)
-      spill[spilled++] = reg[kRegisters - 1];
-    else
-      ++in_registers;
-    RTMINI_UNROLL
-    for (int j = kRegisters - 1; j > 0; --j) reg[j] = reg[j - 1];
-    reg[0] = g;
+  KOKKOS_FORCEINLINE_FUNCTION bool empty() const { return depth == 0; }
+  KOKKOS_FORCEINLINE_FUNCTION void push(std::uint64_t g, std::uint64_t* deep) {
+    if (depth >= 4) deep[depth - 4] = s3;
+    s3 = s2;
+    s2 = s1;
+    s1 = s0;
+    s0 = g;
+    ++depth;
   }
-  KOKKOS_FORCEINLINE_FUNCTION std::uint64_t pop() {
-    const std::uint64_t g = reg[0];
-    RTMINI_UNROLL
-    for (int j = 0; j < kRegisters - 1; ++j) reg[j] = reg[j + 1];
-    if (--in_registers == 0 && spilled > 0) {
-      reg[0] = spill[--spilled];
-      in_registers = 1;
-    }
+  KOKKOS_FORCEINLINE_FUNCTION std::uint64_t pop(const std::uint64_t* deep) {
+    const std::uint64_t g = s0;
+    s0 = s1;
+    s1 = s2;
+    s2 = s3;
+    if (--depth >= 4) s3 = deep[depth - 4];
     return g;
   }
 };
@@ -111,21 +109,33 @@ KOKKOS_FORCEINLINE_FUNCTION std::uint32_t group_hits(std::uint64_t g) {
   return static_cast<std::uint32_t>(g >> 40);
 }
 
-// Vertex coordinates along the ray's permuted axes, selected rather than indexed (an indexed
-// small array would live in local memory on the GPU); each value is the one intersect_triangle
-// computes, so the test below gives its results bit for bit.
+// The ray's origin along its permuted axes, once per ray.
 KOKKOS_FORCEINLINE_FUNCTION Real axis(const Vec3& v, int k) {
   return k == 0 ? v.x : (k == 1 ? v.y : v.z);
 }
+struct PermutedOrigin {
+  Real x, y, z;
+  KOKKOS_INLINE_FUNCTION explicit PermutedOrigin(const WatertightRay& r)
+      : x(axis(r.org, r.kx)), y(axis(r.org, r.ky)), z(axis(r.org, r.kz)) {}
+};
 
-KOKKOS_FORCEINLINE_FUNCTION bool intersect_triangle_selected(const WatertightRay& r,
-                                                             const Triangle& tri, Real tmin,
-                                                             Real tmax, Real& t_out, Real& u_out,
-                                                             Real& v_out) {
-  const Real ox = axis(r.org, r.kx), oy = axis(r.org, r.ky), oz = axis(r.org, r.kz);
-  const Real Ax = axis(tri.a, r.kx) - ox, Ay = axis(tri.a, r.ky) - oy, Az = axis(tri.a, r.kz) - oz;
-  const Real Bx = axis(tri.b, r.kx) - ox, By = axis(tri.b, r.ky) - oy, Bz = axis(tri.b, r.kz) - oz;
-  const Real Cx = axis(tri.c, r.kx) - ox, Cy = axis(tri.c, r.ky) - oy, Cz = axis(tri.c, r.kz) - oz;
+static_assert(sizeof(Triangle) == 9 * sizeof(Real), "a triangle is nine packed coordinates");
+
+// intersect_triangle for a triangle in memory: the permuted coordinates are loaded by index
+// from the triangle itself (one cached load each) rather than from a small indexed array, which
+// the GPU would keep in local memory. Every value and operation is intersect_triangle's, so the
+// results are its own bit for bit.
+KOKKOS_FORCEINLINE_FUNCTION bool intersect_stored_triangle(const WatertightRay& r,
+                                                           const PermutedOrigin& o,
+                                                           const Triangle& tri, Real tmin,
+                                                           Real tmax, Real& t_out, Real& u_out,
+                                                           Real& v_out) {
+  const Real* a = &tri.a.x;
+  const Real* b = &tri.b.x;
+  const Real* c = &tri.c.x;
+  const Real Ax = a[r.kx] - o.x, Ay = a[r.ky] - o.y, Az = a[r.kz] - o.z;
+  const Real Bx = b[r.kx] - o.x, By = b[r.ky] - o.y, Bz = b[r.kz] - o.z;
+  const Real Cx = c[r.kx] - o.x, Cy = c[r.ky] - o.y, Cz = c[r.kz] - o.z;
   const Real ax = Ax - r.sx * Az, ay = Ay - r.sy * Az;
   const Real bx = Bx - r.sx * Bz, by = By - r.sy * Bz;
   const Real cx = Cx - r.sx * Cz, cy = Cy - r.sy * Cz;
@@ -157,6 +167,7 @@ template <class BvhT, bool kAnyHit, bool kStats, class Stats>
 KOKKOS_INLINE_FUNCTION bool traverse_quantized(const BvhT& bvh, const Ray& ray, Hit& hit,
                                                Stats* stats) {
   const WatertightRay wr(ray.org, ray.dir);
+  const PermutedOrigin po(wr);
   const Vec3 inv(safe_reciprocal(ray.dir.x), safe_reciprocal(ray.dir.y),
                  safe_reciprocal(ray.dir.z));
   const bool neg_x = inv.x < 0, neg_y = inv.y < 0, neg_z = inv.z < 0;
@@ -164,6 +175,7 @@ KOKKOS_INLINE_FUNCTION bool traverse_quantized(const BvhT& bvh, const Ray& ray, 
   const Real widen = slab_widening();
   Real tmax = ray.tmax;
   GroupStack stack;
+  std::uint64_t deep[kStackSize];
   std::uint64_t group = 0;
   std::uint32_t node = 0;
   bool found = false;
@@ -176,29 +188,37 @@ KOKKOS_INLINE_FUNCTION bool traverse_quantized(const BvhT& bvh, const Ray& ray, 
                sy = grid_step(n.byte(qword::kExponents, 1)),
                sz = grid_step(n.byte(qword::kExponents, 2));
     const std::uint32_t inner_mask = n.byte(qword::kExponents, 3);
-    // The near and far planes of each axis by the ray's direction, two words (eight slots) each.
+    // The near and far planes of each axis by the ray's direction; plane p of slots 0-3 is word
+    // kPlanes + 2p, of slots 4-7 the word after it.
     constexpr int P = qword::kPlanes;
-    const std::uint32_t nx[2] = {neg_x ? n.w[P + 6] : n.w[P], neg_x ? n.w[P + 7] : n.w[P + 1]};
-    const std::uint32_t fx[2] = {neg_x ? n.w[P] : n.w[P + 6], neg_x ? n.w[P + 1] : n.w[P + 7]};
-    const std::uint32_t ny[2] = {neg_y ? n.w[P + 8] : n.w[P + 2], neg_y ? n.w[P + 9] : n.w[P + 3]};
-    const std::uint32_t fy[2] = {neg_y ? n.w[P + 2] : n.w[P + 8], neg_y ? n.w[P + 3] : n.w[P + 9]};
-    const std::uint32_t nz[2] = {neg_z ? n.w[P + 10] : n.w[P + 4],
-                                 neg_z ? n.w[P + 11] : n.w[P + 5]};
-    const std::uint32_t fz[2] = {neg_z ? n.w[P + 4] : n.w[P + 10],
-                                 neg_z ? n.w[P + 5] : n.w[P + 11]};
+    const std::uint32_t nx0 = (neg_x ? n.w[P + 6] : n.w[P]),
+                        nx1 = (neg_x ? n.w[P + 7] : n.w[P + 1]);
+    const std::uint32_t fx0 = (neg_x ? n.w[P] : n.w[P + 6]),
+                        fx1 = (neg_x ? n.w[P + 1] : n.w[P + 7]);
+    const std::uint32_t ny0 = (neg_y ? n.w[P + 8] : n.w[P + 2]),
+                        ny1 = (neg_y ? n.w[P + 9] : n.w[P + 3]);
+    const std::uint32_t fy0 = (neg_y ? n.w[P + 2] : n.w[P + 8]),
+                        fy1 = (neg_y ? n.w[P + 3] : n.w[P + 9]);
+    const std::uint32_t nz0 = (neg_z ? n.w[P + 10] : n.w[P + 4]),
+                        nz1 = (neg_z ? n.w[P + 11] : n.w[P + 5]);
+    const std::uint32_t fz0 = (neg_z ? n.w[P + 4] : n.w[P + 10]),
+                        fz1 = (neg_z ? n.w[P + 5] : n.w[P + 11]);
+    const std::uint32_t counts0 = n.w[qword::kTriCount], counts1 = n.w[qword::kTriCount + 1];
+    const std::uint32_t offsets0 = n.w[qword::kTriOffset], offsets1 = n.w[qword::kTriOffset + 1];
     std::uint32_t inner_hits = 0;
     std::uint64_t tri_hits = 0;
-    Real tn[kQuantizedWidth];
     RTMINI_UNROLL
     for (int k = 0; k < kQuantizedWidth; ++k) {
-      const int word = k >> 2, shift = (k & 3) * 8;
-      auto plane = [&](const std::uint32_t* w, Real p, Real s, Real o, Real iv) {
-        return (decode_plane(p, s, (w[word] >> shift) & 0xffu) - o) * iv;
+      const int shift = (k & 3) * 8;
+      const auto slot_byte = [&](std::uint32_t w0, std::uint32_t w1) {
+        return ((k < 4 ? w0 : w1) >> shift) & 0xffu;
       };
-      Real near = plane(nx, px, sx, ray.org.x, inv.x);
-      const Real b = plane(ny, py, sy, ray.org.y, inv.y), c = plane(nz, pz, sz, ray.org.z, inv.z);
-      Real far = plane(fx, px, sx, ray.org.x, inv.x);
-      const Real e = plane(fy, py, sy, ray.org.y, inv.y), f = plane(fz, pz, sz, ray.org.z, inv.z);
+      Real near = (decode_plane(px, sx, slot_byte(nx0, nx1)) - ray.org.x) * inv.x;
+      const Real b = (decode_plane(py, sy, slot_byte(ny0, ny1)) - ray.org.y) * inv.y;
+      const Real c = (decode_plane(pz, sz, slot_byte(nz0, nz1)) - ray.org.z) * inv.z;
+      Real far = (decode_plane(px, sx, slot_byte(fx0, fx1)) - ray.org.x) * inv.x;
+      const Real e = (decode_plane(py, sy, slot_byte(fy0, fy1)) - ray.org.y) * inv.y;
+      const Real f = (decode_plane(pz, sz, slot_byte(fz0, fz1)) - ray.org.z) * inv.z;
       near = b > near ? b : near;
       near = c > near ? c : near;
       near = ray.tmin > near ? ray.tmin : near;
@@ -207,23 +227,21 @@ KOKKOS_INLINE_FUNCTION bool traverse_quantized(const BvhT& bvh, const Ray& ray, 
       far = far * widen;
       const Real lim = tmax * widen;
       far = lim < far ? lim : far;
-      tn[k] = near;
       const bool box_hit = near <= far;
-      const std::uint32_t count = n.byte(qword::kTriCount, k);
+      const std::uint32_t count = slot_byte(counts0, counts1);
       if (inner_mask >> k & 1u) {
         inner_hits |= (box_hit ? 1u : 0u) << (std::uint32_t(k) ^ octant);
       } else if (box_hit && count > 0) {
-        tri_hits |= ((std::uint64_t(1) << count) - 1u) << n.byte(qword::kTriOffset, k);
+        tri_hits |= ((std::uint64_t(1) << count) - 1u) << slot_byte(offsets0, offsets1);
       }
     }
     // Leaf triangles now: a closer hit shrinks tmax before the inner children are taken.
     const std::uint32_t tri_base = n.w[qword::kTriBase];
-    bool shrunk = false;
     for (std::uint64_t m = tri_hits; m != 0; m &= m - 1) {
       const std::uint32_t i = tri_base + static_cast<std::uint32_t>(lowest_bit(m));
       if (kStats) ++stats->tests;
       Real t, u, v;
-      if (!intersect_triangle_selected(wr, bvh.qwide_tris(i), ray.tmin, tmax, t, u, v)) continue;
+      if (!intersect_stored_triangle(wr, po, bvh.qwide_tris(i), ray.tmin, tmax, t, u, v)) continue;
       const int id = bvh.qwide_prim(i);
       if (kAnyHit || t < tmax || id < hit.prim || !found) {
         tmax = t;
@@ -232,23 +250,17 @@ KOKKOS_INLINE_FUNCTION bool traverse_quantized(const BvhT& bvh, const Ray& ray, 
         hit.v = v;
         hit.prim = id;
         found = true;
-        shrunk = true;
       }
       if (kAnyHit) return true;
     }
-    if (!kAnyHit && shrunk && inner_hits != 0) {
-      RTMINI_UNROLL
-      for (int k = 0; k < kQuantizedWidth; ++k)
-        if (tn[k] > tmax * widen) inner_hits &= ~(1u << (std::uint32_t(k) ^ octant));
-    }
     if (inner_hits != 0) {
-      if (group_hits(group) != 0) stack.push(group);
+      if (group_hits(group) != 0) stack.push(group, deep);
       group = std::uint64_t(n.w[qword::kChildBase]) | std::uint64_t(inner_mask) << 32 |
               std::uint64_t(inner_hits) << 40;
     }
     if (group_hits(group) == 0) {
       if (stack.empty()) break;
-      group = stack.pop();
+      group = stack.pop(deep);
     }
     const int b = lowest_bit(group_hits(group));
     group &= ~(std::uint64_t(1) << (40 + b));
