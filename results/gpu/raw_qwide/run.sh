@@ -57,6 +57,7 @@ for t in base new; do
   bin=$B; [ $t = new ] && bin=$N
   cuobjdump --dump-resource-usage $bin/bench/rtmini-bvh-bench > $R/resources_$t.txt 2>&1
   M=launch__registers_per_thread,l1tex__t_sectors_pipe_lsu_mem_local_op_ld.sum,l1tex__t_sectors_pipe_lsu_mem_local_op_st.sum,smsp__thread_inst_executed_per_inst_executed.ratio,sm__warps_active.avg.pct_of_peak_sustained_active,gpu__time_duration.sum,l1tex__t_requests_pipe_lsu_mem_global_op_ld.sum,l1tex__throughput.avg.pct_of_peak_sustained_active,dram__throughput.avg.pct_of_peak_sustained_elapsed
+  [ "${NCU_BASE:-0}" = 1 ] || [ $t = new ] || continue
   timeout 150 ncu --clock-control none --metrics $M --csv $bin/bench/rtmini-bvh-bench inputs/meshes/dragon.obj --workload ao --quality sah --repeats 1 > $R/ncu_$t.csv 2>&1
   echo "ncu $t rc=$? $(( $(date +%s) - t0 )) s"
 done
