@@ -17,19 +17,16 @@ DeviceScene::DeviceScene(const AoScene& scene, bvh::BuildQuality quality,
                    Vec3(mesh.positions[v[2]])};
     }
     Kokkos::deep_copy(tris, tris_h);
-    bvhs_.push_back(bvh::build<ExecSpace, MemSpace>(space, tris, quality));
+    // AO asks any-hit queries only, which trace the binary tree: no wide copy to build.
+    bvhs_.push_back(
+        bvh::build<ExecSpace, MemSpace>(space, tris, quality, bvh::QuantizedWide::kNever));
     const auto& b = bvhs_.back();
     refs_h(m).nodes = {b.nodes.data(), b.nodes.extent(0)};
     refs_h(m).wide = {b.wide.data(), b.wide.extent(0)};
     refs_h(m).leaves = {b.leaves.data(), b.leaves.extent(0)};
     refs_h(m).tris = {b.tris.data(), b.tris.extent(0)};
     refs_h(m).prim = {b.prim.data(), b.prim.extent(0)};
-    refs_h(m).qwide = {b.qwide.data(), b.qwide.extent(0)};
-    refs_h(m).qwide_tris = {b.qwide_tris.data(), b.qwide_tris.extent(0)};
-    refs_h(m).qwide_prim = {b.qwide_prim.data(), b.qwide_prim.extent(0)};
     refs_h(m).num_prims = b.num_prims;
-    bytes_ += b.qwide.span() * sizeof(bvh::QuantizedWideNode) +
-              b.qwide_tris.span() * sizeof(Triangle) + b.qwide_prim.span() * sizeof(int);
     bytes_ += b.nodes.span() * sizeof(bvh::BvhNode) + b.wide.span() * sizeof(bvh::WideNode) +
               b.leaves.span() * sizeof(bvh::TriangleLanes) + b.tris.span() * sizeof(Triangle) +
               b.prim.span() * sizeof(int);

@@ -33,9 +33,6 @@ struct BvhRef {
   Array<bvh::TriangleLanes> leaves;
   Array<Triangle> tris;
   Array<int> prim;
-  Array<bvh::QuantizedWideNode> qwide;  // the device's layout (gpu_wide.hpp)
-  Array<Triangle> qwide_tris;
-  Array<int> qwide_prim;
   int num_prims = 0;
 };
 
