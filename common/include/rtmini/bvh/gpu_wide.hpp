@@ -11,6 +11,8 @@
 // Quantisation is conservative by construction: a decoded plane is origin + q * 2^e in Real
 // arithmetic (the product is exact, so a fused multiply-add rounds the same), and the builder
 // checks each decoded plane against the exact child box, moving q outward until it encloses it.
+// Traversal evaluates planes in a cheaper form and widens them by a bound on its own rounding
+// (traverse_gpu.hpp), so the tested box still encloses the decoded one.
 #include <cstdint>
 
 #include "rtmini/geometry/aabb.hpp"
@@ -49,7 +51,7 @@ KOKKOS_INLINE_FUNCTION float grid_step(std::uint32_t biased) {
   return compat::bit_cast<float>(biased << 23);
 }
 
-// The decoded plane: the same expression in the builder and in traversal.
+// The decoded plane, as the builder checks it.
 KOKKOS_INLINE_FUNCTION Real decode_plane(Real origin, Real step, std::uint32_t q) {
   return origin + Real(q) * step;
 }
