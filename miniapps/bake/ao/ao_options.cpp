@@ -74,7 +74,8 @@ void AoCli::finish(AoOptions& o) const {
   o.least_squares = !no_lsq_;
   if (!ground.empty()) {
     const double axis = ground[0];
-    if (axis != static_cast<int>(axis) || axis < 0 || axis > 5)
+    // Range first: converting 1e300 (or NaN) to int is undefined (found by fuzz_ao_options).
+    if (!(axis >= 0 && axis <= 5) || axis != static_cast<int>(axis))
       throw InputError("bad usage: --ground_setup axis must be an integer 0..5");
     if (!(ground[1] > 0) || !(ground[2] >= 0))
       throw InputError("bad usage: --ground_setup needs scale > 0 and offset >= 0");
