@@ -47,6 +47,11 @@ void AoCli::add_to(CLI::App& app, AoOptions& o) {
                  "least-squares regularization weight")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--fit", o.fit,
+                 "least-squares solve: cholesky (host sparse Cholesky), cg (preconditioned CG on "
+                 "the device), or auto (cg on a GPU, cholesky on the host)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "cholesky", "cg"}));
   app.add_flag("--no_least_squares,--no-least-squares", no_lsq_,
                "area/barycentric weighted average instead");
   app.add_option("--passes", o.passes, "kernel launches per batch (rays are split among them)")
