@@ -7,7 +7,8 @@
 # reproducers are in $WORK/<target>/).
 # Usage: results/reliability/fuzz_campaign.sh [SECONDS [TARGET...]]
 # Env:   BUILD (the main build with bake and sketchtrace; default build), WORK (default
-#        $BUILD/fuzz-campaign), LANES (targets at once; default 2)
+#        $BUILD/fuzz-campaign), LANES (targets at once; default 2), SUMMARY_ONLY=1 (print
+#        the table of the run already in WORK)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 build=${BUILD:-$root/build}
@@ -18,26 +19,28 @@ targets=("$@")
 ((${#targets[@]})) || targets=(obj bs bsb scene_toml ao_scene ao_options bake_checkpoint
                                sketch_checkpoint cost_map ppm png)
 fuzz=$root/tests/fuzz/fuzz.sh
-mkdir -p "$work"
-nice bash "$fuzz" build "$work/build" >"$work/build.log"
-BAKE=$build/miniapps/bake/bake SKETCH=$build/miniapps/sketchtrace/sketchtrace \
-  bash "$fuzz" seeds "$work/seeds" >"$work/seeds.log"
 
 run_one() {
   local t=$1
   nice bash "$fuzz" run "$work/build" "$work/seeds" "$work/$t" "$t" -max_total_time="$seconds" \
     >"$work/$t.log" 2>&1 || true
 }
-running=0
-for t in "${targets[@]}"; do
-  run_one "$t" &
-  running=$((running + 1))
-  if ((running >= ${LANES:-2})); then
-    wait -n
-    running=$((running - 1))
-  fi
-done
-wait
+if [[ ${SUMMARY_ONLY:-0} != 1 ]]; then  # SUMMARY_ONLY=1: only the table of an earlier run
+  mkdir -p "$work"
+  nice bash "$fuzz" build "$work/build" >"$work/build.log"
+  BAKE=$build/miniapps/bake/bake SKETCH=$build/miniapps/sketchtrace/sketchtrace \
+    bash "$fuzz" seeds "$work/seeds" >"$work/seeds.log"
+  running=0
+  for t in "${targets[@]}"; do
+    run_one "$t" &
+    running=$((running + 1))
+    if ((running >= ${LANES:-2})); then
+      wait -n || true
+      running=$((running - 1))
+    fi
+  done
+  wait
+fi
 
 status=0
 printf '%-18s %10s %7s %6s %7s %7s %7s %s\n' target execs exec/s cov ft corpus seconds findings

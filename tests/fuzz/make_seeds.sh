@@ -35,6 +35,7 @@ for f in "$inputs"/*/*.obj "$bad"/*.obj; do
 done
 for f in "$inputs"/*/*.bs "$bad"/*.bs; do seed bs "$f"; done
 for f in "$bad"/ppm_*.ppm; do seed ppm "$f"; done
+for f in "$bad"/png_*.png; do seed png "$f"; done
 # HDF5 files that once showed a problem (tests/data/bad/h5_*.h5) go to every HDF5 reader.
 for f in "$bad"/h5_*.h5; do
   for t in bake_checkpoint sketch_checkpoint cost_map; do seed $t "$f"; done

@@ -26,6 +26,14 @@ std::string lower_extension(const std::string& path) {
 
 }  // namespace
 
+void check_image_size(const std::string& path, long width, long height) {
+  if (width > 0 && height > 0 && width <= kMaxImagePixels / height) return;
+  throw InputError(path, 0,
+                   "image of " + std::to_string(width) + " x " + std::to_string(height) +
+                       " pixels is empty or larger than the " + std::to_string(kMaxImagePixels) +
+                       " pixels a reader accepts");
+}
+
 void write_image(const std::string& path, const Image& image) {
   const std::string ext = lower_extension(path);
   if (ext == ".ppm") return write_ppm(path, image);

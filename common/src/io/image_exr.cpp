@@ -117,6 +117,7 @@ std::vector<std::pair<std::string, Image>> read_exr_layers(const std::string& pa
     const Imath::Box2i window = file.header().dataWindow();
     width = window.max.x - window.min.x + 1;
     height = window.max.y - window.min.y + 1;
+    check_image_size(path, width, height);
     Imf::FrameBuffer frame;
     for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it) {
       std::vector<float>& plane = planes[it.name()];

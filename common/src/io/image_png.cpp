@@ -46,6 +46,12 @@ Image read_png(const std::string& path) {
   png.version = PNG_IMAGE_VERSION;
   if (!png_image_begin_read_from_file(&png, path.c_str()))
     throw InputError(path, 0, std::string("cannot read PNG: ") + png.message);
+  try {
+    check_image_size(path, static_cast<long>(png.width), static_cast<long>(png.height));
+  } catch (...) {
+    png_image_free(&png);
+    throw;
+  }
   const bool alpha = (png.format & PNG_FORMAT_FLAG_ALPHA) != 0;
   png.format = alpha ? PNG_FORMAT_RGBA : PNG_FORMAT_RGB;
   Image image(static_cast<int>(png.width), static_cast<int>(png.height), alpha ? 4 : 3);

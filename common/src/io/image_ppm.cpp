@@ -33,6 +33,9 @@ class PpmTokens {
     return *value;
   }
 
+  // Bytes after the current position (P3: every sample takes at least two of them).
+  std::size_t remaining() const { return bytes_.size() - pos_; }
+
   // P6: exactly one whitespace byte separates maxval from the raster.
   std::size_t raster_start() {
     if (pos_ >= bytes_.size() || !std::isspace(static_cast<unsigned char>(bytes_[pos_])))
@@ -100,17 +103,25 @@ Image read_ppm(const std::string& path) {
   const long width = tokens.integer("width", 1, 1 << 16);
   const long height = tokens.integer("height", 1, 1 << 16);
   const long maxval = tokens.integer("maxval", 1, 65535);
-  Image image(static_cast<int>(width), static_cast<int>(height), 3);
+  check_image_size(path, width, height);
+  // The raster must be there before the image is allocated: a header alone must not
+  // claim gigabytes.
+  const std::size_t samples = static_cast<std::size_t>(width) * height * 3;
   if (magic == "P3") {
+    if (tokens.remaining() + 1 < 2 * samples)
+      tokens.fail("ASCII raster truncated: " + std::to_string(samples) + " samples need at least " +
+                  std::to_string(2 * samples - 1) + " bytes, file has " +
+                  std::to_string(tokens.remaining()));
+    Image image(static_cast<int>(width), static_cast<int>(height), 3);
     for (float& v : image.data) v = decode_sample(tokens.integer("sample", 0, maxval), maxval);
     return image;
   }
   const std::size_t start = tokens.raster_start();
   const std::size_t sample_bytes = maxval > 255 ? 2 : 1;
-  if (bytes.size() - start < image.data.size() * sample_bytes)
-    tokens.fail("binary raster truncated: expected " +
-                std::to_string(image.data.size() * sample_bytes) + " bytes, file has " +
-                std::to_string(bytes.size() - start));
+  if (bytes.size() - start < samples * sample_bytes)
+    tokens.fail("binary raster truncated: expected " + std::to_string(samples * sample_bytes) +
+                " bytes, file has " + std::to_string(bytes.size() - start));
+  Image image(static_cast<int>(width), static_cast<int>(height), 3);
   const auto* raster = reinterpret_cast<const unsigned char*>(bytes.data() + start);
   for (std::size_t i = 0; i < image.data.size(); ++i) {
     // 16-bit samples are big-endian (netpbm).

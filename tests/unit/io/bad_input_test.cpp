@@ -102,7 +102,26 @@ const BadInput kBadInputs[] = {
     {"ppm_bad_magic.ppm", 1, "unsupported magic 'P5'"},
     {"ppm_truncated.ppm", 4, "binary raster truncated"},
     {"ppm_sample_over_max.ppm", 5, "sample 16 out of range [0, 15]"},
+    // Headers claiming 8000 x 8000 pixels with no raster: refused before allocating.
+    {"ppm_header_only_huge.ppm", 3, "binary raster truncated"},
+    {"ppm_ascii_huge_truncated.ppm", 3, "ASCII raster truncated"},
 };
+
+#ifdef RTMINI_HAVE_PNG
+// A valid PNG header claiming 1000000 x 1000000 pixels (found by fuzzing: std::bad_alloc, which
+// the apps reported as a resource error) is bad input, refused before anything is allocated.
+TEST(BadPng, HugeHeaderIsRefusedBeforeAllocating) {
+  const std::string path = std::string(RTMINI_TEST_BAD_DIR) + "/png_huge_header.png";
+  try {
+    read_image(path);
+    FAIL() << path << " was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ": image of 1000000 x 1000000 pixels"),
+              std::string::npos)
+        << e.what();
+  }
+}
+#endif
 
 INSTANTIATE_TEST_SUITE_P(Io, BadInputTest, ::testing::ValuesIn(kBadInputs),
                          [](const ::testing::TestParamInfo<BadInput>& info) {

@@ -28,6 +28,13 @@ struct Image {
   }
 };
 
+// Readers refuse larger images before allocating anything (8192 x 8192: twice 4K in each
+// dimension), so a corrupt header cannot claim gigabytes (a 1000000 x 1000000 PNG reference
+// ended in std::bad_alloc; found by fuzzing).
+inline constexpr long kMaxImagePixels = 1L << 26;
+// InputError "path: reason" when width x height exceeds kMaxImagePixels.
+void check_image_size(const std::string& path, long width, long height);
+
 enum class ExrPixel { kHalf, kFloat };
 
 // Dispatch on the extension (.ppm, .png, .exr; case-insensitive); InputError otherwise.
