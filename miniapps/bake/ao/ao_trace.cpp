@@ -18,13 +18,13 @@ struct PointBatch {
 };
 
 void trace_pass(const OcclusionQuery& query, const PointBatch& points,
-                const Kokkos::View<SquarePoint*, MemSpace>& strata,
                 const Kokkos::View<std::uint16_t*, MemSpace>& hits, std::int64_t n, int k0, int k1,
                 const TraceSettings& s) {
   const auto pos = points.pos;
   const auto nrm = points.nrm;
   const auto keys = points.keys;
   const std::uint64_t seed = s.seed;
+  const int side = stratum_side(s.rays);
   const Real offset = s.offset, max_distance = s.max_distance;
   const Real coordinate_bound = s.coordinate_bound;
   Kokkos::parallel_for(
@@ -32,31 +32,21 @@ void trace_pass(const OcclusionQuery& query, const PointBatch& points,
         const Vec3 normal = nrm(i);
         if (length_squared(normal) == Real(0)) return;  // degenerate triangle: zero weight later
         const Frame frame(normal);
-        const SquarePoint shift = ray_key_shift(seed, keys(i));
+        const std::uint32_t key = keys(i);
         Ray ray;
         ray.org = offset_ray_origin(pos(i), normal, coordinate_bound) + normal * offset;
         ray.tmin = Real(0);
         ray.tmax = max_distance;
         int count = 0;
         for (int k = k0; k < k1; ++k) {
-          ray.dir = frame.to_world(keyed_direction(strata(k), shift));
+          ray.dir = frame.to_world(ray_direction(seed, key, k, side));
           count += query.occluded(ray) ? 1 : 0;
         }
         hits(i) = static_cast<std::uint16_t>(hits(i) + count);
       });
 }
 
-Kokkos::View<SquarePoint*, MemSpace> upload_strata(int rays, std::uint64_t seed) {
-  const std::vector<SquarePoint> table = stratum_table(rays, seed);
-  Kokkos::View<SquarePoint*, MemSpace> strata("rtmini::bake::ao::strata", table.size());
-  auto h = Kokkos::create_mirror_view(strata);
-  for (std::size_t k = 0; k < table.size(); ++k) h(k) = table[k];
-  Kokkos::deep_copy(strata, h);
-  return strata;
-}
-
 void trace_all_passes(const OcclusionQuery& query, const PointBatch& points,
-                      const Kokkos::View<SquarePoint*, MemSpace>& strata,
                       const Kokkos::View<std::uint16_t*, MemSpace>& hits, std::int64_t n,
                       const TraceSettings& s,
                       const std::function<void(std::int64_t rays)>& after_pass = nullptr) {
@@ -64,7 +54,7 @@ void trace_all_passes(const OcclusionQuery& query, const PointBatch& points,
   for (int p = 0; p < s.passes; ++p) {
     const int k0 = static_cast<int>(static_cast<std::int64_t>(s.rays) * p / s.passes);
     const int k1 = static_cast<int>(static_cast<std::int64_t>(s.rays) * (p + 1) / s.passes);
-    trace_pass(query, points, strata, hits, n, k0, k1, s);
+    trace_pass(query, points, hits, n, k0, k1, s);
     if (after_pass) after_pass(n * (k1 - k0));
   }
 }
@@ -99,18 +89,10 @@ class PassProgress {
 
 }  // namespace detail
 
-std::vector<SquarePoint> stratum_table(int rays, std::uint64_t seed) {
+int stratum_side(int rays) {
   int side = 0;
   while ((side + 1) * (side + 1) <= rays) ++side;
-  std::vector<SquarePoint> out(static_cast<std::size_t>(rays));
-  for (int k = 0; k < rays; ++k) {
-    float jx, jy;
-    Rng(seed, static_cast<std::uint64_t>(k), 1u).uniform2(0, jx, jy);
-    Real u1 = jx, u2 = jy;
-    if (k < side * side) stratified_2d(k, side, Real(jx), Real(jy), u1, u2);
-    out[k] = {u1, u2};
-  }
-  return out;
+  return side;
 }
 
 DeviceSamplePlan upload_plan(const AoScene& scene, const SamplePlan& plan) {
@@ -165,7 +147,6 @@ std::vector<std::uint16_t> trace_samples(const OcclusionQuery& query, const Devi
   const auto point_keys = batch.keys;
   Kokkos::View<std::uint16_t*, MemSpace> hits("rtmini::bake::ao::hits", cap);
   auto hits_h = Kokkos::create_mirror_view(hits);
-  const auto strata = detail::upload_strata(s.rays, s.seed);
   const auto tris = plan.tris;
   const auto items = plan.items;
   const auto ray_keys = plan.ray_keys;
@@ -198,7 +179,7 @@ std::vector<std::uint16_t> trace_samples(const OcclusionQuery& query, const Devi
         });
     timer.stop();
     timer.start("rays");
-    detail::trace_all_passes(query, batch, strata, hits, n, s, after_pass);
+    detail::trace_all_passes(query, batch, hits, n, s, after_pass);
     timer.stop();
     Kokkos::deep_copy(hits_h, hits);
     std::copy(hits_h.data(), hits_h.data() + n, out.begin() + (b0 - first));
@@ -228,7 +209,7 @@ std::vector<std::uint16_t> trace_points(const OcclusionQuery& query,
   Kokkos::deep_copy(batch.pos, ph);
   Kokkos::deep_copy(batch.nrm, nh);
   Kokkos::deep_copy(batch.keys, kh);
-  detail::trace_all_passes(query, batch, detail::upload_strata(s.rays, s.seed), hits, n, s);
+  detail::trace_all_passes(query, batch, hits, n, s);
   auto hh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), hits);
   return std::vector<std::uint16_t>(hh.data(), hh.data() + n);
 }

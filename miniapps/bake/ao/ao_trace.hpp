@@ -25,34 +25,25 @@ struct TraceSettings {
   Real coordinate_bound = 1;  // largest |world coordinate|, for offset_ray_origin
 };
 
-// A point of the unit square, [0, 1)^2.
-struct SquarePoint {
-  Real x, y;
-};
+// Side n of the n x n grid of ray strata: n = floor(sqrt(rays)).
+int stratum_side(int rays);
 
-// Per-ray-index points of the unit square: ray k uses stratum k of an n x n grid
-// (n = floor(sqrt(rays))) with one jitter per k; indices beyond n^2 are plain random.
-// Identical for every sample, rank and pass split.
-std::vector<SquarePoint> stratum_table(int rays, std::uint64_t seed);
-
-// Rays are keyed per instance: every sample point of instance `key` shifts the table by the
-// same random offset modulo 1 (a Cranley-Patterson rotation, so each instance's set stays an
-// unbiased stratified one) before the cosine warp. Instances share their sample points (one
-// least-squares factorisation serves them all) but not their rays, so identical instances
-// under identical occluders do not repeat each other's noise.
-KOKKOS_INLINE_FUNCTION SquarePoint ray_key_shift(std::uint64_t seed, std::uint32_t key) {
-  float a, b;
-  // Item ids with the top bit set are used by nothing else (sample_item, stratum_table).
-  Rng(seed, (std::uint64_t(1) << 63) | key, 0u).uniform2(0, a, b);
-  return {Real(a), Real(b)};
-}
-
-// Local direction (z = normal) of ray `u` of the table shifted by `shift`.
-KOKKOS_INLINE_FUNCTION Vec3 keyed_direction(const SquarePoint& u, const SquarePoint& shift) {
-  Real x = u.x + shift.x, y = u.y + shift.y;
-  if (x >= Real(1)) x -= Real(1);
-  if (y >= Real(1)) y -= Real(1);
-  return cosine_hemisphere(x, y);
+// Local direction (z = normal) of ray k of every sample point of instance `key`: stratum k of
+// the n x n grid (n = stratum_side) with one jitter keyed by (seed, key, k), cosine-warped;
+// indices beyond n^2 are plain random. Identical for every sample point of the instance, rank
+// and pass split, so directions stay coherent across the points of an instance (the sample's
+// passes). Keyed per instance: instances share their sample points (one least-squares
+// factorisation serves them all) but not their rays, so identical instances under identical
+// occluders do not repeat each other's noise; each instance's set stays fully stratified.
+KOKKOS_INLINE_FUNCTION Vec3 ray_direction(std::uint64_t seed, std::uint32_t key, int k, int side) {
+  float jx, jy;
+  // Item ids with the top bit set are used by nothing else (sample_item: mesh << 40 | triangle).
+  const std::uint64_t item =
+      (std::uint64_t(1) << 63) | (std::uint64_t(key) << 32) | static_cast<std::uint32_t>(k);
+  Rng(seed, item, 0u).uniform2(0, jx, jy);
+  Real u1 = jx, u2 = jy;
+  if (k < side * side) stratified_2d(k, side, Real(jx), Real(jy), u1, u2);
+  return cosine_hemisphere(u1, u2);
 }
 
 // World-space receiver triangles, their random-number items (sample_item), ray keys (the
