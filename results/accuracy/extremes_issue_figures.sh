@@ -19,7 +19,7 @@ work=$(mktemp -d)
 export OMP_NUM_THREADS=2 OMP_PROC_BIND=false
 cd "$work" || exit 1
 {
-  echo "# $(date -u +%FT%TZ) $(git -C "$root" rev-parse --short HEAD) $(hostname) $(nproc) cores (shared)"
+  echo "# $(date -u +%FT%TZ) binaries of $(git -C "$build" rev-parse --short HEAD) $(hostname) $(nproc) cores (shared)"
   echo "# SKETCH=$sketch BAKE=$bake"
 
   echo "## cube furnace: closed diffuse cube (8 shared corners), E = 1, albedo 0.5, direct light"
@@ -43,9 +43,10 @@ cd "$work" || exit 1
     done
   done
 
-  echo "## identical instances: spot.obj, -i 3 (three copies on a grid), 64 rays; fraction of"
-  echo "## vertices whose AO is bit-identical in all three copies"
-  "$bake" ao "$root/inputs/meshes/spot.obj" -i 3 -r 64 --ply-ascii -o spot3.ply >spot3.log 2>&1 ||
+  echo "## identical instances: spot.obj, -i 3 (three copies on a grid 1.25 extents apart), 64"
+  echo "## rays, -m 0.2 (the copies are out of each other's reach: identical occluders); fraction"
+  echo "## of vertices whose AO is bit-identical in all three copies"
+  "$bake" ao "$root/inputs/meshes/spot.obj" -i 3 -r 64 -m 0.2 --ply-ascii -o spot3.ply >spot3.log 2>&1 ||
     echo "bake ao failed: $(tail -n 1 spot3.log)"
   grep -E "^Mean AO|mean_ao" spot3.log
   awk 'NF == 7 && !/^[a-z]/ { v[n++] = $7 } END {
