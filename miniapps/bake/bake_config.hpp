@@ -29,6 +29,7 @@ struct BakeConfig {
   Vec3f background{0.f, 0.f, 0.f};
   bool sah = false;
   bool cache_hits = true;
+  bool two_sided = false;  // mirrors reflect on both sides (README: why one-sided is the default)
   bool progress = false;
   int stop_after_iteration = -1;    // hidden test hook: checkpoint, then exit 4
   bool all_view_dependent = false;  // hidden, measurement: N colours for every vertex

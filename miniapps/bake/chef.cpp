@@ -178,9 +178,11 @@ struct MirrorIteration {
   bool with_gather;
   HitCacheMode cache_mode;
   Real coordinate_bound = 0;  // DeviceMesh::coordinate_bound, for offset_ray_origin
+  bool two_sided = false;     // BakeConfig::two_sided (mirror_normal)
 
-  KOKKOS_INLINE_FUNCTION Hit mirror_hit(std::int64_t v, const Vec3& r, std::int64_t slot,
-                                        std::int64_t& rays) const {
+  // n: the side the ray leaves from (mirror_normal).
+  KOKKOS_INLINE_FUNCTION Hit mirror_hit(std::int64_t v, const Vec3& n, const Vec3& r,
+                                        std::int64_t slot, std::int64_t& rays) const {
     Hit hit;
     if (cache_mode == HitCacheMode::kUse) {
       const CachedHit h = cache(slot);
@@ -194,7 +196,7 @@ struct MirrorIteration {
       hit.v = h.v;
     } else {
       Ray ray;
-      ray.org = offset_ray_origin(positions(v), normal(v), coordinate_bound);
+      ray.org = offset_ray_origin(positions(v), n, coordinate_bound);
       ray.dir = r;
       hit = bvh::closest_hit(accel, ray);
       ++rays;
@@ -219,8 +221,9 @@ struct MirrorIteration {
       // Neighbouring work items take neighbouring directions: coherent traversal and lookups.
       const int view = order(item - first);
       out = first + view;
-      const Vec3 r = mirror_direction(views(view), normal(v));
-      const Hit hit = mirror_hit(v, r, cache_offset + (item - item_begin), rays);
+      const Vec3 n = mirror_normal(views(view), normal(v), two_sided);
+      const Vec3 r = mirror_direction(views(view), n);
+      const Hit hit = mirror_hit(v, n, r, cache_offset + (item - item_begin), rays);
       c += reflective(v) * reader.read(hit.prim, hit.u, hit.v, r);
     }
     next(out) = Vec3f(c);
@@ -237,7 +240,8 @@ struct TraceMirrorHits {
   Kokkos::View<CachedHit*, MemSpace> cache;
   Kokkos::View<TracedHit*, MemSpace> traced;
   std::int64_t vbegin, vend, item_begin, cache_offset;
-  Real coordinate_bound;  // DeviceMesh::coordinate_bound, for offset_ray_origin
+  Real coordinate_bound;   // DeviceMesh::coordinate_bound, for offset_ray_origin
+  bool two_sided = false;  // BakeConfig::two_sided (mirror_normal)
 
   KOKKOS_INLINE_FUNCTION void operator()(std::int64_t item, std::int64_t& rays) const {
     const std::int64_t v = vertex_of_item(color_offset, vbegin, vend, item);
@@ -245,10 +249,11 @@ struct TraceMirrorHits {
     const std::int64_t slot = cache_offset + (item - item_begin);
     TracedHit t;
     if (color_offset(v + 1) - first > 1) {
-      const Vec3 n = normal(v);
+      const Vec3 d = views(order(item - first));
+      const Vec3 n = mirror_normal(d, normal(v), two_sided);
       Ray ray;
       ray.org = offset_ray_origin(positions(v), n, coordinate_bound);
-      ray.dir = mirror_direction(views(order(item - first)), n);
+      ray.dir = mirror_direction(d, n);
       const Hit hit = bvh::closest_hit(accel, ray);
       ++rays;
       t.prim = hit.prim;
@@ -312,6 +317,7 @@ std::vector<float> estimate_lookup_hits(const BakeSceneDevice& scene, const Bake
   const auto tri_vertices = scene.mesh.tri_vertices;
   const Real bound = scene.mesh.coordinate_bound;
   const int n = config.viewpoints;
+  const bool two_sided = config.two_sided;
   std::int64_t traced = 0;
   Kokkos::parallel_reduce(
       "rtmini::bake::pilot_lookup_hits",
@@ -320,13 +326,14 @@ std::vector<float> estimate_lookup_hits(const BakeSceneDevice& scene, const Bake
       KOKKOS_LAMBDA(std::int64_t v, std::int64_t & count) {
         if (color_offset(v + 1) - color_offset(v) <= 1) return;
         Ray ray;
-        ray.org = offset_ray_origin(positions(v), normal(v), bound);
         int hit = 0;
         for (int s = 0; s < samples; ++s) {
           // Fibonacci points are ordered by height: every n/samples-th spans the sphere.
           const int view =
               static_cast<int>((2 * s + 1) * static_cast<std::int64_t>(n) / (2 * samples));
-          ray.dir = mirror_direction(views(view), normal(v));
+          const Vec3 m = mirror_normal(views(view), normal(v), two_sided);
+          ray.org = offset_ray_origin(positions(v), m, bound);
+          ray.dir = mirror_direction(views(view), m);
           const int prim = bvh::closest_hit(accel, ray).prim;
           if (prim < 0) continue;
           // Only a view-dependent vertex of the hit triangle costs a viewpoint lookup.
@@ -376,15 +383,16 @@ std::int64_t Chef::bake_base(std::int64_t begin, std::int64_t end) {
 
 std::int64_t Chef::trace_reference(std::int64_t begin, std::int64_t end,
                                    Kokkos::View<Vec3f*, MemSpace> out) {
-  const ReferenceTracer tracer{scene_.mesh.accel,
-                               scene_.mesh.tri_vertices,
-                               scene_.color_offset,
-                               scene_.mesh.positions,
-                               scene_.normal,
-                               scene_.reflective,
-                               base_,
-                               Vec3(config_.background),
-                               scene_.mesh.coordinate_bound};
+  ReferenceTracer tracer{scene_.mesh.accel,
+                         scene_.mesh.tri_vertices,
+                         scene_.color_offset,
+                         scene_.mesh.positions,
+                         scene_.normal,
+                         scene_.reflective,
+                         base_,
+                         Vec3(config_.background),
+                         scene_.mesh.coordinate_bound};
+  tracer.two_sided = config_.two_sided;
   const TraceReference k{tracer, map_offset_, scene_.viewpoints, out,
                          begin,  end,         config_.iterations};
   return trace_items("rtmini::bake::trace_reference", item_range(map_offset_, begin, end), k);
@@ -396,19 +404,20 @@ ReadCount Chef::trace_mirror_hits(std::int64_t begin, std::int64_t end, std::int
   if (traced_.extent(0) == 0)
     traced_ = Kokkos::View<TracedHit*, MemSpace>("rtmini::bake::traced_hits", local_items_);
   const ItemRange items = item_range(scene_.color_offset, begin, end);
-  const TraceMirrorHits k{scene_.mesh.accel,
-                          scene_.mesh.positions,
-                          scene_.normal,
-                          scene_.viewpoints,
-                          order_,
-                          scene_.color_offset,
-                          cache_,
-                          traced_,
-                          begin,
-                          end,
-                          items.first,
-                          cache_offset,
-                          scene_.mesh.coordinate_bound};
+  TraceMirrorHits k{scene_.mesh.accel,
+                    scene_.mesh.positions,
+                    scene_.normal,
+                    scene_.viewpoints,
+                    order_,
+                    scene_.color_offset,
+                    cache_,
+                    traced_,
+                    begin,
+                    end,
+                    items.first,
+                    cache_offset,
+                    scene_.mesh.coordinate_bound};
+  k.two_sided = config_.two_sided;
   ReadCount count;
   count.rays = trace_items("rtmini::bake::trace_mirror_hits", items, k);
   // Which vertices the hits read (flags: any rank writing 1 is enough), and how many are remote.
@@ -449,13 +458,15 @@ struct MarkReadItems {
   Kokkos::View<const char*, MemSpace> owned;
   Kokkos::View<char*, MemSpace> items;
   std::int64_t vbegin, vend, item_begin, cache_offset;
+  bool two_sided = false;  // BakeConfig::two_sided (mirror_normal)
 
   KOKKOS_INLINE_FUNCTION void operator()(std::int64_t item) const {
     const std::int64_t v = vertex_of_item(color_offset, vbegin, vend, item);
     const std::int64_t first = color_offset(v);
     const int prim = traced(cache_offset + (item - item_begin)).prim;
     if (prim < 0 || color_offset(v + 1) - first <= 1) return;
-    const Vec3 r = mirror_direction(views(order(item - first)), normal(v));
+    const Vec3 d = views(order(item - first));
+    const Vec3 r = mirror_direction(d, mirror_normal(d, normal(v), two_sided));
     ViewNeighbors nb;
     bool have_nb = false;
     for (int k = 0; k < 3; ++k) {
@@ -484,21 +495,22 @@ void mark_read_items_with(const LookupT& lookup, const BakeSceneDevice& s, const
                           Kokkos::View<const char*, MemSpace> owned,
                           Kokkos::View<char*, MemSpace> items) {
   const ItemRange r = item_range(s.color_offset, begin, end);
-  const MarkReadItems<LookupT> k{lookup,
-                                 fibonacci_radius(cfg.viewpoints),
-                                 s.mesh.tri_vertices,
-                                 s.normal,
-                                 s.viewpoints,
-                                 order,
-                                 s.color_offset,
-                                 map_offset,
-                                 traced,
-                                 owned,
-                                 items,
-                                 begin,
-                                 end,
-                                 r.first,
-                                 cache_offset};
+  MarkReadItems<LookupT> k{lookup,
+                           fibonacci_radius(cfg.viewpoints),
+                           s.mesh.tri_vertices,
+                           s.normal,
+                           s.viewpoints,
+                           order,
+                           s.color_offset,
+                           map_offset,
+                           traced,
+                           owned,
+                           items,
+                           begin,
+                           end,
+                           r.first,
+                           cache_offset};
+  k.two_sided = cfg.two_sided;
   Kokkos::parallel_for("rtmini::bake::mark_read_items",
                        Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(r.first, r.end),
                        k);
@@ -654,6 +666,7 @@ std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, cons
                              with_gather,
                              mode,
                              s.mesh.coordinate_bound};
+  m.two_sided = cfg.two_sided;
   return rays + trace_items("rtmini::bake::shade", items, m);
 }
 }  // namespace

@@ -437,6 +437,7 @@ nlohmann::json BakeRun::parameters() const {
           {"max_memory", c_.max_memory},
           {"time_limit_minutes", c_.time_limit_minutes},
           {"hit_cache", c_.cache_hits},
+          {"two_sided", c_.two_sided},
           {"all_view_dependent", c_.all_view_dependent},
           {"checkpoint", c_.checkpoint},
           {"restart", c_.restart},

@@ -86,6 +86,9 @@ void MapCli::add_to(CLI::App& app, BakeConfig& c) {
   app.add_option("--background", background, "colour of rays that leave the scene, r,g,b");
   app.add_option("--bvh", bvh_kind, "lbvh or sah");
   app.add_flag("--no-hit-cache", no_cache, "re-trace mirror rays every iteration");
+  app.add_flag("--two-sided", c.two_sided,
+               "mirrors reflect on both sides (default: one-sided, a viewpoint behind a vertex is "
+               "folded to the front)");
   // Measurement only: store N colours for view-independent vertices too (same colours).
   app.add_flag("--all-view-dependent", c.all_view_dependent)->group("");
   app.add_option("--stop-after-iteration", c.stop_after_iteration)->group("");  // test hook

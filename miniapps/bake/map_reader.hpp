@@ -8,6 +8,13 @@
 
 namespace rtmini::bake {
 
+// The side of vertex normal n that a mirror ray for viewpoint direction d leaves from: n for
+// one-sided mirrors (the default; mirror_direction folds a viewpoint behind to the front), -n
+// for a viewpoint behind a two-sided mirror (`--two-sided`), which then reflects on its back.
+KOKKOS_INLINE_FUNCTION Vec3 mirror_normal(const Vec3& d, const Vec3& n, bool two_sided) {
+  return two_sided && dot(d, n) > Real(0) ? -n : n;
+}
+
 // Mirror ray of viewpoint direction d (camera ray into the vertex) about the vertex normal n.
 // A viewpoint behind the surface is shaded as its mirror image in the tangent plane (README:
 // continuous at grazing, and every mirror ray leaves on the front side).

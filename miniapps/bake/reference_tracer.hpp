@@ -27,7 +27,8 @@ struct ReferenceTracer {
   Kokkos::View<Vec3*, MemSpace> positions, normal, reflective;
   Kokkos::View<Vec3*, MemSpace> base;  // per vertex: emission + direct light (iteration 0)
   Vec3 background;
-  Real coordinate_bound;  // DeviceMesh::coordinate_bound, for offset_ray_origin
+  Real coordinate_bound;   // DeviceMesh::coordinate_bound, for offset_ray_origin
+  bool two_sided = false;  // BakeConfig::two_sided (mirror_normal)
 
   // Colour of vertex v along camera direction d after `iterations` mirror iterations; adds the
   // mirror rays traced to `rays`. A vertex without a reflective part has its base colour.
@@ -47,7 +48,7 @@ struct ReferenceTracer {
       // The map keeps one colour for a vertex without a reflective part: its base colour.
       if (node.depth == 0 || color_offset(node.vertex + 1) - color_offset(node.vertex) == 1)
         continue;
-      const Vec3 n = normal(node.vertex);
+      const Vec3 n = mirror_normal(node.dir, normal(node.vertex), two_sided);
       const Vec3 weight = node.weight * reflective(node.vertex);
       Ray ray;
       ray.org = offset_ray_origin(positions(node.vertex), n, coordinate_bound);

@@ -35,7 +35,8 @@ void CliOverrides::add_to(CLI::App& app, RunOptions& run) {
   app.add_option("--glossy-samples", glossy_, "Glossy branches at the first hit");
   app.add_option("--indirect", indirect_, "on|off: diffuse interreflection");
   app.add_option("--edge-thickness", edge_thickness_, "Stencil ring radius h in pixels");
-  app.add_option("--crease-angle", crease_angle_, "Crease line threshold in degrees");
+  app.add_option("--crease-angle", crease_angle_,
+                 "degrees: faces meeting at more are not smoothed across; crease line threshold");
   app.add_option("--depth-threshold", depth_threshold_,
                  "Relative depth jump of a self-occluding silhouette");
   app.add_option("--stencil-samples", stencil_samples_, "Stencil evaluations per pixel");

@@ -3,6 +3,8 @@
 #include <map>
 #include <vector>
 
+#include "crease_normals.hpp"
+
 namespace rtmini::sketch {
 namespace {
 
@@ -17,22 +19,22 @@ Kokkos::View<T*, MemSpace> to_device(const char* label, const std::vector<T>& ho
 
 }  // namespace
 
-DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality) {
+DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality, double cos_crease) {
   DeviceScene d;
   d.mesh = upload_mesh(scene.mesh, quality);
   const TriangleList tl = triangulate(scene.mesh);
   d.triangles = tl.vertices.size();
 
-  // Area-weighted vertex normals: the sum of unnormalised face normals (cross products).
-  std::vector<Vec3d> acc(scene.mesh.positions.size(), Vec3d(0.0));
-  for (const auto& v : tl.vertices) {
-    const Vec3d& a = scene.mesh.positions[v[0]];
-    const Vec3d n = cross(scene.mesh.positions[v[1]] - a, scene.mesh.positions[v[2]] - a);
-    for (int k = 0; k < 3; ++k) acc[v[k]] += n;
-  }
-  std::vector<Vec3> normals(acc.size());
-  for (std::size_t i = 0; i < acc.size(); ++i) normals[i] = Vec3(normalize(acc[i]));
-  d.vertex_normals = to_device("rtmini::sketch::vertex_normals", normals);
+  // Shading normals per triangle corner, split where faces meet at more than the crease angle.
+  const CornerNormals corners = crease_split_normals(scene.mesh.positions, tl.vertices, cos_crease);
+  std::vector<Vec3> normals(corners.normals.begin(), corners.normals.end());
+  d.shading_normals = to_device("rtmini::sketch::shading_normals", normals);
+  d.corner_normal =
+      Kokkos::View<int* [3], MemSpace>("rtmini::sketch::corner_normal", tl.vertices.size());
+  auto corner_host = Kokkos::create_mirror_view(d.corner_normal);
+  for (std::size_t t = 0; t < tl.vertices.size(); ++t)
+    for (int k = 0; k < 3; ++k) corner_host(t, k) = corners.of_corner[t][k];
+  Kokkos::deep_copy(d.corner_normal, corner_host);
   d.objects = to_device("rtmini::sketch::objects", scene.objects);
   d.quads = to_device("rtmini::sketch::quad_lights", scene.quads);
   d.points = to_device("rtmini::sketch::point_lights", scene.points);
@@ -80,7 +82,7 @@ DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality) {
   for (const Material& m : scene.mesh.materials)
     if (m.is_reflective() || m.opacity < 1.f) d.any_secondary = true;
   const std::size_t nt = d.triangles, nv = scene.mesh.positions.size();
-  d.bytes = nv * 2 * sizeof(Vec3) + nt * (sizeof(Triangle) * 2 + 6 * sizeof(int)) +
+  d.bytes = (nv + normals.size()) * sizeof(Vec3) + nt * (sizeof(Triangle) * 2 + 9 * sizeof(int)) +
             d.mesh.accel.nodes.extent(0) * sizeof(bvh::BvhNode) +
             tris.size() * (sizeof(int) + sizeof(Real));
   return d;

@@ -11,7 +11,8 @@ using MemSpace = Kokkos::DefaultExecutionSpace::memory_space;
 
 struct DeviceScene {
   DeviceMesh<MemSpace> mesh;
-  Kokkos::View<Vec3*, MemSpace> vertex_normals;  // area-weighted, unit length
+  Kokkos::View<Vec3*, MemSpace> shading_normals;   // per smoothing group (crease_normals.hpp)
+  Kokkos::View<int* [3], MemSpace> corner_normal;  // shading normal id of each triangle corner
   Kokkos::View<ObjectShading*, MemSpace> objects;
   Kokkos::View<QuadLight*, MemSpace> quads;
   Kokkos::View<PointLight*, MemSpace> points;
@@ -25,7 +26,8 @@ struct DeviceScene {
   std::size_t bytes = 0;  // device memory estimate
 };
 
-// Uploads the mesh (building the BVH with `quality`) and the light tables.
-DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality);
+// Uploads the mesh (building the BVH with `quality`), the shading normals split at creases
+// sharper than acos(cos_crease), and the light tables.
+DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality, double cos_crease);
 
 }  // namespace rtmini::sketch

@@ -67,7 +67,8 @@ std::string feature_names(unsigned f) {
 }
 
 Renderer::Renderer(const HostScene& scene, const RenderSettings& s) {
-  scene_ = upload_scene(scene, s.bvh);
+  const double cos_crease = std::cos(s.crease_angle_deg * math::kPi / 180.0);
+  scene_ = upload_scene(scene, s.bvh, cos_crease);
   camera_ = make_camera(to_render_frame(s.camera, scene.origin), s.width, s.height);
   params_.width = s.width;
   params_.height = s.height;
@@ -79,7 +80,6 @@ Renderer::Renderer(const HostScene& scene, const RenderSettings& s) {
   params_.indirect = s.indirect;
   params_.smooth = s.smooth;
   params_.stats = s.stats;
-  params_.cos_crease = static_cast<Real>(std::cos(s.crease_angle_deg * math::kPi / 180.0));
   params_.background = Vec3(s.background);
   params_.ambient = Vec3(s.ambient);
   params_.seed = s.seed;
@@ -87,7 +87,7 @@ Renderer::Renderer(const HostScene& scene, const RenderSettings& s) {
   params_.motion =
       s.camera.shutter_close > s.camera.shutter_open && length(s.camera.velocity) > 0.0;
   stencil_.radius = static_cast<Real>(s.edge_thickness);
-  stencil_.cos_crease = params_.cos_crease;
+  stencil_.cos_crease = static_cast<Real>(cos_crease);
   stencil_.depth_threshold = static_cast<Real>(s.depth_threshold);
   stencil_.samples = s.stencil_samples;
   stencil_.edges = s.needs_edges();

@@ -27,7 +27,7 @@ struct Surface {
 
 template <class Scene>
 KOKKOS_INLINE_FUNCTION Surface surface_at(const Scene& scene, const Ray& ray, const Hit& hit,
-                                          bool smooth, Real cos_crease) {
+                                          bool smooth) {
   Surface s;
   const int tri = hit.prim;
   const Triangle& t = scene.mesh.tris(tri);
@@ -42,13 +42,10 @@ KOKKOS_INLINE_FUNCTION Surface surface_at(const Scene& scene, const Ray& ray, co
     ns = normalize(s.p - o.center);
     if (dot(ns, ng) < Real(0)) ns = -ns;
   } else if (smooth) {
-    // Interpolated vertex normals, except across creases sharper than the crease angle.
+    // Interpolated corner normals of the triangle's smoothing groups (split at creases).
     Vec3 acc(Real(0));
     const Real w[3] = {Real(1) - hit.u - hit.v, hit.u, hit.v};
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 nk = scene.vertex_normals(scene.mesh.tri_vertices(tri, k));
-      acc += (dot(nk, ng) >= cos_crease ? nk : ng) * w[k];
-    }
+    for (int k = 0; k < 3; ++k) acc += scene.shading_normals(scene.corner_normal(tri, k)) * w[k];
     ns = normalize(acc);
     if (!(dot(ns, ng) > Real(0))) ns = ng;
   }

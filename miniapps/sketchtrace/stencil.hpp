@@ -35,7 +35,7 @@ KOKKOS_INLINE_FUNCTION StencilHit stencil_hit(const Scene& scene, const DeviceCa
   const Hit h = trace_closest(scene.mesh.accel, ray, c);
   StencilHit out;
   if (!h.valid()) return out;
-  const Surface s = surface_at(scene, ray, h, sp.smooth, sp.cos_crease);
+  const Surface s = surface_at(scene, ray, h, sp.smooth);
   out.object = s.object;
   out.depth = h.t;
   out.normal = s.ns;

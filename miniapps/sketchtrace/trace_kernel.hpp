@@ -28,7 +28,6 @@ struct TraceParams {
   bool stats = false;
   bool probe = false;  // cost probe: PixelResult::tests = traversal work (nodes + tests)
   bool lens = false, motion = false;
-  Real cos_crease = Real(0.5);
   Vec3 background, ambient;
   std::uint64_t seed = 1;
 };
@@ -83,7 +82,7 @@ struct RadianceEstimator {
     Ray ray = camera.generate(Real(x) + sx, Real(y) + sy, lu, lv, tu, p.lens, p.motion);
     Hit hit = trace_closest(scene.mesh.accel, ray, c);
     if (!hit.valid()) return p.background;
-    Surface s = surface_at(scene, ray, hit, p.smooth, p.cos_crease);
+    Surface s = surface_at(scene, ray, hit, p.smooth);
     DeviceMaterial m = scene.mesh.materials(s.material);
     // S > 1: each pixel sample stratifies every light on its own. S = 1: the pixel
     // samples share the light's strata through a per-pixel random permutation (Cook
@@ -119,7 +118,7 @@ struct RadianceEstimator {
           radiance += throughput * p.background;
           break;
         }
-        const Surface sd = surface_at(scene, next, h, p.smooth, p.cos_crease);
+        const Surface sd = surface_at(scene, next, h, p.smooth);
         const DeviceMaterial md = scene.mesh.materials(sd.material);
         // Vertex slot for random numbers: first hit = 0, then per branch and depth.
         const std::uint32_t slot = 1u + static_cast<std::uint32_t>(b * p.bounces + depth - 1);

@@ -6,9 +6,9 @@
 #   writes results/accuracy/raw_extremes/TAG/{sketch_cornell,bake_cornell,ao_disk}.log
 set -u
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
-build=$1
+build=$(cd "$1" && pwd)  # absolute: the cases run in their own folders
 tag=$2
-agree_build=${3:-$build}
+agree_build=$(cd "${3:-$build}" && pwd)
 out=$root/results/accuracy/raw_extremes/$tag
 mkdir -p "$out"
 export SKETCH=$build/miniapps/sketchtrace/sketchtrace BAKE=$build/miniapps/bake/bake

@@ -11,40 +11,42 @@ namespace detail {
 using DynamicPolicy = Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>>;
 
 // Counts occluded rays k in [k0, k1) for each point, added into hits.
-void trace_pass(const OcclusionQuery& query, const Kokkos::View<Vec3*, MemSpace>& pos,
-                const Kokkos::View<Vec3*, MemSpace>& nrm, const Kokkos::View<Vec3*, MemSpace>& dirs,
+// Sample points, their normals and ray keys (one batch).
+struct PointBatch {
+  Kokkos::View<Vec3*, MemSpace> pos, nrm;
+  Kokkos::View<std::uint32_t*, MemSpace> keys;
+};
+
+void trace_pass(const OcclusionQuery& query, const PointBatch& points,
                 const Kokkos::View<std::uint16_t*, MemSpace>& hits, std::int64_t n, int k0, int k1,
-                Real offset, Real max_distance, Real coordinate_bound) {
+                const TraceSettings& s) {
+  const auto pos = points.pos;
+  const auto nrm = points.nrm;
+  const auto keys = points.keys;
+  const std::uint64_t seed = s.seed;
+  const int side = stratum_side(s.rays);
+  const Real offset = s.offset, max_distance = s.max_distance;
+  const Real coordinate_bound = s.coordinate_bound;
   Kokkos::parallel_for(
       "rtmini::bake::ao::trace", DynamicPolicy(0, n), KOKKOS_LAMBDA(std::int64_t i) {
         const Vec3 normal = nrm(i);
         if (length_squared(normal) == Real(0)) return;  // degenerate triangle: zero weight later
         const Frame frame(normal);
+        const std::uint32_t key = keys(i);
         Ray ray;
         ray.org = offset_ray_origin(pos(i), normal, coordinate_bound) + normal * offset;
         ray.tmin = Real(0);
         ray.tmax = max_distance;
         int count = 0;
         for (int k = k0; k < k1; ++k) {
-          ray.dir = frame.to_world(dirs(k));
+          ray.dir = frame.to_world(ray_direction(seed, key, k, side));
           count += query.occluded(ray) ? 1 : 0;
         }
         hits(i) = static_cast<std::uint16_t>(hits(i) + count);
       });
 }
 
-Kokkos::View<Vec3*, MemSpace> upload_directions(int rays, std::uint64_t seed) {
-  const std::vector<Vec3> table = direction_table(rays, seed);
-  Kokkos::View<Vec3*, MemSpace> dirs("rtmini::bake::ao::directions", table.size());
-  auto h = Kokkos::create_mirror_view(dirs);
-  for (std::size_t k = 0; k < table.size(); ++k) h(k) = table[k];
-  Kokkos::deep_copy(dirs, h);
-  return dirs;
-}
-
-void trace_all_passes(const OcclusionQuery& query, const Kokkos::View<Vec3*, MemSpace>& pos,
-                      const Kokkos::View<Vec3*, MemSpace>& nrm,
-                      const Kokkos::View<Vec3*, MemSpace>& dirs,
+void trace_all_passes(const OcclusionQuery& query, const PointBatch& points,
                       const Kokkos::View<std::uint16_t*, MemSpace>& hits, std::int64_t n,
                       const TraceSettings& s,
                       const std::function<void(std::int64_t rays)>& after_pass = nullptr) {
@@ -52,8 +54,7 @@ void trace_all_passes(const OcclusionQuery& query, const Kokkos::View<Vec3*, Mem
   for (int p = 0; p < s.passes; ++p) {
     const int k0 = static_cast<int>(static_cast<std::int64_t>(s.rays) * p / s.passes);
     const int k1 = static_cast<int>(static_cast<std::int64_t>(s.rays) * (p + 1) / s.passes);
-    trace_pass(query, pos, nrm, dirs, hits, n, k0, k1, s.offset, s.max_distance,
-               s.coordinate_bound);
+    trace_pass(query, points, hits, n, k0, k1, s);
     if (after_pass) after_pass(n * (k1 - k0));
   }
 }
@@ -88,18 +89,10 @@ class PassProgress {
 
 }  // namespace detail
 
-std::vector<Vec3> direction_table(int rays, std::uint64_t seed) {
+int stratum_side(int rays) {
   int side = 0;
   while ((side + 1) * (side + 1) <= rays) ++side;
-  std::vector<Vec3> out(static_cast<std::size_t>(rays));
-  for (int k = 0; k < rays; ++k) {
-    float jx, jy;
-    Rng(seed, static_cast<std::uint64_t>(k), 1u).uniform2(0, jx, jy);
-    Real u1 = jx, u2 = jy;
-    if (k < side * side) stratified_2d(k, side, Real(jx), Real(jy), u1, u2);
-    out[k] = cosine_hemisphere(u1, u2);
-  }
-  return out;
+  return side;
 }
 
 DeviceSamplePlan upload_plan(const AoScene& scene, const SamplePlan& plan) {
@@ -110,8 +103,11 @@ DeviceSamplePlan upload_plan(const AoScene& scene, const SamplePlan& plan) {
                                                     plan.offsets.size());
   d.items = Kokkos::View<std::uint64_t*, MemSpace>("rtmini::bake::ao::sample_items",
                                                    plan.total_triangles());
+  d.ray_keys =
+      Kokkos::View<std::uint32_t*, MemSpace>("rtmini::bake::ao::ray_keys", plan.total_triangles());
   auto th = Kokkos::create_mirror_view(d.tris);
   auto ih = Kokkos::create_mirror_view(d.items);
+  auto kh = Kokkos::create_mirror_view(d.ray_keys);
   for (std::size_t r = 0; r < plan.receivers.size(); ++r) {
     const AoInstance& inst = scene.instances[plan.receivers[r]];
     const AoMesh& mesh = scene.meshes[inst.mesh];
@@ -121,10 +117,12 @@ DeviceSamplePlan upload_plan(const AoScene& scene, const SamplePlan& plan) {
                Vec3(inst.xform.point(mesh.positions[t[1]])),
                Vec3(inst.xform.point(mesh.positions[t[2]]))};
       ih(g) = plan.item(r, g);
+      kh(g) = static_cast<std::uint32_t>(plan.receivers[r]);
     }
   }
   Kokkos::deep_copy(d.tris, th);
   Kokkos::deep_copy(d.items, ih);
+  Kokkos::deep_copy(d.ray_keys, kh);
   auto oh = Kokkos::create_mirror_view(d.offsets);
   std::copy(plan.offsets.begin(), plan.offsets.end(), oh.data());
   Kokkos::deep_copy(d.offsets, oh);
@@ -137,15 +135,21 @@ std::vector<std::uint16_t> trace_samples(const OcclusionQuery& query, const Devi
                                          ProgressLine* progress) {
   std::vector<std::uint16_t> out(static_cast<std::size_t>(std::max<std::int64_t>(0, last - first)));
   const std::int64_t cap = std::min<std::int64_t>(s.batch, std::max<std::int64_t>(1, last - first));
-  Kokkos::View<Vec3*, MemSpace> pos(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::points"), cap);
-  Kokkos::View<Vec3*, MemSpace> nrm(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::normals"), cap);
+  const detail::PointBatch batch{
+      Kokkos::View<Vec3*, MemSpace>(
+          Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::points"), cap),
+      Kokkos::View<Vec3*, MemSpace>(
+          Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::normals"), cap),
+      Kokkos::View<std::uint32_t*, MemSpace>(
+          Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::point_keys"), cap)};
+  const auto pos = batch.pos;
+  const auto nrm = batch.nrm;
+  const auto point_keys = batch.keys;
   Kokkos::View<std::uint16_t*, MemSpace> hits("rtmini::bake::ao::hits", cap);
   auto hits_h = Kokkos::create_mirror_view(hits);
-  const auto dirs = detail::upload_directions(s.rays, s.seed);
   const auto tris = plan.tris;
   const auto items = plan.items;
+  const auto ray_keys = plan.ray_keys;
   const auto offsets = plan.offsets;
   const std::int64_t num_tris = static_cast<std::int64_t>(tris.extent(0));
   const std::uint64_t seed = s.seed;
@@ -171,10 +175,11 @@ std::vector<std::uint16_t> trace_samples(const OcclusionQuery& query, const Devi
           sample_barycentrics(seed, items(lo), id - offsets(lo), u, v);
           pos(i) = barycentric_point(t.a, t.b, t.c, u, v);
           nrm(i) = triangle_normal(t.a, t.b, t.c);
+          point_keys(i) = ray_keys(lo);
         });
     timer.stop();
     timer.start("rays");
-    detail::trace_all_passes(query, pos, nrm, dirs, hits, n, s, after_pass);
+    detail::trace_all_passes(query, batch, hits, n, s, after_pass);
     timer.stop();
     Kokkos::deep_copy(hits_h, hits);
     std::copy(hits_h.data(), hits_h.data() + n, out.begin() + (b0 - first));
@@ -185,20 +190,26 @@ std::vector<std::uint16_t> trace_samples(const OcclusionQuery& query, const Devi
 
 std::vector<std::uint16_t> trace_points(const OcclusionQuery& query,
                                         const std::vector<Vec3>& points,
-                                        const std::vector<Vec3>& normals, const TraceSettings& s) {
+                                        const std::vector<Vec3>& normals, const TraceSettings& s,
+                                        const std::vector<std::uint32_t>& keys) {
   const std::int64_t n = static_cast<std::int64_t>(points.size());
-  Kokkos::View<Vec3*, MemSpace> pos("rtmini::bake::ao::probe_points", n),
-      nrm("rtmini::bake::ao::probe_normals", n);
+  const detail::PointBatch batch{
+      Kokkos::View<Vec3*, MemSpace>("rtmini::bake::ao::probe_points", n),
+      Kokkos::View<Vec3*, MemSpace>("rtmini::bake::ao::probe_normals", n),
+      Kokkos::View<std::uint32_t*, MemSpace>("rtmini::bake::ao::probe_keys", n)};
   Kokkos::View<std::uint16_t*, MemSpace> hits("rtmini::bake::ao::probe_hits", n);
-  auto ph = Kokkos::create_mirror_view(pos);
-  auto nh = Kokkos::create_mirror_view(nrm);
+  auto ph = Kokkos::create_mirror_view(batch.pos);
+  auto nh = Kokkos::create_mirror_view(batch.nrm);
+  auto kh = Kokkos::create_mirror_view(batch.keys);
   for (std::int64_t i = 0; i < n; ++i) {
     ph(i) = points[i];
     nh(i) = normals[i];
+    kh(i) = keys.empty() ? 0u : keys[i];
   }
-  Kokkos::deep_copy(pos, ph);
-  Kokkos::deep_copy(nrm, nh);
-  detail::trace_all_passes(query, pos, nrm, detail::upload_directions(s.rays, s.seed), hits, n, s);
+  Kokkos::deep_copy(batch.pos, ph);
+  Kokkos::deep_copy(batch.nrm, nh);
+  Kokkos::deep_copy(batch.keys, kh);
+  detail::trace_all_passes(query, batch, hits, n, s);
   auto hh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), hits);
   return std::vector<std::uint16_t>(hh.data(), hh.data() + n);
 }

@@ -9,6 +9,8 @@
 #include "device_scene.hpp"
 #include "rtmini/report/progress.hpp"
 #include "rtmini/report/timer.hpp"
+#include "rtmini/sampling/rng.hpp"
+#include "rtmini/sampling/sampling.hpp"
 #include "sample_plan.hpp"
 
 namespace rtmini::ao {
@@ -23,16 +25,33 @@ struct TraceSettings {
   Real coordinate_bound = 1;  // largest |world coordinate|, for offset_ray_origin
 };
 
-// Per-ray-index local directions (z = normal): ray k uses stratum k of an n x n
-// grid (n = floor(sqrt(rays))) with one jitter per k; indices beyond n^2 are
-// plain random. Identical for every sample, rank and pass split.
-std::vector<Vec3> direction_table(int rays, std::uint64_t seed);
+// Side n of the n x n grid of ray strata: n = floor(sqrt(rays)).
+int stratum_side(int rays);
 
-// World-space receiver triangles, their random-number items (sample_item) and
-// sample offsets on the device (for generation).
+// Local direction (z = normal) of ray k of every sample point of instance `key`: stratum k of
+// the n x n grid (n = stratum_side) with one jitter keyed by (seed, key, k), cosine-warped;
+// indices beyond n^2 are plain random. Identical for every sample point of the instance, rank
+// and pass split, so directions stay coherent across the points of an instance (the sample's
+// passes). Keyed per instance: instances share their sample points (one least-squares
+// factorisation serves them all) but not their rays, so identical instances under identical
+// occluders do not repeat each other's noise; each instance's set stays fully stratified.
+KOKKOS_INLINE_FUNCTION Vec3 ray_direction(std::uint64_t seed, std::uint32_t key, int k, int side) {
+  float jx, jy;
+  // Item ids with the top bit set are used by nothing else (sample_item: mesh << 40 | triangle).
+  const std::uint64_t item =
+      (std::uint64_t(1) << 63) | (std::uint64_t(key) << 32) | static_cast<std::uint32_t>(k);
+  Rng(seed, item, 0u).uniform2(0, jx, jy);
+  Real u1 = jx, u2 = jy;
+  if (k < side * side) stratified_2d(k, side, Real(jx), Real(jy), u1, u2);
+  return cosine_hemisphere(u1, u2);
+}
+
+// World-space receiver triangles, their random-number items (sample_item), ray keys (the
+// receiver's instance id) and sample offsets on the device (for generation).
 struct DeviceSamplePlan {
   Kokkos::View<Triangle*, MemSpace> tris;
   Kokkos::View<std::uint64_t*, MemSpace> items;
+  Kokkos::View<std::uint32_t*, MemSpace> ray_keys;
   Kokkos::View<std::int64_t*, MemSpace> offsets;
 };
 DeviceSamplePlan upload_plan(const AoScene& scene, const SamplePlan& plan);
@@ -45,10 +64,12 @@ std::vector<std::uint16_t> trace_samples(const OcclusionQuery& query, const Devi
                                          std::int64_t last, PhaseTimer& timer,
                                          ProgressLine* progress = nullptr);
 
-// Occluded-ray counts for explicit points and unit normals (tests, probes).
+// Occluded-ray counts for explicit points and unit normals (tests, probes), with ray key 0
+// (or `keys`, one per point, when given).
 std::vector<std::uint16_t> trace_points(const OcclusionQuery& query,
                                         const std::vector<Vec3>& points,
                                         const std::vector<Vec3>& normals,
-                                        const TraceSettings& settings);
+                                        const TraceSettings& settings,
+                                        const std::vector<std::uint32_t>& keys = {});
 
 }  // namespace rtmini::ao

@@ -81,6 +81,60 @@ TEST(AoTrace, CountsIndependentOfBatchPassAndRankSplit) {
   EXPECT_LT(occluded, n * s.rays);
 }
 
+// Three instances of one receiver-and-occluder mesh, moved apart beyond the maximum hit
+// distance: identical geometry and identical occluders, so only the rays tell them apart.
+// They share their sample points (one factorisation serves all), but their rays are keyed per
+// instance, so their counts are independent estimates of one AO: they agree in mean within
+// the Monte-Carlo error and are seldom equal point by point.
+TEST(AoTrace, InstancesKeyTheirRaysSoNoiseIsNotRepeated) {
+  AoScene scene;
+  Mesh m;
+  append_grid(m, {-2, 0, -2}, {0, 0, 4}, {4, 0, 0}, 8, 8, -1, 0);
+  append_icosphere(m, {0, 0.75, 0}, 0.7, 1, -1, 0);
+  test::add_instance(scene, m);
+  for (double x : {20.0, 40.0}) {
+    AoInstance copy = scene.instances[0];
+    copy.xform = make_trs({x, 0, 0}, {0, 0, 0}, {1, 1, 1});
+    scene.instances.push_back(copy);
+  }
+  const SamplePlan plan = plan_samples(scene, 3000, 3);
+  ASSERT_EQ(plan.receivers.size(), 3u);
+  const std::int64_t per = plan.offsets[plan.tri_base[1]];
+  ASSERT_EQ(plan.total_samples(), 3 * per);  // identical instances, identical sample counts
+  const Bounds b = scene.receiver_bounds();
+  const DeviceScene device(scene, bvh::BuildQuality::kSah,
+                           make_ground_plane(b.lo, b.hi, 1, 100, 0.03));
+  TraceSettings s;
+  s.rays = 64;
+  s.offset = Real(1e-3);
+  s.max_distance = Real(5);  // well short of the next instance
+  s.coordinate_bound = Real(max_component(vabs(b.hi)));
+  PhaseTimer timer;
+  const auto hits = trace_samples(device.query(), upload_plan(scene, plan), s, 0, 3 * per, timer);
+  std::vector<double> mean(3, 0.0);
+  for (int r = 0; r < 3; ++r)
+    for (std::int64_t i = 0; i < per; ++i) mean[r] += hits[r * per + i];
+  for (double& x : mean) x /= double(per) * s.rays;
+  // Occluded fraction per sample is at most 1: the per-ray binomial bound on the mean's error.
+  const double std_error = std::sqrt(mean[0] * (1 - mean[0]) / (double(per) * s.rays));
+  for (int r = 1; r < 3; ++r) {
+    std::int64_t partial = 0, equal = 0;  // samples neither fully open nor fully occluded
+    for (std::int64_t i = 0; i < per; ++i) {
+      const int a = hits[i], c = hits[r * per + i];
+      if ((a == 0 || a == s.rays) && (c == 0 || c == s.rays)) continue;
+      ++partial;
+      equal += a == c;
+    }
+    std::printf(
+        "instance %d: occluded fraction %.4f vs %.4f; %lld of %lld partly occluded "
+        "samples equal\n",
+        r, mean[r], mean[0], static_cast<long long>(equal), static_cast<long long>(partial));
+    ASSERT_GT(partial, per / 10);
+    EXPECT_LT(double(equal), 0.5 * double(partial)) << "instance " << r << " repeats instance 0";
+    EXPECT_NEAR(mean[r], mean[0], 6 * std_error) << "instance " << r;
+  }
+}
+
 struct Baked {
   AoScene scene = sphere_on_grid();
   SamplePlan plan;

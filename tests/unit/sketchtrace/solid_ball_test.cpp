@@ -22,7 +22,7 @@ BallCounts check_sphere(int level, int segments) {
   const double radius = 0.7;
   add_sphere(scene, center, radius, level, Material{}, "sphere");
   EXPECT_EQ(scene.solid_balls.size(), 1u);
-  const DeviceScene d = upload_scene(scene, bvh::BuildQuality::kSah);
+  const DeviceScene d = upload_scene(scene, bvh::BuildQuality::kSah, 0.5);
   const SolidBall ball = scene.solid_balls[0];
   const auto accel = d.mesh.accel;
   const Vec3 c(center);

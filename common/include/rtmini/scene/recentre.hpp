@@ -41,13 +41,20 @@ inline Bounds3d bounds_of(const std::vector<Vec3d>& points) {
 // The range of coordinate bounds M (largest |coordinate| about the frame's origin) that Real
 // holds: the watertight test forms products of three coordinate differences (~M^3), squared
 // lengths and areas need M^2, so M^3 must stay inside the normal range, with a factor 100 of
-// headroom for the sums and the light/area terms on top. float: about 2e-11 .. 7e10; double:
-// about 3e-101 .. 6e100.
+// headroom for the sums and the light/area terms on top. Above, a triangle's unit normal
+// (triangle_normal, in Real on the device) squares the cross product of two edges, ~(2M)^4:
+// M^4 must stay below the largest Real with a factor 10^4 of headroom (float scenes of
+// half-extent 1e10 rendered 77 % dark before this bound; results/accuracy/extremes.md), and
+// (2M)^4 must stay above the smallest normal Real with a factor 10^4 (float AO at half-extent
+// 1e-10 read 1 % off: the squared length went subnormal). float: about 3e-9 .. 4e8; double:
+// about 1e-76 .. 1e76.
 inline double min_coordinate_bound() {
-  return 100.0 * std::cbrt(double(std::numeric_limits<Real>::min()));
+  const double bottom = double(std::numeric_limits<Real>::min());
+  return std::max(100.0 * std::cbrt(bottom), 10.0 * std::sqrt(std::sqrt(bottom)));
 }
 inline double max_coordinate_bound() {
-  return 0.01 * std::cbrt(double(std::numeric_limits<Real>::max()));
+  const double top = double(std::numeric_limits<Real>::max());
+  return std::min(0.01 * std::cbrt(top), 0.1 * std::sqrt(std::sqrt(top)));
 }
 // Inputs are parsed into double and moved in double: a scene whose extent is below 2^-32 of its
 // distance from the origin had at most 2^20 distinct input coordinates across it (about 1e-6
@@ -69,7 +76,7 @@ inline void check_representable(const Bounds3d& b, const Vec3d& origin, const st
   } else if (m < min_coordinate_bound() || m > max_coordinate_bound()) {
     why << "scene half-extent " << m << " is outside what " << real << " represents ("
         << min_coordinate_bound() << " .. " << max_coordinate_bound()
-        << ": cubes of coordinates leave the normal range)";
+        << ": products of coordinates leave the normal range)";
   } else if (distance > kMaxDistanceOverExtent * extent) {
     why << "scene extent " << extent << " at distance " << distance
         << " from the origin: the input coordinates (double) resolve under 2^20 steps across it";
