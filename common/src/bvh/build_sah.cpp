@@ -2,6 +2,9 @@
 
 #include <algorithm>
 
+#include "rtmini/bvh/finish.hpp"
+#include "rtmini/bvh/presplit.hpp"
+
 namespace rtmini::bvh {
 
 namespace {
@@ -124,13 +127,17 @@ struct Fragment {
 // processed next, so it lands next to its parent).
 void build_fragment(std::vector<Item>& items, const std::vector<Triangle>& input, const Task& top,
                     Fragment& f) {
+  // A leaf stores each triangle once, even when several of its pre-split parts landed here.
   auto emit_leaf = [&](int b, int e) {
     const auto first = static_cast<std::uint32_t>(f.tris.size());
     for (int i = b; i < e; ++i) {
-      f.tris.push_back(input[items[i].index]);
-      f.prim.push_back(items[i].index);
+      const int id = items[i].index;
+      if (std::any_of(f.prim.begin() + first, f.prim.end(), [id](int p) { return p == id; }))
+        continue;
+      f.tris.push_back(point_if_zero_area(input[id]));
+      f.prim.push_back(id);
     }
-    return make_leaf(first, static_cast<std::uint32_t>(e - b));
+    return make_leaf(first, static_cast<std::uint32_t>(f.tris.size() - first));
   };
   auto set_ref = [&](const Task& t, std::uint32_t ref) {
     if (t.node < 0)
@@ -173,22 +180,30 @@ std::uint32_t append_fragment(const Fragment& f, HostBvh& out) {
   return global(f.root);
 }
 
-}  // namespace
-
-HostBvh build_sah_host(const std::vector<Triangle>& input) {
-  HostBvh out;
+// One item per triangle, or per pre-split part of a sliver when splitting pays (presplit.hpp).
+std::vector<Item> make_items(const std::vector<Triangle>& input, double split_budget) {
   const int n = static_cast<int>(input.size());
   std::vector<Item> items(n);
+  Aabb bounds;
   for (int i = 0; i < n; ++i) {
     Aabb b;
     b.expand(input[i].a);
     b.expand(input[i].b);
     b.expand(input[i].c);
     items[i] = {b, (input[i].a + input[i].b + input[i].c) * (Real(1) / Real(3)), i};
+    bounds.expand(b);
   }
-  Aabb dummy;
-  out.bounds = range_box(items, 0, n, &dummy);
-  if (n == 0) return out;
+  const std::vector<SplitReference> refs = presplit_triangles(input, bounds, split_budget);
+  if (refs.empty()) return items;
+  items.resize(refs.size());
+  for (std::size_t i = 0; i < refs.size(); ++i)
+    items[i] = {refs[i].box, refs[i].centroid, refs[i].prim};
+  return items;
+}
+
+// The tree over all items, its child boxes as the SAH saw them (not yet padded).
+void build_tree(std::vector<Item>& items, const std::vector<Triangle>& input, HostBvh& out) {
+  const int n = static_cast<int>(items.size());
   out.nodes.reserve(std::max(1, 2 * n / kMaxLeafSize + 1));
   out.tris.reserve(n);
   out.prim.reserve(n);
@@ -202,7 +217,7 @@ HostBvh build_sah_host(const std::vector<Triangle>& input) {
     const std::uint32_t ref = append_fragment(leaf, out);
     out.nodes[0].set_child(0, out.bounds, ref);
     out.nodes[0].set_child(1, Aabb(), kEmptyLeaf);
-    return out;
+    return;
   }
   // Top levels serially, down to ranges of at most kFragmentShare of the input; those subtrees
   // are independent and are built in parallel. The cut depends on n only, and fragments are
@@ -241,6 +256,20 @@ HostBvh build_sah_host(const std::vector<Triangle>& input) {
     const std::uint32_t ref = append_fragment(built[i], out);  // may reallocate out.nodes
     out.nodes[fragments[i].node].set_child(fragments[i].slot, fragments[i].box, ref);
   }
+}
+
+}  // namespace
+
+HostBvh build_sah_host(const std::vector<Triangle>& input, double split_budget) {
+  HostBvh out;
+  std::vector<Item> items = make_items(input, split_budget);
+  const int n = static_cast<int>(items.size());
+  out.references = n;
+  Aabb dummy;
+  out.bounds = range_box(items, 0, n, &dummy);
+  if (n == 0) return out;
+  build_tree(items, input, out);
+  for (BvhNode& node : out.nodes) pad_child_boxes(node);
   return out;
 }
 
