@@ -2,6 +2,7 @@
 // equal, for both builders, on the bundled meshes and on degenerate inputs.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <string>
 
 #include "rtmini/bvh/brute_force.hpp"
