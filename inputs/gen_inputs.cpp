@@ -1,7 +1,8 @@
 // rtmini-gen-inputs: regenerates the bake inputs (inputs/README.md): the seed's "cube" and
 // "cornell_big_raw" cases, the furnace box of the correctness tests, the bundled Cornell box
 // (inputs/meshes) converted to .bs, and two bunny bake scenes built around
-// inputs/meshes/stanford-bunny.obj.
+// inputs/meshes/stanford-bunny.obj; and the sliver fan that measures the SAH build's pre-splitting
+// (results/bvh/slivers.md).
 #include <CLI/CLI.hpp>
 #include <array>
 #include <cmath>
@@ -214,7 +215,10 @@ int gen_inputs(Communicator& comm, int argc, char** argv) {
   auto* cornell = app.add_subcommand("cornell", "an OBJ/MTL converted to .bs");
   auto* bunny = app.add_subcommand("bunny", "the bunny bake scene");
   auto* bunny_room = app.add_subcommand("bunny_room", "the bunny on a floor, the paper's fig. 4.g");
-  for (auto* sub : {cube, big, furnace, cornell, bunny, bunny_room}) {
+  auto* fan = app.add_subcommand("sliver_fan", "a flat fan of slivers sharing one apex (BVH test)");
+  int fan_count = 100000;
+  double fan_angle = 1.0;
+  for (auto* sub : {cube, big, furnace, cornell, bunny, bunny_room, fan}) {
     add_common_options(*sub, common);
     sub->add_option("-o,--output", out, "output .bs")->required();
   }
@@ -224,6 +228,12 @@ int gen_inputs(Communicator& comm, int argc, char** argv) {
   cornell->add_option("--scene", scene, "OBJ file")->required();
   bunny->add_option("--scene", scene, "stanford-bunny.obj")->required();
   bunny_room->add_option("--scene", scene, "stanford-bunny.obj")->required();
+  fan->add_option("--count", fan_count, "triangles (aspect = count / angle)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  fan->add_option("--angle", fan_angle, "angle the fan spans, radians")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-6, 6.283));
   app.require_subcommand(1);
   if (const auto done = parse_command_line(app, argc, argv, common, comm.is_root())) return *done;
   RunReport report;
@@ -236,6 +246,10 @@ int gen_inputs(Communicator& comm, int argc, char** argv) {
   if (*cornell) m = read_obj(scene);
   if (*bunny) m = make_bunny(scene);
   if (*bunny_room) m = make_bunny_room(scene);
+  if (*fan) {
+    m.materials.push_back(Material{});
+    append_fan(m, {0, 0, 0}, 1.0, fan_angle, fan_count, 0, 0);
+  }
   report.timer.stop();
   report.timer.start("write");
   if (comm.is_root()) write_bakeshop(out, m);

@@ -1,6 +1,11 @@
 #include "rtmini/bvh/build_sah.hpp"
 
 #include <algorithm>
+#include <cstddef>
+#include <cstring>
+
+#include "rtmini/bvh/finish.hpp"
+#include "rtmini/bvh/presplit.hpp"
 
 namespace rtmini::bvh {
 
@@ -25,7 +30,8 @@ struct Task {
   int node;        // node to fill with this range's split (or -1 for the root)
   int slot;        // which child of `node`
   int depth;
-  Aabb box;
+  Aabb box;        // bounds of the items' boxes
+  Aabb centroids;  // bounds of their centroids
 };
 
 Aabb range_box(const std::vector<Item>& items, int b, int e, Aabb* centroids) {
@@ -38,77 +44,164 @@ Aabb range_box(const std::vector<Item>& items, int b, int e, Aabb* centroids) {
   return box;
 }
 
-// Best binned split of items[b, e): returns the partition point or -1 for "make a leaf".
-int split_range(std::vector<Item>& items, int b, int e, const Aabb& box, int depth) {
+Task range_task(const std::vector<Item>& items, int b, int e, int node, int slot, int depth) {
+  Task t{b, e, node, slot, depth, Aabb(), Aabb()};
+  t.box = range_box(items, b, e, &t.centroids);
+  return t;
+}
+
+// A bin's box as four lanes (x, y, z, unused) so a merge is one 4-wide min and max, which the
+// compiler vectorises; lane 3 carries whatever follows x, y, z in memory and is never read.
+struct BinBox {
+  Real lo[4], hi[4];
+  BinBox() {
+    for (int j = 0; j < 4; ++j) lo[j] = Real(1e30), hi[j] = Real(-1e30);
+  }
+  void expand(const Real* l, const Real* h) {
+    for (int j = 0; j < 4; ++j) lo[j] = l[j] < lo[j] ? l[j] : lo[j];
+    for (int j = 0; j < 4; ++j) hi[j] = h[j] > hi[j] ? h[j] : hi[j];
+  }
+  void expand(const BinBox& b) { expand(b.lo, b.hi); }
+  Aabb aabb() const {
+    Aabb a;
+    a.lo = Vec3(lo[0], lo[1], lo[2]);
+    a.hi = Vec3(hi[0], hi[1], hi[2]);
+    return a;
+  }
+  Real surface_area() const { return aabb().surface_area(); }
+};
+static_assert(offsetof(Item, box) == 0 && sizeof(Aabb) == 6 * sizeof(Real) &&
+                  sizeof(Item) >= sizeof(Aabb) + 4 * sizeof(Real),
+              "an item's box can be read as two 4-lane loads");
+
+// The two halves of a split, as tasks whose boxes are already known.
+struct Split {
+  Task left, right;
+};
+
+// Median split on the largest centroid axis, for ranges the SAH cannot split (e.g. identical
+// centroids) or too deep.
+int median_split(std::vector<Item>& items, const Task& t) {
+  const int axis = max_dimension(t.centroids.extent());
+  const int mid = t.begin + (t.end - t.begin) / 2;
+  std::nth_element(items.begin() + t.begin, items.begin() + mid, items.begin() + t.end,
+                   [axis](const Item& x, const Item& y) {
+                     return x.centroid[axis] < y.centroid[axis] ||
+                            (x.centroid[axis] == y.centroid[axis] && x.index < y.index);
+                   });
+  return mid;
+}
+
+// Moves the items with `left(item)` true to the front of [b, e) (the same swaps as
+// std::partition) and returns the first of the others; also bounds each side's centroids,
+// so the children need no pass of their own.
+template <class Pred>
+int partition_bounding(std::vector<Item>& items, int b, int e, const Pred& left, Aabb& lc,
+                       Aabb& rc) {
+  int first = b, last = e;
+  while (true) {
+    while (true) {
+      if (first == last) return first;
+      if (!left(items[first])) break;
+      lc.expand(items[first].centroid);
+      ++first;
+    }
+    rc.expand(items[first].centroid);
+    --last;
+    while (true) {
+      if (first == last) return first;
+      if (left(items[last])) break;
+      rc.expand(items[last].centroid);
+      --last;
+    }
+    lc.expand(items[last].centroid);
+    std::swap(items[first], items[last]);
+    ++first;
+  }
+}
+
+// Best binned split of the task's range: true with the two halves, false for "make a leaf".
+// One pass bins every item on all three axes (bin boxes are min/max, so exact in any order);
+// the chosen bins' boxes are the children's boxes, and the partition bounds their centroids.
+bool split_range(std::vector<Item>& items, const Task& t, Split& out) {
+  const int b = t.begin, e = t.end;
   const int count = e - b;
-  Aabb cb;
-  range_box(items, b, e, &cb);
-  const Real leaf_cost = kTriangleCost * count * box.surface_area();
+  const Aabb& cb = t.centroids;
+  const Real parent_area = t.box.surface_area();
+  const Real leaf_cost = kTriangleCost * count * parent_area;
   Real best = leaf_cost;
   int best_axis = -1, best_bin = -1;
   const Vec3 ext = cb.extent();
-  // One pass bins every item on all three axes (bin boxes are min/max, so exact in any order).
-  Aabb bins[3][kBins];
+  BinBox bins[3][kBins];
   int counts[3][kBins] = {};
   Real scale[3];
   for (int axis = 0; axis < 3; ++axis)
     scale[axis] = ext[axis] > Real(0) ? Real(kBins) / ext[axis] * Real(0.999999) : Real(0);
   for (int i = b; i < e; ++i) {
     const Item& it = items[i];
+    Real lo[4], hi[4];
+    std::memcpy(lo, &it.box.lo, sizeof lo);
+    std::memcpy(hi, &it.box.hi, sizeof hi);
     for (int axis = 0; axis < 3; ++axis) {
       const int k =
           std::min(kBins - 1, static_cast<int>((it.centroid[axis] - cb.lo[axis]) * scale[axis]));
-      bins[axis][k].expand(it.box);
+      bins[axis][k].expand(lo, hi);
       ++counts[axis][k];
     }
   }
+  Aabb best_left, best_right;
   for (int axis = 0; axis < 3; ++axis) {
     if (!(ext[axis] > Real(0))) continue;
-    Real right_area[kBins];
+    BinBox right_box[kBins];
     int right_count[kBins];
-    Aabb acc;
+    BinBox acc;
     int cnt = 0;
     for (int k = kBins - 1; k > 0; --k) {
       acc.expand(bins[axis][k]);
       cnt += counts[axis][k];
-      right_area[k] = acc.surface_area();
+      right_box[k] = acc;
       right_count[k] = cnt;
     }
-    acc = Aabb();
+    acc = BinBox();
     cnt = 0;
     for (int k = 0; k < kBins - 1; ++k) {
+      // An empty bin would repeat the previous candidate's cost, which never wins (strict <).
+      if (counts[axis][k] == 0) continue;
       acc.expand(bins[axis][k]);
       cnt += counts[axis][k];
-      if (cnt == 0 || right_count[k + 1] == 0) continue;
-      const Real c =
-          kTraversalCost * box.surface_area() +
-          kTriangleCost * (cnt * acc.surface_area() + right_count[k + 1] * right_area[k + 1]);
+      if (right_count[k + 1] == 0) continue;
+      const Real c = kTraversalCost * parent_area +
+                     kTriangleCost * (cnt * acc.surface_area() +
+                                      right_count[k + 1] * right_box[k + 1].surface_area());
       if (c < best) {
         best = c;
         best_axis = axis;
         best_bin = k;
+        best_left = acc.aabb();
+        best_right = right_box[k + 1].aabb();
       }
     }
   }
-  const bool must_split = count > kMaxLeafSize;
-  if (best_axis < 0 || depth >= kMaxDepth) {
-    if (!must_split) return -1;
-    // No useful SAH split (e.g. identical centroids) or too deep: median split.
-    const int axis = max_dimension(ext);
-    const int mid = b + count / 2;
-    std::nth_element(items.begin() + b, items.begin() + mid, items.begin() + e,
-                     [axis](const Item& x, const Item& y) {
-                       return x.centroid[axis] < y.centroid[axis] ||
-                              (x.centroid[axis] == y.centroid[axis] && x.index < y.index);
-                     });
-    return mid;
+  int mid;
+  Aabb lc, rc;
+  if (best_axis < 0 || t.depth >= kMaxDepth) {
+    if (count <= kMaxLeafSize) return false;
+    mid = median_split(items, t);
+    out.left = range_task(items, b, mid, -1, 0, t.depth + 1);
+    out.right = range_task(items, mid, e, -1, 1, t.depth + 1);
+    return true;
   }
   const Real s = scale[best_axis];
-  auto it = std::partition(items.begin() + b, items.begin() + e, [&](const Item& x) {
-    return std::min(kBins - 1, static_cast<int>((x.centroid[best_axis] - cb.lo[best_axis]) * s)) <=
-           best_bin;
-  });
-  return static_cast<int>(it - items.begin());
+  const Real lo = cb.lo[best_axis];
+  mid = partition_bounding(
+      items, b, e,
+      [&](const Item& x) {
+        return std::min(kBins - 1, static_cast<int>((x.centroid[best_axis] - lo) * s)) <= best_bin;
+      },
+      lc, rc);
+  out.left = {b, mid, -1, 0, t.depth + 1, best_left, lc};
+  out.right = {mid, e, -1, 1, t.depth + 1, best_right, rc};
+  return true;
 }
 
 // One subtree built on its own (possibly by another thread): nodes and leaf triangles with local
@@ -124,13 +217,17 @@ struct Fragment {
 // processed next, so it lands next to its parent).
 void build_fragment(std::vector<Item>& items, const std::vector<Triangle>& input, const Task& top,
                     Fragment& f) {
+  // A leaf stores each triangle once, even when several of its pre-split parts landed here.
   auto emit_leaf = [&](int b, int e) {
     const auto first = static_cast<std::uint32_t>(f.tris.size());
     for (int i = b; i < e; ++i) {
-      f.tris.push_back(input[items[i].index]);
-      f.prim.push_back(items[i].index);
+      const int id = items[i].index;
+      if (std::any_of(f.prim.begin() + first, f.prim.end(), [id](int p) { return p == id; }))
+        continue;
+      f.tris.push_back(point_if_zero_area(input[id]));
+      f.prim.push_back(id);
     }
-    return make_leaf(first, static_cast<std::uint32_t>(e - b));
+    return make_leaf(first, static_cast<std::uint32_t>(f.tris.size() - first));
   };
   auto set_ref = [&](const Task& t, std::uint32_t ref) {
     if (t.node < 0)
@@ -139,20 +236,20 @@ void build_fragment(std::vector<Item>& items, const std::vector<Triangle>& input
       f.nodes[t.node].set_child(t.slot, t.box, ref);
   };
   std::vector<Task> stack{top};
-  Aabb c;
+  Split sp;
   while (!stack.empty()) {
     const Task t = stack.back();
     stack.pop_back();
-    const int mid = t.end - t.begin > 1 ? split_range(items, t.begin, t.end, t.box, t.depth) : -1;
-    if (mid < 0) {
+    if (t.end - t.begin <= 1 || !split_range(items, t, sp)) {
       set_ref(t, emit_leaf(t.begin, t.end));
       continue;
     }
     const int id = static_cast<int>(f.nodes.size());
     f.nodes.emplace_back();
     set_ref(t, static_cast<std::uint32_t>(id));
-    stack.push_back({mid, t.end, id, 1, t.depth + 1, range_box(items, mid, t.end, &c)});
-    stack.push_back({t.begin, mid, id, 0, t.depth + 1, range_box(items, t.begin, mid, &c)});
+    sp.left.node = sp.right.node = id;
+    stack.push_back(sp.right);
+    stack.push_back(sp.left);
   }
 }
 
@@ -173,59 +270,70 @@ std::uint32_t append_fragment(const Fragment& f, HostBvh& out) {
   return global(f.root);
 }
 
-}  // namespace
-
-HostBvh build_sah_host(const std::vector<Triangle>& input) {
-  HostBvh out;
+// One item per triangle, or per pre-split part of a sliver when splitting pays (presplit.hpp).
+std::vector<Item> make_items(const std::vector<Triangle>& input, double split_budget) {
   const int n = static_cast<int>(input.size());
   std::vector<Item> items(n);
+  Aabb bounds;
   for (int i = 0; i < n; ++i) {
     Aabb b;
     b.expand(input[i].a);
     b.expand(input[i].b);
     b.expand(input[i].c);
     items[i] = {b, (input[i].a + input[i].b + input[i].c) * (Real(1) / Real(3)), i};
+    bounds.expand(b);
   }
-  Aabb dummy;
-  out.bounds = range_box(items, 0, n, &dummy);
-  if (n == 0) return out;
+  const std::vector<SplitReference> refs = presplit_triangles(input, bounds, split_budget);
+  if (refs.empty()) return items;
+  items.resize(refs.size());
+  for (std::size_t i = 0; i < refs.size(); ++i)
+    items[i] = {refs[i].box, refs[i].centroid, refs[i].prim};
+  return items;
+}
+
+// The tree over all items (sets out.bounds), its child boxes as the SAH saw them (not yet padded).
+void build_tree(std::vector<Item>& items, const std::vector<Triangle>& input, HostBvh& out) {
+  const int n = static_cast<int>(items.size());
+  Task root = range_task(items, 0, n, -1, 0, 0);
+  out.bounds = root.box;
+  if (n == 0) return;
   out.nodes.reserve(std::max(1, 2 * n / kMaxLeafSize + 1));
   out.tris.reserve(n);
   out.prim.reserve(n);
 
   // The root is always an internal node with two slots.
   out.nodes.emplace_back();
-  const int root_split = n > 1 ? split_range(items, 0, n, out.bounds, 0) : -1;
-  if (root_split < 0) {
+  Split sp;
+  if (n == 1 || !split_range(items, root, sp)) {
     Fragment leaf;
-    build_fragment(items, input, {0, n, -1, 0, kMaxDepth, out.bounds}, leaf);
+    root.depth = kMaxDepth;
+    build_fragment(items, input, root, leaf);
     const std::uint32_t ref = append_fragment(leaf, out);
     out.nodes[0].set_child(0, out.bounds, ref);
     out.nodes[0].set_child(1, Aabb(), kEmptyLeaf);
-    return out;
+    return;
   }
   // Top levels serially, down to ranges of at most kFragmentShare of the input; those subtrees
   // are independent and are built in parallel. The cut depends on n only, and fragments are
   // appended in the serial depth-first order, so the tree is the same for any thread count.
   const int fragment_max = std::max(kMinFragment, n / kFragmentShare);
   std::vector<Task> fragments, stack;
-  Aabb c;
-  stack.push_back({root_split, n, 0, 1, 1, range_box(items, root_split, n, &c)});
-  stack.push_back({0, root_split, 0, 0, 1, range_box(items, 0, root_split, &c)});
+  sp.left.node = sp.right.node = 0;
+  stack.push_back(sp.right);
+  stack.push_back(sp.left);
   while (!stack.empty()) {
     const Task t = stack.back();
     stack.pop_back();
-    const int mid =
-        t.end - t.begin > fragment_max ? split_range(items, t.begin, t.end, t.box, t.depth) : -1;
-    if (mid < 0) {
+    if (t.end - t.begin <= fragment_max || !split_range(items, t, sp)) {
       fragments.push_back(t);
       continue;
     }
     const int id = static_cast<int>(out.nodes.size());
     out.nodes.emplace_back();
     out.nodes[t.node].set_child(t.slot, t.box, static_cast<std::uint32_t>(id));
-    stack.push_back({mid, t.end, id, 1, t.depth + 1, range_box(items, mid, t.end, &c)});
-    stack.push_back({t.begin, mid, id, 0, t.depth + 1, range_box(items, t.begin, mid, &c)});
+    sp.left.node = sp.right.node = id;
+    stack.push_back(sp.right);
+    stack.push_back(sp.left);
   }
   std::vector<Fragment> built(fragments.size());
   Kokkos::parallel_for(
@@ -241,6 +349,16 @@ HostBvh build_sah_host(const std::vector<Triangle>& input) {
     const std::uint32_t ref = append_fragment(built[i], out);  // may reallocate out.nodes
     out.nodes[fragments[i].node].set_child(fragments[i].slot, fragments[i].box, ref);
   }
+}
+
+}  // namespace
+
+HostBvh build_sah_host(const std::vector<Triangle>& input, double split_budget) {
+  HostBvh out;
+  std::vector<Item> items = make_items(input, split_budget);
+  out.references = static_cast<int>(items.size());
+  build_tree(items, input, out);
+  for (BvhNode& node : out.nodes) pad_child_boxes(node);
   return out;
 }
 

@@ -103,4 +103,16 @@ void append_box(Mesh& mesh, const Vec3d& lo, const Vec3d& hi, int material, int 
   }
 }
 
+void append_fan(Mesh& mesh, const Vec3d& center, double radius, double angle, int count,
+                int material, int object) {
+  ensure_object(mesh, object);
+  const int apex = add_vertex(mesh, center);
+  for (int i = 0; i <= count; ++i) {
+    const double a = angle * i / count;
+    add_vertex(mesh, center + Vec3d(std::cos(a), std::sin(a), 0.0) * radius);
+  }
+  for (int i = 0; i < count; ++i)
+    add_face(mesh, {apex, apex + 1 + i, apex + 2 + i}, material, object);
+}
+
 }  // namespace rtmini

@@ -2,11 +2,16 @@
 // SAH-quality build: top-down binned SAH (Wald, "On fast construction of
 // SAH-based bounding volume hierarchies", 2007) on the host, 16 bins on all
 // three axes, leaves of up to kMaxLeafSize when splitting does not pay.
+// Slivers are pre-split first when that pays (presplit.hpp): a triangle may
+// then sit in several leaves, at most once per leaf.
 // Slower to build than the LBVH but traces faster; the result is copied to
 // the memory space of the caller's choice.
+#include <algorithm>
+#include <string>
 #include <vector>
 
 #include "rtmini/bvh/bvh.hpp"
+#include "rtmini/bvh/presplit.hpp"
 
 namespace rtmini::bvh {
 
@@ -15,9 +20,28 @@ struct HostBvh {
   std::vector<Triangle> tris;
   std::vector<int> prim;
   Aabb bounds;
+  int references = 0;  // items the build sorted: triangles plus extra pre-split parts
 };
 
-HostBvh build_sah_host(const std::vector<Triangle>& input);
+// split_budget: extra pre-split references allowed, as a fraction of the triangle count
+// (0: never split).
+HostBvh build_sah_host(const std::vector<Triangle>& input,
+                       double split_budget = kDefaultSplitBudget);
+
+// compat::upload, except that host memory is filled by a plain copy: the Kokkos fill and
+// deep_copy are parallel regions whose spin-waits cost more than the copy itself when the
+// machine is loaded (measured: results/bvh/slivers.md).
+template <class T, class MemorySpace>
+Kokkos::View<T*, MemorySpace> upload_vector(const std::string& label, const std::vector<T>& v) {
+  if constexpr (Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemorySpace>::accessible) {
+    Kokkos::View<T*, MemorySpace> out(Kokkos::view_alloc(Kokkos::WithoutInitializing, label),
+                                      v.size());
+    std::copy(v.begin(), v.end(), out.data());
+    return out;
+  } else {
+    return compat::upload<MemorySpace>(label, v);
+  }
+}
 
 template <class MemorySpace>
 Bvh<MemorySpace> upload(const HostBvh& h, BuildQuality quality) {
@@ -25,12 +49,9 @@ Bvh<MemorySpace> upload(const HostBvh& h, BuildQuality quality) {
   bvh.num_prims = static_cast<int>(h.tris.size());
   bvh.bounds = h.bounds;
   bvh.quality = quality;
-  bvh.nodes = Kokkos::View<BvhNode*, MemorySpace>("rtmini::bvh::nodes", h.nodes.size());
-  bvh.tris = Kokkos::View<Triangle*, MemorySpace>("rtmini::bvh::tris", h.tris.size());
-  bvh.prim = Kokkos::View<int*, MemorySpace>("rtmini::bvh::prim", h.prim.size());
-  Kokkos::deep_copy(bvh.nodes, compat::host_view(h.nodes.data(), h.nodes.size()));
-  Kokkos::deep_copy(bvh.tris, compat::host_view(h.tris.data(), h.tris.size()));
-  Kokkos::deep_copy(bvh.prim, compat::host_view(h.prim.data(), h.prim.size()));
+  bvh.nodes = upload_vector<BvhNode, MemorySpace>("rtmini::bvh::nodes", h.nodes);
+  bvh.tris = upload_vector<Triangle, MemorySpace>("rtmini::bvh::tris", h.tris);
+  bvh.prim = upload_vector<int, MemorySpace>("rtmini::bvh::prim", h.prim);
   return bvh;
 }
 

@@ -23,4 +23,10 @@ void append_quad(Mesh& mesh, const Vec3d& corner, const Vec3d& u, const Vec3d& v
 void append_grid(Mesh& mesh, const Vec3d& corner, const Vec3d& u, const Vec3d& v, int nu, int nv,
                  int material, int object);
 
+// A flat fan of `count` triangles in the plane z = centre.z, all sharing the centre, their far
+// edges on the arc of `radius` from angle 0 to `angle` (radians, from +x towards +y). Each is a
+// sliver of aspect count / angle (radius over far edge): the BVH's worst case (issue 18).
+void append_fan(Mesh& mesh, const Vec3d& center, double radius, double angle, int count,
+                int material, int object);
+
 }  // namespace rtmini
