@@ -19,7 +19,7 @@ packages=(
   librandom123-dev libeigen3-dev libpng-dev libopenexr-dev
   libembree-dev
   python3 python3-numpy python3-matplotlib python3-h5py python3-pytest
-  shellcheck clang-format clang clang-tidy
+  shellcheck clang-format clang clang-tidy libfuzzer-14-dev
   slurm-wlm munge
   nodejs chromium
 )

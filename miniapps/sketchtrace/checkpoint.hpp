@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "trace_kernel.hpp"
+#include "pixel_result.hpp"
 
 namespace rtmini::sketch {
 

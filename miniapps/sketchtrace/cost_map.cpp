@@ -1,30 +1,8 @@
 #include "cost_map.hpp"
 
-#include <fstream>
-
-#include "rtmini/io/error.hpp"
-#include "rtmini/io/hdf5_file.hpp"
+#include "cost_map_file.hpp"
 
 namespace rtmini::sketch {
-namespace {
-
-// False when there is no map yet or it was probed for other parameters (probe
-// again and replace it); a corrupt file is bad input (exit 2), never used.
-bool read_map(const std::string& path, const std::string& signature, CostMap& m) {
-  if (path.empty() || !std::ifstream(path)) return false;
-  Hdf5File f = Hdf5File::open(path);
-  if (f.string_attribute("/", "app") != "sketchtrace-cost-map" ||
-      f.string_attribute("/", "signature") != signature ||
-      f.int_attribute("/", "width") != m.width || f.int_attribute("/", "height") != m.height ||
-      f.int_attribute("/", "stride") != m.stride)
-    return false;
-  std::vector<float> cost = f.read<float>("/cost");
-  if (cost.size() != m.cost.size()) throw InputError(path, 0, "cost map has the wrong size");
-  m.cost = std::move(cost);
-  return true;
-}
-
-}  // namespace
 
 CostMap make_cost_map(const Renderer& renderer, const Communicator& comm, int width, int height,
                       const std::string& path, const std::string& signature, bool& reused) {
@@ -36,8 +14,9 @@ CostMap make_cost_map(const Renderer& renderer, const Communicator& comm, int wi
   m.grid_h = (height + m.stride - 1) / m.stride;
   const std::int64_t probes = static_cast<std::int64_t>(m.grid_w) * m.grid_h;
   m.cost.assign(static_cast<std::size_t>(probes), 0.f);
+  const CostMapKey key{signature, width, height, m.stride};
   std::vector<std::uint8_t> ok{0};
-  if (comm.is_root()) ok[0] = read_map(path, signature, m) ? 1 : 0;
+  if (comm.is_root()) ok[0] = read_cost_map_file(path, key, m.cost.size(), m.cost) ? 1 : 0;
   comm.broadcast(ok);
   reused = ok[0] != 0;
   if (reused) {
@@ -57,16 +36,7 @@ CostMap make_cost_map(const Renderer& renderer, const Communicator& comm, int wi
   std::vector<float> mine;
   renderer.probe(pixels, mine);
   m.cost = comm.allgatherv(mine);
-  if (comm.is_root() && !path.empty()) {
-    Hdf5File f = Hdf5File::create(path);
-    f.set_attribute("/", "app", "sketchtrace-cost-map");
-    f.set_attribute("/", "signature", signature);
-    f.set_attribute("/", "width", static_cast<std::int64_t>(width));
-    f.set_attribute("/", "height", static_cast<std::int64_t>(height));
-    f.set_attribute("/", "stride", static_cast<std::int64_t>(m.stride));
-    f.write("/cost", m.cost);
-    f.commit();
-  }
+  if (comm.is_root() && !path.empty()) write_cost_map_file(path, key, m.cost);
   return m;
 }
 

@@ -8,6 +8,7 @@
 // `glossy_samples` glossy branches. Randomness: Rng(seed, pixel, sample) with a
 // fixed dimension layout (README), so an image never depends on rank/thread/chunk.
 #include "light_sampling.hpp"
+#include "pixel_result.hpp"
 #include "rtmini/scene/camera.hpp"
 
 namespace rtmini::sketch {
@@ -30,17 +31,6 @@ struct TraceParams {
   Real cos_crease = Real(0.5);
   Vec3 background, ambient;
   std::uint64_t seed = 1;
-};
-
-// One rendered pixel (host/device POD; gathered across ranks as bytes).
-struct PixelResult {
-  float r = 0, g = 0, b = 0;
-  float depth = 1e30f;
-  float nx = 0, ny = 0, nz = 0;
-  int object = -1;
-  float edge = 0;
-  std::uint32_t rays = 0;
-  std::uint64_t tests = 0;
 };
 
 // Random-number layout per (pixel, sample): pairs 0-1 pixel jitter and lens, pair 2

@@ -1,5 +1,6 @@
 #include "rtmini/io/hdf5_file.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -89,6 +90,77 @@ std::int64_t checksum_of(const void* data, std::size_t bytes) {
   return static_cast<std::int64_t>(XXH64(data, bytes, 0));
 }
 
+// Every file rtmini commits ends in a trailer: kTrailerMagic, then the XXH64 (seed 0,
+// little endian) of every byte before it. libhdf5 does not look past the end address its
+// superblock records, so the file stays a plain HDF5 file (h5py, h5dump read it). open()
+// checks the trailer before libhdf5 parses a byte: libhdf5 1.10 is not safe on corrupt
+// metadata (fuzzing found a heap over-read while decoding attribute messages and error paths
+// that leave the library unable to close), so a corrupt file must never reach it.
+constexpr char kTrailerMagic[8] = {'r', 't', 'm', 'i', 'n', 'i', 'h', '5'};
+constexpr std::size_t kTrailerBytes = sizeof(kTrailerMagic) + 8;
+
+// XXH64 of the first `bytes` bytes of `f`, read from the start; false on a short read.
+bool hash_prefix(std::FILE* f, std::uint64_t bytes, std::uint64_t& hash) {
+  XXH64_state_t state;
+  XXH64_reset(&state, 0);
+  std::vector<char> buffer(static_cast<std::size_t>(std::min<std::uint64_t>(bytes, 1 << 20)));
+  for (std::uint64_t left = bytes; left > 0;) {
+    const std::size_t want = static_cast<std::size_t>(std::min<std::uint64_t>(left, buffer.size()));
+    if (std::fread(buffer.data(), 1, want, f) != want) return false;
+    XXH64_update(&state, buffer.data(), want);
+    left -= want;
+  }
+  hash = XXH64_digest(&state);
+  return true;
+}
+
+void encode_le64(std::uint64_t v, unsigned char* out) {
+  for (int i = 0; i < 8; ++i) out[i] = static_cast<unsigned char>(v >> (8 * i));
+}
+
+// Appends the trailer to the closed file `tmp`; IoError when it cannot.
+void append_trailer(const std::string& tmp, const std::string& final_path) {
+  std::FILE* f = std::fopen(tmp.c_str(), "r+b");
+  if (f == nullptr) throw IoError(final_path + ": cannot reopen the HDF5 file to seal it");
+  std::uint64_t hash = 0;
+  bool ok = std::fseek(f, 0, SEEK_END) == 0;
+  const long size = ok ? std::ftell(f) : -1;
+  ok = size >= 0 && std::fseek(f, 0, SEEK_SET) == 0 &&
+       hash_prefix(f, static_cast<std::uint64_t>(size), hash);
+  unsigned char trailer[kTrailerBytes];
+  std::memcpy(trailer, kTrailerMagic, sizeof(kTrailerMagic));
+  encode_le64(hash, trailer + sizeof(kTrailerMagic));
+  ok = ok && std::fseek(f, 0, SEEK_END) == 0 &&
+       std::fwrite(trailer, 1, kTrailerBytes, f) == kTrailerBytes;
+  // fclose flushes: its failure (disk full) is a write failure too.
+  if (std::fclose(f) != 0 || !ok)
+    throw IoError(final_path + ": cannot seal the HDF5 file (write failed)");
+}
+
+// InputError unless `path` ends in a trailer matching its content.
+void verify_trailer(const std::string& path) {
+  // (Opening a fifo would block until someone writes to it.)
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+    throw InputError(path, 0, "not a regular file");
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (f == nullptr) throw InputError(path, 0, "cannot open as an HDF5 file");
+  std::uint64_t hash = 0;
+  unsigned char trailer[kTrailerBytes];
+  const bool seeked = std::fseek(f, 0, SEEK_END) == 0;
+  const long size = seeked ? std::ftell(f) : -1;
+  bool ok = size >= static_cast<long>(kTrailerBytes) && std::fseek(f, 0, SEEK_SET) == 0 &&
+            hash_prefix(f, static_cast<std::uint64_t>(size) - kTrailerBytes, hash) &&
+            std::fread(trailer, 1, kTrailerBytes, f) == kTrailerBytes;
+  std::fclose(f);
+  if (!ok || std::memcmp(trailer, kTrailerMagic, sizeof(kTrailerMagic)) != 0)
+    corrupt(path, "no rtmini trailer (truncated, or not written by rtmini)");
+  unsigned char expected[8];
+  encode_le64(hash, expected);
+  if (std::memcmp(trailer + sizeof(kTrailerMagic), expected, 8) != 0)
+    corrupt(path, "whole-file checksum mismatch");
+}
+
 hid_t check(hid_t id, const std::string& file, const std::string& what) {
   if (id < 0) fail(file, what);
   return id;
@@ -158,6 +230,7 @@ Hdf5File Hdf5File::open(const std::string& path) {
   QuietErrors quiet;
   Hdf5File f;
   f.path_ = path;
+  verify_trailer(path);
   f.id_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (f.id_ < 0) throw InputError(path, 0, "cannot open as an HDF5 file");
   return f;
@@ -195,7 +268,8 @@ void Hdf5File::close() noexcept {
 void Hdf5File::commit() {
   if (tmp_path_.empty()) return;
   // No size to compare with (HDF5's own idea of the file size differs from the
-  // closed file's): the write errors H5Fclose reports and the fsync are the checks.
+  // closed file's): the write errors H5Fclose reports, sealing it with the trailer
+  // (append_trailer reads every byte back) and the fsync are the checks.
   const bool closed = H5Fclose(id_) >= 0;
   id_ = -1;
   int status = 0;
@@ -206,8 +280,10 @@ void Hdf5File::commit() {
       status = 1;
     } else {
       try {
+        append_trailer(tmp_path_, path_);
         commit_temporary(tmp_path_, path_, -1);
       } catch (const IoError& e) {
+        std::remove(tmp_path_.c_str());  // (commit_temporary removes it itself; harmless)
         problem = e.what();
         status = 1;
       }

@@ -1,3 +1,6 @@
+#include <cerrno>
+#include <cstring>
+#include <fstream>
 #include <map>
 
 #include "rtmini/io/atomic_file.hpp"
@@ -11,6 +14,7 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfStdIO.h>
 #endif
 
 namespace rtmini {
@@ -56,13 +60,21 @@ void write_channels(const std::string& path, const std::vector<ChannelSource>& c
     frame.insert(src.name, Imf::Slice(type, base, size, size * width));
   }
   write_file_atomic(path, [&](const std::string& tmp) {
+    // Through a stream of our own: OpenEXR's OutputFile writes its offset table and closes
+    // its file in the destructor, which swallows errors, so a small image that fit in the
+    // stream's buffer was "written" to a full disk without a word. The stream's state after
+    // the file is finished and the close are the checks.
+    std::ofstream os(tmp, std::ios::binary | std::ios::trunc);
     try {
-      Imf::OutputFile file(tmp.c_str(), header);
+      Imf::StdOFStream stream(os, tmp.c_str());
+      Imf::OutputFile file(stream, header);
       file.setFrameBuffer(frame);
       file.writePixels(height);
     } catch (const std::exception& e) {
       throw IoError(path + ": EXR write failed: " + e.what());
     }
+    os.close();
+    if (!os) throw IoError(path + ": EXR write failed: " + std::strerror(errno));
   });
 }
 

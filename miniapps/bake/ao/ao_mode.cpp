@@ -67,6 +67,7 @@ nlohmann::json parameters_json(const ao::AoOptions& o) {
           {"ground_offset", o.ground_offset},
           {"least_squares", o.least_squares},
           {"regularization_weight", o.regularization},
+          {"fit", o.fit},
           {"passes", o.passes},
           {"batch", o.batch},
           {"seed", o.seed},
@@ -81,6 +82,9 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
   if (o.bvh == "auto")
     o.bvh =
         Kokkos::SpaceAccessibility<Kokkos::HostSpace, ao::MemSpace>::accessible ? "sah" : "lbvh";
+  // auto: the device solves by CG where the host would factor (and copy both ways).
+  const ao::FitMethod fit = ao::parse_fit_method(o.fit);
+  o.fit = ao::fit_method_name(fit);
   ao::output_format(o.output);  // reject a bad extension before any work
   const bool root = comm.is_root();
   RunReport report;
@@ -149,9 +153,11 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
     else
       std::printf("  ground plane: off\n");
     std::printf(
-        "  mapping: %s (regularization weight %g), passes %d, batch %lld, seed %llu, bvh %s\n",
-        o.least_squares ? "least squares" : "weighted average", o.regularization, o.passes,
-        static_cast<long long>(o.batch), static_cast<unsigned long long>(o.seed), o.bvh.c_str());
+        "  mapping: %s (regularization weight %g, fit %s), passes %d, batch %lld, seed %llu, "
+        "bvh %s\n",
+        o.least_squares ? "least squares" : "weighted average", o.regularization, o.fit.c_str(),
+        o.passes, static_cast<long long>(o.batch), static_cast<unsigned long long>(o.seed),
+        o.bvh.c_str());
     std::printf("  ranks %d, threads per rank %d, output %s\n", comm.size(), compat::concurrency(),
                 o.output.empty() ? "(none)" : o.output.c_str());
     std::printf("  memory estimate per rank: %.1f MiB device, %.1f MiB host results\n", est * mib,
@@ -210,7 +216,7 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
     report.timer.start("solve");
     if (root)
       result.values =
-          ao::map_least_squares(scene, values, o.regularization, &lsq, true, &mapping_line);
+          ao::map_least_squares(scene, values, o.regularization, &lsq, true, &mapping_line, fit);
     report.timer.stop();
   }
   mapping_line.finish(mapping_steps, mapping_steps);
@@ -237,10 +243,21 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
     if (o.least_squares) {
       std::printf("    build mass matrices ...           %10.2f ms\n", 1e3 * lsq.assemble_s);
       std::printf("    build regularization matrices ... %10.2f ms\n", 1e3 * lsq.regularize_s);
-      std::printf(
-          "    decompose matrices ...            %10.2f ms  (%d factorization(s), %zu instances)\n",
-          1e3 * lsq.factor_s, lsq.factorizations, plan.receivers.size());
-      std::printf("    solve linear systems ...          %10.2f ms\n", 1e3 * lsq.solve_s);
+      if (fit == ao::FitMethod::kCg) {
+        std::printf(
+            "    decompose matrices ...            %10.2f ms  (none: CG on %d matrix(es), %zu "
+            "instances)\n",
+            1e3 * lsq.factor_s, lsq.systems, plan.receivers.size());
+        std::printf(
+            "    solve linear systems ...          %10.2f ms  (CG, at most %d iterations)\n",
+            1e3 * lsq.solve_s, lsq.cg_iterations);
+      } else {
+        std::printf(
+            "    decompose matrices ...            %10.2f ms  (%d factorization(s), %zu "
+            "instances)\n",
+            1e3 * lsq.factor_s, lsq.factorizations, plan.receivers.size());
+        std::printf("    solve linear systems ...          %10.2f ms\n", 1e3 * lsq.solve_s);
+      }
       if (lsq.fallbacks > 0)
         std::printf("    %d singular system(s): weighted average used there\n", lsq.fallbacks);
     }
@@ -263,6 +280,16 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
                   {"scene_scale", extent},
                   {"mean_ao", mean_ao.mean},
                   {"mean_ao_std_error", mean_ao.std_error}};
+  if (o.least_squares)
+    report.scene["least_squares"] = {{"fit", o.fit},
+                                     {"assemble_s", lsq.assemble_s},
+                                     {"regularize_s", lsq.regularize_s},
+                                     {"factor_s", lsq.factor_s},
+                                     {"solve_s", lsq.solve_s},
+                                     {"matrices", lsq.systems},
+                                     {"factorizations", lsq.factorizations},
+                                     {"cg_iterations", lsq.cg_iterations},
+                                     {"fallbacks", lsq.fallbacks}};
   report.fom_name = "ao_rays_per_second";
   report.fom_unit = "rays/s";
   report.fom_value = t[4] > 0 ? total_rays / t[4] : 0.0;

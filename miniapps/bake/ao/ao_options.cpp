@@ -47,6 +47,11 @@ void AoCli::add_to(CLI::App& app, AoOptions& o) {
                  "least-squares regularization weight")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--fit", o.fit,
+                 "least-squares solve: cholesky (host sparse Cholesky), cg (preconditioned CG on "
+                 "the device), or auto (cg on a GPU, cholesky on the host)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "cholesky", "cg"}));
   app.add_flag("--no_least_squares,--no-least-squares", no_lsq_,
                "area/barycentric weighted average instead");
   app.add_option("--passes", o.passes, "kernel launches per batch (rays are split among them)")
@@ -69,7 +74,8 @@ void AoCli::finish(AoOptions& o) const {
   o.least_squares = !no_lsq_;
   if (!ground.empty()) {
     const double axis = ground[0];
-    if (axis != static_cast<int>(axis) || axis < 0 || axis > 5)
+    // Range first: converting 1e300 (or NaN) to int is undefined (found by fuzz_ao_options).
+    if (!(axis >= 0 && axis <= 5) || axis != static_cast<int>(axis))
       throw InputError("bad usage: --ground_setup axis must be an integer 0..5");
     if (!(ground[1] > 0) || !(ground[2] >= 0))
       throw InputError("bad usage: --ground_setup needs scale > 0 and offset >= 0");

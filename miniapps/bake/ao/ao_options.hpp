@@ -23,6 +23,7 @@ struct AoOptions {
   double ground_offset = 0.03;
   bool least_squares = true;
   double regularization = 0.1;
+  std::string fit = "auto";      // least-squares solve: auto | cholesky (host) | cg (device)
   int passes = 1;                // kernel launches per batch; rays are split among them
   std::int64_t batch = 2000000;  // sample points resident on the device at once
   std::uint64_t seed = 1;

@@ -17,7 +17,9 @@ DeviceScene::DeviceScene(const AoScene& scene, bvh::BuildQuality quality,
                    Vec3(mesh.positions[v[2]])};
     }
     Kokkos::deep_copy(tris, tris_h);
-    bvhs_.push_back(bvh::build<ExecSpace, MemSpace>(space, tris, quality));
+    // AO asks any-hit queries only, which trace the binary tree: no wide copy to build.
+    bvhs_.push_back(
+        bvh::build<ExecSpace, MemSpace>(space, tris, quality, bvh::QuantizedWide::kNever));
     const auto& b = bvhs_.back();
     refs_h(m).nodes = {b.nodes.data(), b.nodes.extent(0)};
     refs_h(m).wide = {b.wide.data(), b.wide.extent(0)};

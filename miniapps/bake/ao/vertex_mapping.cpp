@@ -5,6 +5,10 @@
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <utility>
+
+#include "rtmini/io/error.hpp"
+#include "vertex_fit_cg.hpp"
 
 namespace rtmini::ao {
 namespace {
@@ -221,17 +225,15 @@ void factor_group(const AoMesh& mesh, const MeshPattern& pat, const TriangleBloc
   sys.ok = sys.solver.info() == Eigen::Success;
 }
 
-}  // namespace
-
-std::vector<float> map_least_squares(const AoScene& scene, const SampleValues& sv, double weight,
-                                     LeastSquaresStats* stats, bool share_factorization,
-                                     ProgressLine* progress) {
+// The Eigen path: per-vertex values (1 where no system) and per-receiver failure flags.
+std::vector<float> fit_cholesky(const AoScene& scene, const SampleValues& sv, double weight,
+                                const std::vector<std::vector<std::size_t>>& groups,
+                                LeastSquaresStats& st, ProgressLine* progress,
+                                std::vector<char>& failed) {
   using Clock = std::chrono::steady_clock;
   using HostSpace = Kokkos::DefaultHostExecutionSpace;
   using DynamicHostPolicy = Kokkos::RangePolicy<HostSpace, Kokkos::Schedule<Kokkos::Dynamic>>;
   const SamplePlan& plan = *sv.plan;
-  LeastSquaresStats local;
-  LeastSquaresStats& st = stats ? *stats : local;
   const std::size_t nr = plan.receivers.size();
   std::vector<float> out(plan.total_vertices(), 1.0f);
 
@@ -279,7 +281,6 @@ std::vector<float> map_least_squares(const AoScene& scene, const SampleValues& s
 
   // One sparse Cholesky per group of identical systems, groups in parallel (the
   // sample factors per mesh), then one solve per receiver, receivers in parallel.
-  const auto groups = group_receivers(plan, share_factorization);
   const std::size_t ng = groups.size();
   std::vector<GroupSystem> systems(ng);
   std::vector<int> group_of(nr, 0);
@@ -294,7 +295,7 @@ std::vector<float> map_least_squares(const AoScene& scene, const SampleValues& s
                                       blocks.data() + plan.tri_base[r], weight, systems[c]);
                        });
   step_done(progress, 3);
-  std::vector<char> failed(nr, 0);
+  failed.assign(nr, 0);
   std::vector<double> solve_s(nr, 0.0);
   Kokkos::parallel_for("rtmini::bake::ao::lsq_solve",
                        DynamicHostPolicy(0, static_cast<std::int64_t>(nr)), [&](std::int64_t r) {
@@ -327,6 +328,44 @@ std::vector<float> map_least_squares(const AoScene& scene, const SampleValues& s
   for (const GroupSystem& sys : systems) st.factor_s += sys.factor_s;
   st.factorizations += static_cast<int>(ng);
   for (std::size_t r = 0; r < nr; ++r) st.solve_s += solve_s[r];
+  return out;
+}
+
+}  // namespace
+
+FitMethod parse_fit_method(const std::string& name) {
+  if (name == "cholesky") return FitMethod::kCholesky;
+  if (name == "cg") return FitMethod::kCg;
+  if (name == "auto")
+    return Kokkos::SpaceAccessibility<Kokkos::HostSpace,
+                                      Kokkos::DefaultExecutionSpace::memory_space>::accessible
+               ? FitMethod::kCholesky
+               : FitMethod::kCg;
+  throw InputError("bad usage: --fit must be auto, cholesky or cg, not '" + name + "'");
+}
+
+const char* fit_method_name(FitMethod method) {
+  return method == FitMethod::kCg ? "cg" : "cholesky";
+}
+
+std::vector<float> map_least_squares(const AoScene& scene, const SampleValues& sv, double weight,
+                                     LeastSquaresStats* stats, bool share_factorization,
+                                     ProgressLine* progress, FitMethod method) {
+  const SamplePlan& plan = *sv.plan;
+  LeastSquaresStats local;
+  LeastSquaresStats& st = stats ? *stats : local;
+  const std::size_t nr = plan.receivers.size();
+  const auto groups = group_receivers(plan, share_factorization);
+  st.systems += static_cast<int>(groups.size());
+  std::vector<char> failed;
+  std::vector<float> out;
+  if (method == FitMethod::kCg) {
+    CgFit fit = fit_least_squares_cg(scene, sv, weight, groups, st, progress);
+    out = std::move(fit.values);
+    failed = std::move(fit.failed);
+  } else {
+    out = fit_cholesky(scene, sv, weight, groups, st, progress, failed);
+  }
   std::vector<float> fallback;  // weighted average where a system was singular
   for (std::size_t r = 0; r < nr; ++r) {
     if (!failed[r]) continue;

@@ -4,21 +4,24 @@
 # must print exactly one "app...: file...: reason" line. Before the collective
 # outcome these runs hung until killed.
 #   one_rank APP NP      the input missing, then malformed, on the last rank only
-#                        and on rank 0 only (MPMD launch: the other ranks get a good file)
+#                        and on rank 0 only (MPMD launch: the other ranks get a good file);
+#                        with HDF5 a truncated --restart checkpoint on rank 0 only
 #   sketch_restart NP    sketchtrace --restart with a checkpoint of other parameters
 #   sketch_reference NP  sketchtrace --reference naming a file that does not exist
 #   outputs APP          every writer of APP into a missing directory, a read-only and a
 #                        full filesystem (small tmpfs mounts; skipped with a reason where
 #                        mounting is not allowed) and onto a fifo: exit 3, one line, no
 #                        final file, no temporary left, the fifo untouched; bake's MPI-IO
-#                        map with both Open MPI I/O components. Stale temporaries of dead
-#                        runs are removed, those of live processes kept.
+#                        map with both Open MPI I/O components; sketchtrace's cost map,
+#                        bake ao's .bin/.ply/.obj/.glb and bake render's images too. Stale
+#                        temporaries of dead runs are removed, those of live processes kept.
 #   corrupt APP          APP's checkpoint (and sketchtrace's cost map) with one bit flipped
 #                        in each dataset, truncated, and with single bytes changed across
 #                        the file: restart gives exit 2 and one line, or (a harmless byte)
-#                        exit 0 and the uninterrupted run's hash; never a crash.
+#                        exit 0 and the uninterrupted run's hash; never a crash. The fuzzers'
+#                        HDF5 reproducers (tests/data/bad/h5_*.h5): exit 2, one stderr line.
 # Environment: SKETCH, BAKE (binaries), INPUTS, BAD (bad bake inputs), SKETCH_BAD,
-# MPIEXEC, NPFLAG.
+# MPIEXEC, NPFLAG, HDF5 (ON when built with HDF5).
 set -euo pipefail
 mode=$1
 work=$2
@@ -117,6 +120,25 @@ case $mode in
     # Every rank failing the same way names no rank.
     expect_one_line "$app" 2 "^$app: .*$(basename "$malformed")" \
       "$MPIEXEC" "$NPFLAG" "$np" --oversubscribe "$bin" "$malformed" "${args[@]}"
+    if [[ $HDF5 == ON ]]; then
+      # A checkpoint truncated on rank 0 only (the rank that reads it; the others name a
+      # good one).
+      if [[ $app == sketchtrace ]]; then
+        ck_args=("${args[@]}" --chunk-pixels 500)
+        stop=(--stop-after-chunks 2)
+      else
+        ck_args=("${args[@]}" --iterations 3)
+        stop=(--stop-after-iteration 1)
+      fi
+      rc=0
+      "$bin" "$good" "${ck_args[@]}" --checkpoint ck.h5 "${stop[@]}" >/dev/null 2>&1 || rc=$?
+      [[ $rc == 4 ]] || fail "the stopped run gave exit $rc"
+      head -c "$(($(stat -c %s ck.h5) / 2))" ck.h5 >cut.h5
+      expect_one_line "$app" 2 "\\(rank 0\\): .*cut.h5" \
+        "$MPIEXEC" "$NPFLAG" 1 --oversubscribe "$bin" "$good" "${ck_args[@]}" --restart cut.h5 : \
+        "$NPFLAG" $((np - 1)) --oversubscribe "$bin" "$good" "${ck_args[@]}" --restart ck.h5
+      rm -f out.png out.bs
+    fi
     ;;
   sketch_restart)
     np=$1
@@ -154,16 +176,36 @@ case $mode in
       run=("$BAKE" "$INPUTS/cube/cube.bs" "${bake_args[@]}")
       writers=("-o x.bsb" "--summary x.json" "--timings x.h5" "--checkpoint x.h5")
     fi
-    for w in "${writers[@]}"; do
-      read -r flag name rest <<<"$w"
+    # every_place "FLAG NAME [REST]" CMD...: CMD FLAG <place>/NAME REST into every place and
+    # onto a fifo.
+    every_place() {
+      local flag name rest dir
+      read -r flag name rest <<<"$1"
+      shift
       # shellcheck disable=SC2086
       for dir in "${places[@]}"; do
-        output_case "$app" "$dir" "$dir/$name" "${run[@]}" $flag "$dir/$name" $rest
+        output_case "$app" "$dir" "$dir/$name" "$@" $flag "$dir/$name" $rest
       done
       [[ -p $work/fifo/$name ]] || mkfifo "$work/fifo/$name"
       # shellcheck disable=SC2086
-      output_case "$app" "$work/fifo" "$work/fifo/$name" "${run[@]}" $flag "$work/fifo/$name" $rest
+      output_case "$app" "$work/fifo" "$work/fifo/$name" "$@" $flag "$work/fifo/$name" $rest
+    }
+    for w in "${writers[@]}"; do
+      every_place "$w" "${run[@]}"
     done
+    if [[ $app == sketchtrace ]]; then
+      every_place "--cost-map cm.h5 --balance metric" "${run[@]}"
+    else
+      # bake ao's four formats and bake render's three image formats.
+      for ext in bin ply obj glb; do
+        every_place "-o ao.$ext" "$BAKE" ao "$INPUTS/cube/cube.bs" -r 4
+      done
+      "$BAKE" "$INPUTS/cube/cube.bs" "${bake_args[@]}" -o "$work/map.bs" >/dev/null 2>&1 ||
+        fail "the map for bake render was not written"
+      for ext in png ppm exr; do
+        every_place "-o render.$ext" "$BAKE" render "$work/map.bs" --width 16 --height 12
+      done
+    fi
     if [[ $app == bake ]]; then
       # The text map is written collectively through MPI-IO: both components, 2 ranks.
       for io in ompio romio321; do
@@ -232,6 +274,13 @@ PYEOF
     fi
     full=$(hash_of full.txt)
     [[ -n $full ]] || fail "no hash in the uninterrupted run"
+    # Reproducers the fuzz targets found (tests/fuzz): libhdf5 over-reads a heap buffer on
+    # one, cannot close itself after the other (two more lines on stderr at exit). Refused
+    # with exit 2 and nothing on stderr but the one line, before libhdf5 parses them.
+    for f in "$BAD"/h5_*.h5; do
+      expect_one_line "$app" 2 "$(basename "$f")" "${run[@]}" --restart "$f"
+      [[ $(wc -l <err.txt) == 1 ]] || { cat err.txt >&2; fail "more than one line on stderr: $f"; }
+    done
     for d in "${datasets[@]}"; do
       mutate ck.h5 bad.h5 flip "$d"
       expect_one_line "$app" 2 "bad.h5" "${run[@]}" --restart bad.h5

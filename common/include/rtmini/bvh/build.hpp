@@ -4,6 +4,7 @@
 
 #include "rtmini/bvh/build_lbvh.hpp"
 #include "rtmini/bvh/build_sah.hpp"
+#include "rtmini/bvh/gpu_collapse.hpp"
 #include "rtmini/bvh/wide.hpp"
 
 namespace rtmini::bvh {
@@ -79,9 +80,14 @@ void pad_node_boxes(const ExecSpace& space, Bvh<MemorySpace>& bvh) {
       });
 }
 
+// Whether build() adds the compressed wide layout (gpu_wide.hpp) that devices trace closest hits
+// with; callers that only ask any-hit queries skip its build.
+enum class QuantizedWide { kOnDevices, kNever };
+
 template <class ExecSpace, class MemorySpace = typename ExecSpace::memory_space>
 Bvh<MemorySpace> build(const ExecSpace& space, Kokkos::View<const Triangle*, MemorySpace> tris,
-                       BuildQuality quality) {
+                       BuildQuality quality,
+                       QuantizedWide quantized_wide = QuantizedWide::kOnDevices) {
   Bvh<MemorySpace> out;
   if (quality == BuildQuality::kLbvh) {
     out = build_lbvh<ExecSpace, MemorySpace>(space, tris);
@@ -95,6 +101,11 @@ Bvh<MemorySpace> build(const ExecSpace& space, Kokkos::View<const Triangle*, Mem
   collapse_zero_area(space, out);
   pad_node_boxes(space, out);
   add_wide_nodes(out);
+  // Devices trace closest hits in the compressed 8-wide layout; the host keeps its SIMD layout
+  // unless asked (add_quantized_wide).
+  if constexpr (!Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemorySpace>::accessible) {
+    if (quantized_wide == QuantizedWide::kOnDevices) add_quantized_wide(space, out);
+  }
   return out;
 }
 

@@ -52,115 +52,129 @@ KOKKOS_INLINE_FUNCTION int delta(const KeyView& keys, int n, int i, int j) {
 
 }  // namespace detail
 
-template <class ExecSpace, class MemorySpace = typename ExecSpace::memory_space>
-Bvh<MemorySpace> build_lbvh(const ExecSpace& space,
-                            Kokkos::View<const Triangle*, MemorySpace> input) {
-  Kokkos::Profiling::pushRegion("rtmini::bvh::build_lbvh");
-  using Policy = Kokkos::RangePolicy<ExecSpace>;
-  const int n = static_cast<int>(input.extent(0));
-  Bvh<MemorySpace> bvh;
-  bvh.num_prims = n;
-  bvh.quality = BuildQuality::kLbvh;
-  const int num_nodes = n > 1 ? n - 1 : 1;
-  bvh.nodes = Kokkos::View<BvhNode*, MemorySpace>(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::nodes"), num_nodes);
-  bvh.tris = Kokkos::View<Triangle*, MemorySpace>(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::tris"), n);
-  bvh.prim = Kokkos::View<int*, MemorySpace>(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::prim"), n);
-  if (n == 0) {
-    Kokkos::Profiling::popRegion();
-    return bvh;
-  }
+// Scene bounds (for the BVH) and centroid bounds (for the Morton grid) of the input.
+struct LbvhBounds {
+  Aabb scene, centroids;
+};
 
-  // 1. Scene and centroid bounds.
-  Real cmin[3], cmax[3], smin[3], smax[3];
-  for (int a = 0; a < 3; ++a) {
-    Kokkos::parallel_reduce(
-        "rtmini::bvh::build::centroid_min", Policy(space, 0, n),
-        KOKKOS_LAMBDA(int i, Real& m) {
-          const Triangle& t = input(i);
-          const Real c = (t.a[a] + t.b[a] + t.c[a]) / Real(3);
-          if (c < m) m = c;
-        },
-        Kokkos::Min<Real>(cmin[a]));
-    Kokkos::parallel_reduce(
-        "rtmini::bvh::build::centroid_max", Policy(space, 0, n),
-        KOKKOS_LAMBDA(int i, Real& m) {
-          const Triangle& t = input(i);
-          const Real c = (t.a[a] + t.b[a] + t.c[a]) / Real(3);
-          if (c > m) m = c;
-        },
-        Kokkos::Max<Real>(cmax[a]));
-    Kokkos::parallel_reduce(
-        "rtmini::bvh::build::bounds_min", Policy(space, 0, n),
-        KOKKOS_LAMBDA(int i, Real& m) {
-          const Triangle& t = input(i);
-          m = math::fmin(m, math::fmin(t.a[a], math::fmin(t.b[a], t.c[a])));
-        },
-        Kokkos::Min<Real>(smin[a]));
-    Kokkos::parallel_reduce(
-        "rtmini::bvh::build::bounds_max", Policy(space, 0, n),
-        KOKKOS_LAMBDA(int i, Real& m) {
-          const Triangle& t = input(i);
-          m = math::fmax(m, math::fmax(t.a[a], math::fmax(t.b[a], t.c[a])));
-        },
-        Kokkos::Max<Real>(smax[a]));
-  }
-  bvh.bounds.lo = Vec3(smin[0], smin[1], smin[2]);
-  bvh.bounds.hi = Vec3(smax[0], smax[1], smax[2]);
-  const Vec3 lo(cmin[0], cmin[1], cmin[2]);
-  const Vec3 ext(cmax[0] - cmin[0], cmax[1] - cmin[1], cmax[2] - cmin[2]);
+// Both boxes in one pass over the triangles: twelve minima in one fused reduction (the maxima
+// as minima of negated values), instead of one reduction per plane.
+template <class ExecSpace, class MemorySpace>
+LbvhBounds scene_and_centroid_bounds(const ExecSpace& space,
+                                     Kokkos::View<const Triangle*, MemorySpace> input) {
+  const int n = static_cast<int>(input.extent(0));
+  Real m[12];
+  using M = Kokkos::Min<Real>;
+  Kokkos::parallel_reduce(
+      "rtmini::bvh::build::bounds", Kokkos::RangePolicy<ExecSpace>(space, 0, n),
+      KOKKOS_LAMBDA(int i, Real& slx, Real& sly, Real& slz, Real& shx, Real& shy, Real& shz,
+                    Real& clx, Real& cly, Real& clz, Real& chx, Real& chy, Real& chz) {
+        const Triangle& t = input(i);
+        const Vec3 lo = vmin(t.a, vmin(t.b, t.c)), hi = vmax(t.a, vmax(t.b, t.c));
+        const Vec3 c = (t.a + t.b + t.c) / Real(3);
+        slx = math::fmin(slx, lo.x);
+        sly = math::fmin(sly, lo.y);
+        slz = math::fmin(slz, lo.z);
+        shx = math::fmin(shx, -hi.x);
+        shy = math::fmin(shy, -hi.y);
+        shz = math::fmin(shz, -hi.z);
+        clx = math::fmin(clx, c.x);
+        cly = math::fmin(cly, c.y);
+        clz = math::fmin(clz, c.z);
+        chx = math::fmin(chx, -c.x);
+        chy = math::fmin(chy, -c.y);
+        chz = math::fmin(chz, -c.z);
+      },
+      M(m[0]), M(m[1]), M(m[2]), M(m[3]), M(m[4]), M(m[5]), M(m[6]), M(m[7]), M(m[8]), M(m[9]),
+      M(m[10]), M(m[11]));
+  LbvhBounds b;
+  b.scene.lo = Vec3(m[0], m[1], m[2]);
+  b.scene.hi = Vec3(-m[3], -m[4], -m[5]);
+  b.centroids.lo = Vec3(m[6], m[7], m[8]);
+  b.centroids.hi = Vec3(-m[9], -m[10], -m[11]);
+  return b;
+}
+
+// Morton keys of the centroids on the centroid box's grid, sorted.
+template <class ExecSpace, class MemorySpace>
+Kokkos::View<std::uint64_t*, MemorySpace> sorted_morton_keys(
+    const ExecSpace& space, Kokkos::View<const Triangle*, MemorySpace> input,
+    const Aabb& centroids) {
+  const int n = static_cast<int>(input.extent(0));
+  const Vec3 lo = centroids.lo, ext = centroids.hi - centroids.lo;
   const Vec3 inv_ext(ext.x > 0 ? 1 / ext.x : 0, ext.y > 0 ? 1 / ext.y : 0,
                      ext.z > 0 ? 1 / ext.z : 0);
-
-  // 2. Morton keys, sorted.
   Kokkos::View<std::uint64_t*, MemorySpace> keys(
       Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::keys"), n);
   Kokkos::parallel_for(
-      "rtmini::bvh::build::morton", Policy(space, 0, n), KOKKOS_LAMBDA(int i) {
+      "rtmini::bvh::build::morton", Kokkos::RangePolicy<ExecSpace>(space, 0, n),
+      KOKKOS_LAMBDA(int i) {
         const Triangle& t = input(i);
         const Vec3 c = (t.a + t.b + t.c) * (Real(1) / Real(3));
         keys(i) = detail::morton_key((c - lo) * inv_ext, static_cast<std::uint32_t>(i));
       });
   compat::sort(space, keys);
+  return keys;
+}
 
+// The triangles and their ids in key order (the order leaves index).
+template <class ExecSpace, class MemorySpace>
+void reorder_by_keys(const ExecSpace& space, Kokkos::View<const Triangle*, MemorySpace> input,
+                     Kokkos::View<const std::uint64_t*, MemorySpace> keys, Bvh<MemorySpace>& bvh) {
   auto tris = bvh.tris;
   auto prim = bvh.prim;
-  auto nodes = bvh.nodes;
   Kokkos::parallel_for(
-      "rtmini::bvh::build::reorder", Policy(space, 0, n), KOKKOS_LAMBDA(int i) {
+      "rtmini::bvh::build::reorder",
+      Kokkos::RangePolicy<ExecSpace>(space, 0, static_cast<int>(keys.extent(0))),
+      KOKKOS_LAMBDA(int i) {
         const int p = static_cast<int>(keys(i) & 0xffffffffULL);
         prim(i) = p;
         tris(i) = input(p);
       });
+}
 
-  if (n == 1) {
-    Kokkos::parallel_for(
-        "rtmini::bvh::build::single", Policy(space, 0, 1), KOKKOS_LAMBDA(int) {
-          Aabb box;
-          box.expand(tris(0).a);
-          box.expand(tris(0).b);
-          box.expand(tris(0).c);
-          nodes(0).set_child(0, box, make_leaf(0, 1));
-          nodes(0).set_child(1, Aabb(), kEmptyLeaf);
-        });
-    space.fence();
-    Kokkos::Profiling::popRegion();
-    return bvh;
-  }
-
-  // 3. Karras hierarchy: internal node i covers sorted range [first, last].
-  // Children are encoded as node ids: internal j -> j, leaf k -> (n - 1) + k.
-  const int ni = n - 1;
-  Kokkos::View<int* [2], MemorySpace> kids(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::children"), ni);
-  Kokkos::View<int* [2], MemorySpace> range(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::range"), ni);
-  Kokkos::View<int*, MemorySpace> parent(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::parent"), ni + n);
+// A one-triangle tree: the root's second slot is empty.
+template <class ExecSpace, class MemorySpace>
+void emit_single_leaf(const ExecSpace& space, Bvh<MemorySpace>& bvh) {
+  auto tris = bvh.tris;
+  auto nodes = bvh.nodes;
   Kokkos::parallel_for(
-      "rtmini::bvh::build::hierarchy", Policy(space, 0, ni), KOKKOS_LAMBDA(int i) {
+      "rtmini::bvh::build::single", Kokkos::RangePolicy<ExecSpace>(space, 0, 1),
+      KOKKOS_LAMBDA(int) {
+        Aabb box;
+        box.expand(tris(0).a);
+        box.expand(tris(0).b);
+        box.expand(tris(0).c);
+        nodes(0).set_child(0, box, make_leaf(0, 1));
+        nodes(0).set_child(1, Aabb(), kEmptyLeaf);
+      });
+}
+
+// The binary radix tree over sorted keys (Karras 2012): internal node i covers sorted range
+// [range(i, 0), range(i, 1)]; children are node ids, internal j -> j, leaf k -> (n - 1) + k.
+template <class MemorySpace>
+struct RadixTree {
+  Kokkos::View<int*[2], MemorySpace> kids, range;
+  Kokkos::View<int*, MemorySpace> parent;  // of every node id
+};
+
+template <class ExecSpace, class MemorySpace>
+RadixTree<MemorySpace> karras_hierarchy(const ExecSpace& space,
+                                        Kokkos::View<const std::uint64_t*, MemorySpace> keys) {
+  const int n = static_cast<int>(keys.extent(0)), ni = n - 1;
+  RadixTree<MemorySpace> tree;
+  tree.kids = Kokkos::View<int* [2], MemorySpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::children"), ni);
+  tree.range = Kokkos::View<int* [2], MemorySpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::range"), ni);
+  tree.parent = Kokkos::View<int*, MemorySpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::parent"), ni + n);
+  const auto kids = tree.kids;
+  const auto range = tree.range;
+  const auto parent = tree.parent;
+  Kokkos::parallel_for(
+      "rtmini::bvh::build::hierarchy", Kokkos::RangePolicy<ExecSpace>(space, 0, ni),
+      KOKKOS_LAMBDA(int i) {
         const int d = detail::delta(keys, n, i, i + 1) > detail::delta(keys, n, i, i - 1) ? 1 : -1;
         const int dmin = detail::delta(keys, n, i, i - d);
         int lmax = 2;
@@ -186,16 +200,37 @@ Bvh<MemorySpace> build_lbvh(const ExecSpace& space,
         parent(left) = i;
         parent(right) = i;
       });
+  return tree;
+}
 
-  // 4. Bottom-up boxes and SAH costs; the second child to arrive at a node
-  // finishes it (the first one stops), so every node is done exactly once.
-  Kokkos::View<Aabb*, MemorySpace> box(
+// Boxes and SAH costs of every node id, bottom up; the second child to arrive at a node
+// finishes it (the first one stops), so every node is done exactly once. A negative cost marks
+// a subtree cheaper as one leaf (the magnitude is the cost).
+template <class MemorySpace>
+struct SubtreeCosts {
+  Kokkos::View<Aabb*, MemorySpace> box;
+  Kokkos::View<Real*, MemorySpace> cost;
+};
+
+template <class ExecSpace, class MemorySpace>
+SubtreeCosts<MemorySpace> refit_with_costs(const ExecSpace& space, const Bvh<MemorySpace>& bvh,
+                                           const RadixTree<MemorySpace>& tree) {
+  const int n = bvh.num_prims, ni = n - 1;
+  SubtreeCosts<MemorySpace> out;
+  out.box = Kokkos::View<Aabb*, MemorySpace>(
       Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::boxes"), ni + n);
-  Kokkos::View<Real*, MemorySpace> cost(
+  out.cost = Kokkos::View<Real*, MemorySpace>(
       Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::cost"), ni + n);
   Kokkos::View<int*, MemorySpace> arrivals("rtmini::bvh::build::arrivals", ni);
+  const auto box = out.box;
+  const auto cost = out.cost;
+  const auto tris = bvh.tris;
+  const auto kids = tree.kids;
+  const auto range = tree.range;
+  const auto parent = tree.parent;
   Kokkos::parallel_for(
-      "rtmini::bvh::build::refit", Policy(space, 0, n), KOKKOS_LAMBDA(int k) {
+      "rtmini::bvh::build::refit", Kokkos::RangePolicy<ExecSpace>(space, 0, n),
+      KOKKOS_LAMBDA(int k) {
         constexpr Real kTraversalCost = 1, kTriangleCost = 1;
         Aabb b;
         b.expand(tris(k).a);
@@ -216,18 +251,29 @@ Bvh<MemorySpace> build_lbvh(const ExecSpace& space,
           const int count = range(node, 1) - range(node, 0) + 1;
           const Real split = kTraversalCost * sa + math::fabs(cost(l)) + math::fabs(cost(r));
           const Real leaf = kTriangleCost * count * sa;
-          // A negative cost marks "collapse into one leaf" (the magnitude is the cost).
           cost(node) = (count <= kMaxLeafSize && leaf <= split) ? -leaf : split;
           Kokkos::memory_fence();
           if (node == 0) break;
           node = parent(node);
         }
       });
+  return out;
+}
 
-  // 5. Emit traversal nodes. Collapsed subtrees become leaf ranges; nodes
-  // inside collapsed subtrees are written too but never reached.
+// Traversal nodes. Collapsed subtrees become leaf ranges; nodes inside collapsed subtrees are
+// written too but never reached.
+template <class ExecSpace, class MemorySpace>
+void emit_binary_nodes(const ExecSpace& space, const RadixTree<MemorySpace>& tree,
+                       const SubtreeCosts<MemorySpace>& sub, Bvh<MemorySpace>& bvh) {
+  const int ni = bvh.num_prims - 1;
+  const auto nodes = bvh.nodes;
+  const auto kids = tree.kids;
+  const auto range = tree.range;
+  const auto box = sub.box;
+  const auto cost = sub.cost;
   Kokkos::parallel_for(
-      "rtmini::bvh::build::emit", Policy(space, 0, ni), KOKKOS_LAMBDA(int i) {
+      "rtmini::bvh::build::emit", Kokkos::RangePolicy<ExecSpace>(space, 0, ni),
+      KOKKOS_LAMBDA(int i) {
         for (int k = 0; k < 2; ++k) {
           const int c = kids(i, k);
           std::uint32_t ref;
@@ -239,11 +285,39 @@ Bvh<MemorySpace> build_lbvh(const ExecSpace& space,
           } else {
             ref = static_cast<std::uint32_t>(c);
           }
-          const Aabb cb = box(c);
-          nodes(i).set_child(k, cb, ref);
+          nodes(i).set_child(k, box(c), ref);
         }
       });
-  space.fence();
+}
+
+template <class ExecSpace, class MemorySpace = typename ExecSpace::memory_space>
+Bvh<MemorySpace> build_lbvh(const ExecSpace& space,
+                            Kokkos::View<const Triangle*, MemorySpace> input) {
+  Kokkos::Profiling::pushRegion("rtmini::bvh::build_lbvh");
+  const int n = static_cast<int>(input.extent(0));
+  Bvh<MemorySpace> bvh;
+  bvh.num_prims = n;
+  bvh.quality = BuildQuality::kLbvh;
+  bvh.nodes = Kokkos::View<BvhNode*, MemorySpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::nodes"), n > 1 ? n - 1 : 1);
+  bvh.tris = Kokkos::View<Triangle*, MemorySpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::tris"), n);
+  bvh.prim = Kokkos::View<int*, MemorySpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::prim"), n);
+  if (n > 0) {
+    const LbvhBounds bounds = scene_and_centroid_bounds(space, input);
+    bvh.bounds = bounds.scene;
+    const auto keys = sorted_morton_keys(space, input, bounds.centroids);
+    reorder_by_keys<ExecSpace, MemorySpace>(space, input, keys, bvh);
+    if (n == 1) {
+      emit_single_leaf(space, bvh);
+    } else {
+      const auto tree = karras_hierarchy<ExecSpace, MemorySpace>(space, keys);
+      const auto sub = refit_with_costs(space, bvh, tree);
+      emit_binary_nodes(space, tree, sub, bvh);
+    }
+    space.fence();
+  }
   Kokkos::Profiling::popRegion();
   return bvh;
 }

@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "rtmini/bvh/build_quality.hpp"
+#include "rtmini/bvh/gpu_wide.hpp"
 #include "rtmini/geometry/aabb.hpp"
 #include "rtmini/geometry/triangle.hpp"
 
@@ -81,6 +82,11 @@ struct Bvh {
   // 8-wide copy of the same tree for host (CPU) traversal; empty on devices.
   Kokkos::View<WideNode*, MemorySpace> wide;
   Kokkos::View<TriangleLanes*, MemorySpace> leaves;  // the wide tree's leaves
+  // Compressed 8-wide copy for GPU traversal (gpu_wide.hpp, built by gpu_collapse.hpp): on
+  // devices always, on the host only when asked; its triangles and ids in its own leaf order.
+  Kokkos::View<QuantizedWideNode*, MemorySpace> qwide;
+  Kokkos::View<Triangle*, MemorySpace> qwide_tris;
+  Kokkos::View<int*, MemorySpace> qwide_prim;
   Kokkos::View<Triangle*, MemorySpace> tris;
   Kokkos::View<int*, MemorySpace> prim;
   Aabb bounds;

@@ -5,10 +5,10 @@
 // RTMINI_HAVE_HDF5 every operation throws IoError("... built without HDF5").
 //
 // A file made by create(path) is written to "path.tmp.<pid>" and renamed into place
-// by commit(); destroying it uncommitted deletes the temporary, so readers never see
-// a half-written file. With RTMINI_HAVE_PARALLEL_HDF5, create(path, comm) opens it
-// through MPI-IO: every call is then collective over comm and commit() renames on
-// rank 0 and synchronises.
+// by commit(), which first appends a trailer with the XXH64 of every byte (see open());
+// destroying it uncommitted deletes the temporary, so readers never see a half-written file. With
+// RTMINI_HAVE_PARALLEL_HDF5, create(path, comm) opens it through MPI-IO: every call is then
+// collective over comm and commit() renames on rank 0 and synchronises.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -26,7 +26,9 @@ class Hdf5File {
 #ifdef RTMINI_HAVE_MPI
   static Hdf5File create(const std::string& path, MPI_Comm comm);
 #endif
-  // Read-only. A missing or non-HDF5 file is an InputError "path: reason".
+  // Read-only. A missing or non-HDF5 file is an InputError "path: reason", and so is any
+  // file whose whole-file checksum trailer (appended by commit()) is missing or does not
+  // match: libhdf5 never parses a corrupt file.
   static Hdf5File open(const std::string& path);
 
   Hdf5File(Hdf5File&& other) noexcept;

@@ -1,0 +1,10 @@
+// PPM reference images (P3/P6, read_ppm).
+#include "fuzz_input.hpp"
+#include "rtmini/io/image.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace rtmini::fuzz;
+  const std::string path = write_scratch("x.ppm", as_view(data, size));
+  expect_input_error_only([&] { (void)rtmini::read_ppm(path); });
+  return 0;
+}
