@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -14,6 +13,7 @@
 #include "rtmini/io/bakeshop.hpp"
 #include "rtmini/io/bakeshop_binary.hpp"
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/path.hpp"
 
 namespace rtmini::bake {
 namespace {
@@ -68,28 +68,19 @@ std::string format_vertex_range(const BakedMap& map, VertexRange range) {
   return out;
 }
 
-bool is_binary_map_path(const std::string& path) {
-  if (path.size() < 4) return false;
-  std::string ext = path.substr(path.size() - 4);
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext == ".bsb";
-}
+bool is_binary_map_path(const std::string& path) { return lower_extension(path) == ".bsb"; }
 
 namespace {
 
-// Little-endian bytes of plain values (the layout of io/bakeshop_binary.hpp; x86 and ARM).
+// Little-endian bytes of plain values (the layout of io/bakeshop_binary.hpp; x86 and ARM). The
+// head starts at file offset 0, so buffer and file alignment agree.
 struct Bytes {
   std::string out;
-  std::int64_t base = 0;  // file offset of out[0]: sections align to file offsets
   template <class T>
   void put(T value) {
     out.append(reinterpret_cast<const char*>(&value), sizeof(T));
   }
-  void align8() {
-    const std::int64_t end = base + static_cast<std::int64_t>(out.size());
-    out.resize(out.size() + static_cast<std::size_t>((end + 7) / 8 * 8 - end), '\0');
-  }
+  void align8() { out.resize((out.size() + 7) / 8 * 8, '\0'); }
 };
 
 std::int64_t align8(std::int64_t n) { return (n + 7) / 8 * 8; }
@@ -165,31 +156,6 @@ std::string binary_head(const BakedMap& map, const std::vector<std::uint8_t>& un
   w.align8();
   for (const Vec3f& d : *map.directions)
     for (float x : {d.x, d.y, d.z}) w.put(x);
-  w.align8();
-  return w.out;
-}
-
-// Zero padding after the colours, then materials, faces and object names.
-std::string binary_tail(const Mesh& mesh, std::int64_t colors_end) {
-  Bytes w;
-  w.base = colors_end;
-  w.align8();
-  for (const Material& m : mesh.materials) {
-    for (const Vec3f& v : {m.diffuse, m.reflective, m.emissive})
-      for (float x : {v.x, v.y, v.z}) w.put(x);
-    for (float x : {m.shininess, m.ior, m.opacity}) w.put(x);
-  }
-  w.align8();
-  for (const Face& f : mesh.faces) {
-    for (int k = 0; k < 4; ++k) w.put<std::int32_t>(k < f.count ? f.v[k] : -1);
-    w.put<std::int32_t>(f.material);
-    w.put<std::int32_t>(f.object);
-  }
-  w.align8();
-  for (const std::string& name : mesh.objects) {
-    w.put(static_cast<std::uint32_t>(name.size()));
-    w.out.append(name);
-  }
   w.align8();
   return w.out;
 }
@@ -315,7 +281,7 @@ WriteStats write_baked_map_binary(const Communicator& comm, const std::string& p
   }
   std::string head, tail;
   if (comm.is_root()) {
-    tail = binary_tail(mesh, at);
+    tail = format_bakeshop_binary_tail(mesh, static_cast<std::uint64_t>(at));
     head = binary_head(map, uniform, (at - start) / 12, at + static_cast<std::int64_t>(tail.size()),
                        pos32);
     add_pieces(pieces, 0, head.data(), static_cast<std::int64_t>(head.size()));

@@ -1,11 +1,10 @@
 #include "frame_output.hpp"
 
-#include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstring>
 
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/path.hpp"
 #include "rtmini/report/hash.hpp"
 
 #ifdef RTMINI_SKETCH_HAVE_NPR
@@ -14,15 +13,6 @@
 
 namespace rtmini::sketch {
 namespace {
-
-std::string lower_extension(const std::string& path) {
-  const auto dot = path.find_last_of('.');
-  const auto slash = path.find_last_of('/');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string e = path.substr(dot);
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
-  return e;
-}
 
 std::uint64_t bits(float f) {
   std::uint32_t u;

@@ -28,6 +28,7 @@
 #include "renderer.hpp"
 #include "result_sink.hpp"
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/path.hpp"
 #include "rtmini/io/timings.hpp"
 #include "rtmini/report/app_main.hpp"
 #include "rtmini/report/common_options.hpp"
@@ -82,14 +83,6 @@ nlohmann::json parameters_json(const RenderSettings& s) {
   p["style"] = s.style;
   p["general_kernel"] = s.general_kernel;
   return p;
-}
-
-std::string extension(const std::string& path) {
-  const auto dot = path.find_last_of('.');
-  if (dot == std::string::npos) return "";
-  std::string e = path.substr(dot);
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
-  return e;
 }
 
 // Pixels per dispatch: about 1/64 of a rank's share on a CPU backend (256..65536),
@@ -196,7 +189,7 @@ void read_inputs(RunState& r, const CliOverrides& cli) {
   RunOptions& opt = r.opt;
   r.report.timer.start("load");
   std::unique_ptr<SceneDescription> desc;
-  if (extension(opt.input) == ".toml") {
+  if (lower_extension(opt.input) == ".toml") {
     desc = std::make_unique<SceneDescription>(read_scene_file(opt.input));
     apply_scene_settings(*desc, r.s);
   } else if (!std::ifstream(opt.input)) {

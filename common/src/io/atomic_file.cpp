@@ -41,6 +41,9 @@ void sync_directory(const std::string& path) {
 
 }  // namespace
 
+// Checked before any work: renaming over a directory fails only at the end of a long run, and
+// a device (-o /dev/null) would be replaced by a regular file. stat() follows symbolic links,
+// so a link to a regular file is accepted (the rename then replaces the link itself).
 void check_replaceable(const std::string& path) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) return;  // absent (or unreachable: creating it will say)
@@ -48,6 +51,9 @@ void check_replaceable(const std::string& path) {
     throw IoError(path + ": refusing to replace something that is not a regular file");
 }
 
+// Removes PATH.tmp.<pid> files left by runs that died before their rename. Only when the pid
+// is gone (kill(pid, 0) fails with ESRCH): a live run's temporary, or another user's (EPERM),
+// is left alone. At most 9 digits, so std::stol cannot overflow on a crafted name.
 void remove_stale_temporaries(const std::string& path) {
   const auto slash = path.find_last_of('/');
   const std::string prefix = (slash == std::string::npos ? path : path.substr(slash + 1)) + ".tmp.";
@@ -94,6 +100,8 @@ void write_file_atomic(const std::string& path,
                        std::int64_t expected_bytes) {
   check_replaceable(path);
   remove_stale_temporaries(path);
+  // Same directory as the target (rename is atomic only within one filesystem); the pid keeps
+  // two runs writing the same path apart and tells a dead run's leftovers from a live one's.
   const std::string tmp = path + ".tmp." + std::to_string(::getpid());
   try {
     write(tmp);

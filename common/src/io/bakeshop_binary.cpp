@@ -30,7 +30,9 @@ To bits_of(From value) {
   return out;
 }
 
-// IEEE binary16 with round-to-nearest-even; finite inputs are clamped to the half range.
+// IEEE binary16 with round-to-nearest-even; finite inputs are clamped to the half range (a
+// colour brighter than 65504 saturates rather than becoming inf, which the reader rejects).
+// Written out instead of using a compiler's _Float16: identical bits on every host.
 std::uint16_t float_to_half(float f) {
   f = f > kHalfMax ? kHalfMax : (f < -kHalfMax ? -kHalfMax : f);
   const std::uint32_t x = bits_of<std::uint32_t>(f);
@@ -61,9 +63,11 @@ float half_to_float(std::uint16_t h) {
   return bits_of<float>(sign | ((e - 15u + 127u) << 23) | (m << 13));
 }
 
-// Little-endian serialisation independent of the host byte order.
+// Little-endian serialisation independent of the host byte order. `base` is the file offset of
+// the first byte written: sections align to 8-byte offsets of the file, not of this buffer.
 class ByteWriter {
  public:
+  explicit ByteWriter(std::uint64_t base = 0) : base_(base) {}
   template <class T>
   void put(T value) {
     using U = std::conditional_t<
@@ -75,8 +79,9 @@ class ByteWriter {
       out_.push_back(static_cast<char>((u >> (8 * b)) & 0xffu));
   }
   void put_bytes(const char* data, std::size_t n) { out_.append(data, n); }
+  void put_bytes(const std::string& bytes) { out_.append(bytes); }
   void align8() {
-    while (out_.size() % 8 != 0) out_.push_back('\0');
+    while ((base_ + out_.size()) % 8 != 0) out_.push_back('\0');
   }
   void patch_u64(std::size_t at, std::uint64_t value) {
     for (std::size_t b = 0; b < 8; ++b)
@@ -86,6 +91,7 @@ class ByteWriter {
   const std::string& bytes() const { return out_; }
 
  private:
+  std::uint64_t base_;
   std::string out_;
 };
 
@@ -149,6 +155,34 @@ bool float_exact(double v) { return static_cast<double>(static_cast<float>(v)) =
 
 }  // namespace
 
+std::string format_bakeshop_binary_tail(const Mesh& mesh, std::uint64_t colors_end) {
+  ByteWriter w(colors_end);
+  w.align8();
+  for (const Material& m : mesh.materials) {
+    for (const Vec3f& v : {m.diffuse, m.reflective, m.emissive}) {
+      w.put(v.x);
+      w.put(v.y);
+      w.put(v.z);
+    }
+    w.put(m.shininess);
+    w.put(m.ior);
+    w.put(m.opacity);
+  }
+  w.align8();
+  for (const Face& f : mesh.faces) {
+    for (int k = 0; k < 4; ++k) w.put<std::int32_t>(k < f.count ? f.v[k] : -1);
+    w.put<std::int32_t>(f.material);
+    w.put<std::int32_t>(f.object);
+  }
+  w.align8();
+  for (const std::string& name : mesh.objects) {
+    w.put(static_cast<std::uint32_t>(name.size()));
+    w.put_bytes(name.data(), name.size());
+  }
+  w.align8();
+  return w.bytes();
+}
+
 void write_bakeshop_binary(const std::string& path, const Mesh& mesh,
                            const BakeshopBinaryOptions& options) {
   const std::size_t nv = mesh.positions.size();
@@ -156,7 +190,8 @@ void write_bakeshop_binary(const std::string& path, const Mesh& mesh,
   const bool has_views = !vp.offsets.empty();
   auto count_of = [&](std::size_t i) { return has_views ? vp.offsets[i + 1] - vp.offsets[i] : 0; };
 
-  // Shared set: every vertex with viewpoints repeats the first such vertex's directions.
+  // Shared set: every vertex with viewpoints repeats the first such vertex's directions (the
+  // baker's Fibonacci set): stored once instead of once per vertex, the bulk of a .bsb otherwise.
   std::size_t ref = nv;
   for (std::size_t i = 0; i < nv && ref == nv; ++i)
     if (count_of(i) > 0) ref = i;
@@ -237,29 +272,9 @@ void write_bakeshop_binary(const std::string& path, const Mesh& mesh,
       }
     }
   }
-  w.align8();
-  for (const Material& m : mesh.materials) {
-    for (const Vec3f& v : {m.diffuse, m.reflective, m.emissive}) {
-      w.put(v.x);
-      w.put(v.y);
-      w.put(v.z);
-    }
-    w.put(m.shininess);
-    w.put(m.ior);
-    w.put(m.opacity);
-  }
-  w.align8();
-  for (const Face& f : mesh.faces) {
-    for (int k = 0; k < 4; ++k) w.put<std::int32_t>(k < f.count ? f.v[k] : -1);
-    w.put<std::int32_t>(f.material);
-    w.put<std::int32_t>(f.object);
-  }
-  w.align8();
-  for (const std::string& name : mesh.objects) {
-    w.put(static_cast<std::uint32_t>(name.size()));
-    w.put_bytes(name.data(), name.size());
-  }
-  w.align8();
+  w.put_bytes(format_bakeshop_binary_tail(mesh, w.size()));
+  // The size field is known only now; the reader compares it with the file's real size first,
+  // so a truncated copy fails with one clear message instead of somewhere in a section.
   w.patch_u64(56, w.size());
   write_text_atomic(path, w.bytes());
 }
@@ -270,6 +285,8 @@ Mesh read_bakeshop_binary(const std::string& path) {
   if (data.size() < kHeaderBytes || std::memcmp(data.data(), kMagic, 4) != 0)
     r.fail("not a binary Bake Shop map (expected magic \"BSB1\" and a 64-byte header)");
   r.bytes(4);
+  // Unknown flags are refused, not ignored: a later format revision that sets one changes the
+  // layout, and reading past it would give a wrong mesh rather than an error.
   const std::uint32_t flags = r.get<std::uint32_t>();
   if (flags & ~kKnownFlags) r.fail("unknown flags " + std::to_string(flags));
   const std::uint64_t nv = r.get<std::uint64_t>();
@@ -287,6 +304,8 @@ Mesh read_bakeshop_binary(const std::string& path) {
   const bool pos64 = flags & kPos64;
 
   Mesh mesh;
+  // Every count from the header is checked against the bytes left (require) before anything is
+  // allocated for it: a corrupt or hostile file fails with InputError, never std::bad_alloc.
   r.require(nv, pos64 ? 24 : 12, "vertices");
   mesh.positions.resize(nv);
   for (Vec3d& p : mesh.positions) {
@@ -333,6 +352,8 @@ Mesh read_bakeshop_binary(const std::string& path) {
     }
   }
 
+  // Expanded to the in-memory form (every vertex its own directions and colours), so the rest of
+  // the code sees the same Mesh as from a .bs file; the compaction is the file's business only.
   if (expect_dirs > 0) {
     ViewpointColors& vp = mesh.viewpoints;
     vp.offsets.resize(nv + 1);
@@ -369,7 +390,7 @@ Mesh read_bakeshop_binary(const std::string& path) {
     Face& f = mesh.faces[i];
     const std::string where = "face " + std::to_string(i) + ": ";
     for (int k = 0; k < 4; ++k) f.v[k] = r.get<std::int32_t>();
-    f.count = f.v[3] == -1 ? 3 : 4;
+    f.count = f.v[3] == -1 ? 3 : 4;  // the writer's marker for a triangle
     for (int k = 0; k < f.count; ++k)
       if (f.v[k] < 0 || static_cast<std::uint64_t>(f.v[k]) >= nv)
         r.fail(where + "vertex index " + std::to_string(f.v[k]) + " out of range [0, " +
@@ -379,6 +400,7 @@ Mesh read_bakeshop_binary(const std::string& path) {
       r.fail(where + "material index " + std::to_string(f.material) + " out of range [-1, " +
              std::to_string(nm) + ")");
     f.object = r.get<std::int32_t>();
+    // A file with no object names may still use object 0 (the implicit single object).
     if (f.object < 0 || (no > 0 && static_cast<std::uint64_t>(f.object) >= no) ||
         (no == 0 && f.object != 0))
       r.fail(where + "object index " + std::to_string(f.object) + " out of range");

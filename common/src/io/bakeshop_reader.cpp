@@ -8,6 +8,8 @@
 namespace rtmini {
 namespace {
 
+// The format has no section keywords: one blank line moves to the next section, '!' ends the
+// file. Hence the order of the enumerators matters (a blank line adds one).
 enum class Section { kVertices = 0, kMaterials = 1, kFaces = 2, kDone = 3 };
 
 std::string_view trim_left(std::string_view s) {
@@ -27,6 +29,8 @@ class BakeshopParser {
   explicit BakeshopParser(const std::string& path) : path_(path) {}
 
   Mesh parse(std::string_view text) {
+    // .bs has no object names: the whole file is one object named after it (the stem shows up
+    // in summaries and in the viewer's object list).
     mesh_.objects.push_back(file_stem(path_));
     mesh_.viewpoints.offsets.push_back(0);
     detail::LineCursor cursor(text);
@@ -37,6 +41,8 @@ class BakeshopParser {
     }
     if (line_ == 0) fail(1, "empty file (expected vertices, materials, faces and a final '!')");
     if (section_ != Section::kDone) fail(line_, "missing '!' at end of file");
+    // A plain scene (no '|' lines) has no viewpoint table at all: empty offsets is how a Mesh
+    // says "not a baked map", and writers and the renderer test for that.
     if (mesh_.viewpoints.dirs.empty()) mesh_.viewpoints.offsets.clear();
     return std::move(mesh_);
   }
@@ -86,6 +92,9 @@ class BakeshopParser {
     }
   }
 
+  // Every number is checked where it is read: non-finite values, and values that would overflow
+  // Real (float unless RTMINI_DOUBLE) once uploaded, are input errors with their line, not NaNs
+  // found later in a kernel.
   template <class T>
   T number(std::string_view field, const char* what) const {
     const auto value = detail::parse_number<T>(field);
@@ -121,6 +130,7 @@ class BakeshopParser {
     mesh_.viewpoints.offsets.push_back(mesh_.viewpoints.dirs.size());
   }
 
+  // A viewpoint belongs to the vertex above it: offsets.back() is that vertex's end.
   void parse_viewpoint(std::string_view rest) {
     if (mesh_.positions.empty()) fail(line_, "viewpoint line before any vertex");
     const auto f = detail::split_fields(rest);
@@ -157,6 +167,7 @@ class BakeshopParser {
     }
     const long material = number<long>(f.back(), "face");
     const long nm = static_cast<long>(mesh_.materials.size());
+    // -1 is a face without material (Face::material, scene/mesh.hpp), as the format allows.
     if (material < -1 || material >= nm)
       fail(line_, "material index " + std::to_string(material) + " out of range [-1, " +
                       std::to_string(nm) + ")");

@@ -6,7 +6,9 @@
 namespace rtmini {
 namespace {
 
-// Shortest round-trip form: identical bytes for identical values on every rank.
+// Shortest round-trip form (std::to_chars): the text reads back to the same bits, and the same
+// value gives the same bytes on every rank and thread, whatever the locale (printf's %g is
+// neither exact nor locale-proof). The .bs hashes of the regression tests rely on it.
 template <class T>
 void append_number(std::string& out, T value) {
   char buf[32];
@@ -78,6 +80,8 @@ std::string format_bakeshop_faces(const Mesh& mesh) {
   return out;
 }
 
+// Vertex blocks, a blank line, materials, a blank line, faces, and "!" closing the file: the
+// reader (bakeshop_reader.cpp) needs the blank lines to tell the sections apart.
 std::string format_bakeshop(const Mesh& mesh) {
   std::string out;
   const ViewpointColors& vp = mesh.viewpoints;

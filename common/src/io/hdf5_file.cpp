@@ -40,7 +40,8 @@ hid_t native_type<std::uint8_t>() {
   return H5T_NATIVE_UINT8;
 }
 
-// Closes an HDF5 handle of any kind at scope exit.
+// Closes an HDF5 handle of any kind at scope exit: H5Idec_ref closes files, datasets,
+// dataspaces, types and property lists alike, so one class serves them all.
 class Handle {
  public:
   explicit Handle(hid_t id) : id_(id) {}
@@ -165,12 +166,17 @@ hid_t check(hid_t id, const std::string& file, const std::string& what) {
   return id;
 }
 
+// Intermediate groups are created on the fly: datasets are named by path ("/phases/start")
+// and no writer has to create "/phases" first.
 hid_t link_create_plist() {
   const hid_t plist = H5Pcreate(H5P_LINK_CREATE);
   H5Pset_create_intermediate_group(plist, 1);
   return plist;
 }
 
+// Collective transfers for a parallel file: every rank takes part in every write, so MPI-IO can
+// merge the ranks' pieces into few large requests (independent writes to a parallel filesystem
+// are much slower). The price: a rank with nothing to write must still call (write_slab).
 hid_t transfer_plist(bool parallel) {
   const hid_t plist = H5Pcreate(H5P_DATASET_XFER);
 #ifdef RTMINI_HAVE_PARALLEL_HDF5
@@ -317,6 +323,8 @@ void write_dataset(hid_t file, const std::string& file_path, bool parallel, cons
   const Handle dset(H5Dcreate2(file, path.c_str(), native_type<T>(), space.get(), lcpl.get(),
                                H5P_DEFAULT, H5P_DEFAULT));
   if (!dset.valid()) fail(file_path, "cannot create dataset '" + path + "'");
+  // The checksum goes in before the data: an empty dataset still carries one, and a reader
+  // meets a mismatch, never a dataset that silently lacks its checksum.
   const std::int64_t sum = checksum_of(data.data(), data.size() * sizeof(T));
   const Handle scalar(H5Screate(H5S_SCALAR));
   const Handle attr(H5Acreate2(dset.get(), kChecksumAttribute, H5T_NATIVE_INT64, scalar.get(),
@@ -436,6 +444,9 @@ void Hdf5File::write_slab(const std::string& path, std::size_t offset,
     fail(path_, "cannot write slab of '" + path + "'");
 }
 
+// Fixed-width, NUL-padded strings (width of the longest, at least 1), for the same reason as
+// set_attribute: variable-length strings are heap pointers in the file, unsafe to read when
+// the file is corrupt. h5py and the analysis package read either kind the same way.
 void Hdf5File::write_strings(const std::string& path, const std::vector<std::string>& values) {
   std::size_t width = 1;
   for (const std::string& s : values) width = std::max(width, s.size());
@@ -484,7 +495,8 @@ std::vector<std::string> Hdf5File::read_strings(const std::string& path) const {
 
 namespace {
 
-// Replaces attribute `name` on `object` with a scalar of `type`.
+// Replaces attribute `name` on `object` with a scalar of `type` (deleted first: HDF5 cannot
+// change an existing attribute's type or size, and a restarted run rewrites its attributes).
 void put_attribute(hid_t file, const std::string& file_path, const std::string& object,
                    const std::string& name, hid_t type, const void* value) {
   const Handle obj(H5Oopen(file, object.c_str(), H5P_DEFAULT));

@@ -1,22 +1,10 @@
 #include "rtmini/io/image.hpp"
 
-#include <algorithm>
-#include <cctype>
-
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/path.hpp"
 
 namespace rtmini {
 namespace {
-
-std::string lower_extension(const std::string& path) {
-  const std::size_t dot = path.find_last_of('.');
-  const std::size_t slash = path.find_last_of('/');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
-  std::string ext = path.substr(dot);
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
 
 [[noreturn]] void unknown_extension(const std::string& path) {
   throw InputError(
@@ -34,6 +22,9 @@ void check_image_size(const std::string& path, long width, long height) {
                        " pixels a reader accepts");
 }
 
+// The format follows the file name, never the content: a writer must choose before any byte
+// exists, and the reader follows the same rule so write_image/read_image round-trip. A format
+// this build lacks (no libpng/OpenEXR) fails inside write_png/write_exr with its own message.
 void write_image(const std::string& path, const Image& image) {
   const std::string ext = lower_extension(path);
   if (ext == ".ppm") return write_ppm(path, image);

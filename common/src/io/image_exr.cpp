@@ -22,6 +22,8 @@ namespace rtmini {
 #ifdef RTMINI_HAVE_EXR
 namespace {
 
+// OpenEXR's channel naming convention: "layer.R" etc., the unprefixed R, G, B being the main
+// image. Viewers (and sketchtrace's AOVs) rely on it to group channels into layers.
 constexpr const char* kColorSuffixes[] = {"R", "G", "B", "A"};
 
 struct ChannelSource {
@@ -96,6 +98,8 @@ void write_exr_layers(const std::string& path,
   for (const auto& [name, image] : layers) {
     check_layer_size(path, image, width, height);
     const std::string prefix = name.empty() ? std::string() : name + ".";
+    // A one-channel layer is "name.Y" (the luminance convention), unless its name already
+    // spells out the channel ("depth.Z").
     if (image.channels == 1) {
       const bool has_dot = name.find('.') != std::string::npos;
       channels.push_back({has_dot ? name : prefix + "Y", &image, 0});
@@ -113,6 +117,8 @@ std::vector<std::pair<std::string, Image>> read_exr_layers(const std::string& pa
   int width = 0, height = 0;
   std::map<std::string, std::vector<float>> planes;  // full channel name -> pixels
   try {
+    // Every channel is read as float, whatever it is stored as (half, float, uint): one path
+    // for all files; OpenEXR converts while reading.
     Imf::InputFile file(path.c_str());
     const Imath::Box2i window = file.header().dataWindow();
     width = window.max.x - window.min.x + 1;
@@ -131,6 +137,8 @@ std::vector<std::pair<std::string, Image>> read_exr_layers(const std::string& pa
     throw InputError(path, 0, std::string("cannot read EXR: ") + e.what());
   }
 
+  // Channels are grouped by the prefix before their last dot; a group with R, G and B becomes
+  // one colour layer, every other channel a one-channel layer of its full name.
   std::map<std::string, std::map<std::string, const std::vector<float>*>> groups;
   for (const auto& [name, plane] : planes) {
     const std::size_t dot = name.find_last_of('.');

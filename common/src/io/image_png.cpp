@@ -17,6 +17,8 @@ namespace rtmini {
 void write_png(const std::string& path, const Image& image) {
   if (image.channels < 1 || image.channels > 4 || image.channels == 2)
     throw IoError(path + ": PNG needs a 1, 3 or 4 channel image");
+  // Colour is stored linear and encoded to 8-bit sRGB here; alpha is coverage, not light, so it
+  // is only clamped and rounded.
   std::vector<std::uint8_t> pixels(image.data.size());
   for (std::size_t i = 0; i < pixels.size(); ++i) {
     const bool alpha = image.channels == 4 && i % 4 == 3;
@@ -24,6 +26,8 @@ void write_png(const std::string& path, const Image& image) {
     pixels[i] = alpha ? static_cast<std::uint8_t>(math::clamp(v, 0.f, 1.f) * 255.f + 0.5f)
                       : srgb_encode_8bit(v);
   }
+  // libpng's simplified API (png_image): no setjmp/longjmp error handling to get right, and
+  // errors come back as a message string.
   write_file_atomic(path, [&](const std::string& tmp) {
     png_image png;
     std::memset(&png, 0, sizeof(png));
@@ -52,6 +56,8 @@ Image read_png(const std::string& path) {
     png_image_free(&png);
     throw;
   }
+  // Ask libpng for RGB(A) whatever the file holds (grey, palette, 16-bit): one decode path, and
+  // a reference image compares channel by channel with a rendered RGB one.
   const bool alpha = (png.format & PNG_FORMAT_FLAG_ALPHA) != 0;
   png.format = alpha ? PNG_FORMAT_RGBA : PNG_FORMAT_RGB;
   Image image(static_cast<int>(png.width), static_cast<int>(png.height), alpha ? 4 : 3);
@@ -70,6 +76,8 @@ Image read_png(const std::string& path) {
 
 #else
 
+// Built without libpng: IoError (exit 3, a missing resource), not InputError, since the request
+// is valid; tests that need PNG are skipped in such builds.
 void write_png(const std::string& path, const Image&) {
   throw IoError(path + ": built without PNG support (libpng not found at configure time)");
 }

@@ -68,6 +68,8 @@ class PpmTokens {
   long line_ = 1;
 };
 
+// Samples are sRGB-encoded display values; images in memory are linear. maxval 255 goes through
+// the exact 8-bit table, so an 8-bit PPM written by write_ppm reads back to the same floats.
 float decode_sample(long value, long maxval) {
   if (maxval == 255) return srgb_decode_8bit(static_cast<std::uint8_t>(value));
   return srgb_decode(static_cast<float>(value) / static_cast<float>(maxval));
@@ -75,6 +77,8 @@ float decode_sample(long value, long maxval) {
 
 }  // namespace
 
+// Always P6, 8-bit sRGB: the one flavour every viewer reads. A grey image repeats its channel in
+// R, G and B; a fourth (alpha) channel is dropped, PPM has none.
 void write_ppm(const std::string& path, const Image& image) {
   if (image.channels < 1 || image.channels > 4 || image.channels == 2)
     throw IoError(path + ": PPM needs a 1, 3 or 4 channel image");
@@ -100,6 +104,8 @@ Image read_ppm(const std::string& path) {
   const std::string_view magic = tokens.next("magic number P3 or P6");
   if (magic != "P3" && magic != "P6")
     tokens.fail("unsupported magic '" + std::string(magic) + "' (expected P3 or P6)");
+  // Bounded sizes: a corrupt header cannot make the reader allocate terabytes before the
+  // raster-length check below.
   const long width = tokens.integer("width", 1, 1 << 16);
   const long height = tokens.integer("height", 1, 1 << 16);
   const long maxval = tokens.integer("maxval", 1, 65535);

@@ -1,3 +1,5 @@
+// Double positions, as Mesh keeps them (and .bs files): far-off or large scenes lose nothing
+// before the upload rounds them to Real. This file holds tinyobjloader's one implementation.
 #define TINYOBJLOADER_USE_DOUBLE
 #define TINYOBJLOADER_IMPLEMENTATION
 #include "rtmini/io/obj_reader.hpp"
@@ -13,6 +15,7 @@
 
 #include "rtmini/io/bakeshop.hpp"
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/path.hpp"
 #include "rtmini/io/text_fields.hpp"
 
 namespace rtmini {
@@ -185,6 +188,8 @@ Mesh read_obj(const std::string& path) {
     ObjPrescan(mtl).run_mtl(mtl_text);
   }
 
+  // Polygons come back as written: quads stay quads (a Face holds up to 4 vertices, as in .bs
+  // files) and larger ones are fanned below by the same rule for every reader.
   tinyobj::ObjReaderConfig config;
   config.triangulate = false;
   config.vertex_color = false;
@@ -213,6 +218,7 @@ Mesh read_obj(const std::string& path) {
   for (std::size_t i = 0; i + 2 < v.size(); i += 3)
     mesh.positions.emplace_back(v[i], v[i + 1], v[i + 2]);
 
+  // Objects by name: OBJ files may reopen a group ("g wall") later; its faces join the first.
   std::map<std::string, int> object_ids;
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
     const std::string name = shape.name.empty() ? "default" : shape.name;
@@ -230,6 +236,7 @@ Mesh read_obj(const std::string& path) {
         for (int k = 0; k < n; ++k) face.v[k] = index(k);
         mesh.faces.push_back(face);
       } else {
+        // A fan from the first vertex: exact for the convex polygons OBJ exporters write.
         face.count = 3;
         for (int k = 1; k + 1 < n; ++k) {
           face.v = {index(0), index(k), index(k + 1), -1};
@@ -243,13 +250,7 @@ Mesh read_obj(const std::string& path) {
 }
 
 Mesh read_mesh(const std::string& path) {
-  const std::size_t dot = path.find_last_of('.');
-  const std::size_t slash = path.find_last_of('/');
-  std::string ext = dot == std::string::npos || (slash != std::string::npos && dot < slash)
-                        ? std::string()
-                        : path.substr(dot);
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string ext = lower_extension(path);
   if (ext == ".obj") return read_obj(path);
   if (ext == ".bs") return read_bakeshop(path);
   throw InputError(path, 0, "unknown mesh format '" + ext + "' (expected .obj or .bs)");

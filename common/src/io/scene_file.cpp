@@ -19,7 +19,9 @@ std::string directory_of(const std::string& path) {
   return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
 }
 
-// Reads typed values out of one TOML table, reporting errors at the value's line.
+// Reads typed values out of one TOML table, reporting errors at the value's line. Every check
+// happens here, at parse time, so a bad scene is one "file:line: reason" (exit 2) before any
+// rank has read a mesh or built a BVH.
 class TableReader {
  public:
   TableReader(const toml::table& table, const std::string& file, std::string where)
@@ -75,6 +77,8 @@ class TableReader {
   const std::string& file() const { return file_; }
 
  private:
+  // TOML integers are accepted where a number is expected ("fov_deg = 40"): value<double>()
+  // converts them. Finite and within Real, so nothing turns into inf on the device.
   double number_value(const toml::node& n, const std::string& key) const {
     if (!n.is_number()) fail(line_of(n), "'" + key + "' in " + where_ + " must be a number");
     const double v = *n.value<double>();
@@ -144,6 +148,8 @@ CameraDesc read_camera(const TableReader& r) {
   if (c.focus_distance < 0.0) r.fail("focus_distance", "must not be negative");
   if (c.shutter_close < c.shutter_open) r.fail("shutter_close", "must not precede shutter_open");
   if (length_squared(c.position - c.look_at) == 0.0) r.fail("look_at", "must differ from position");
+  // Exactly parallel only: make_camera() can still pick a roll then, but a scene that says so
+  // is almost always a typo, and the message names the key.
   if (length_squared(cross(c.look_at - c.position, c.up)) == 0.0)
     r.fail("up", "must not be parallel to the view direction");
   return c;
@@ -193,6 +199,8 @@ MeshDesc read_mesh_desc(const TableReader& r, const std::set<std::string>& mater
   MeshDesc m;
   m.line = r.line();
   const std::string file = r.string("file", "");
+  // Relative to the scene file, not to the working directory: a scene and its meshes move
+  // together. Opened once here so a wrong path fails at its own line in the scene.
   m.file = !file.empty() && file.front() == '/' ? file : directory_of(r.file()) + file;
   if (!std::ifstream(m.file)) r.fail("file", "names a mesh that cannot be opened: " + m.file);
   m.translate = r.vec3("translate", m.translate);
@@ -231,6 +239,8 @@ SphereDesc read_sphere(const TableReader& r) {
 
 }  // namespace
 
+// An unknown key is an error, not ignored: a misspelt "fov_degs" would otherwise silently leave
+// the default in place.
 void check_known_keys(const toml::table& table, std::initializer_list<std::string_view> known,
                       const std::string& file, const std::string& where) {
   for (const auto& [key, value] : table) {
@@ -281,6 +291,8 @@ SceneDescription read_scene_file(const std::string& path) {
   for_each_table(root, "lights", path, [&](const toml::table& t) {
     scene.lights.push_back(read_light(TableReader(t, path, "[[lights]]")));
   });
+  // [[materials]] before [[meshes]], whatever their order in the file: a mesh's `material`
+  // names one, checked as the mesh is read.
   std::set<std::string> material_names;
   for_each_table(root, "materials", path, [&](const toml::table& t) {
     const TableReader r(t, path, "[[materials]]");
@@ -299,6 +311,8 @@ SceneDescription read_scene_file(const std::string& path) {
   for_each_table(root, "spheres", path, [&](const toml::table& t) {
     scene.spheres.push_back(read_sphere(TableReader(t, path, "[[spheres]]")));
   });
+  // [settings] is kept as a TOML table and read later by each program with its own keys
+  // (io/scene_settings.hpp): common/ does not know sketchtrace's or bake's options.
   auto settings = std::make_shared<SceneSettings>();
   if (const toml::node* node = root.get("settings"))
     settings->table = as_table(*node, path, "[settings]");

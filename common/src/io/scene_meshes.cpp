@@ -30,6 +30,8 @@ struct Rotation {
 
 }  // namespace
 
+// Every [[meshes]] entry is appended to one Mesh: its vertex, object and material indices are
+// offset by what came before, so faces keep pointing at their own mesh's entries.
 Mesh load_scene_meshes(const SceneDescription& scene) {
   Mesh out;
   std::map<std::string, const MaterialOverride*> overrides;
@@ -41,11 +43,16 @@ Mesh load_scene_meshes(const SceneDescription& scene) {
     const int vertex_base = static_cast<int>(out.positions.size());
     const int object_base = static_cast<int>(out.objects.size());
     const int material_base = static_cast<int>(out.materials.size());
+    // Scale, rotate, then translate: size and orientation in the mesh's own frame, then place it.
     for (const Vec3d& p : mesh.positions)
       out.positions.push_back(rotation.apply(p * desc.scale) + desc.translate);
     out.objects.insert(out.objects.end(), mesh.objects.begin(), mesh.objects.end());
+    // A mesh without object names still gets one, so `f.object + object_base` below is valid.
     if (mesh.objects.empty()) out.objects.push_back("default");
 
+    // `material = "name"` on the mesh replaces all of its materials by that one; otherwise the
+    // mesh keeps its own, each patched by a [[materials]] entry of the same name if any. at():
+    // scene_file.cpp has checked that the name exists.
     int replacement = -1;
     if (!desc.material.empty()) {
       replacement = material_base;

@@ -14,6 +14,7 @@ std::string format_summary_json(const RunSummary& s) {
   j["backend"] = s.backend;
   j["ranks"] = s.ranks;
   j["threads"] = s.threads;
+  // json and ordered_json are unrelated types: a text round trip is the one conversion.
   j["scene"] = nlohmann::ordered_json::parse(s.scene.dump());
   j["parameters"] = nlohmann::ordered_json::parse(s.parameters.dump());
   nlohmann::ordered_json phases = nlohmann::ordered_json::object();
@@ -26,6 +27,8 @@ std::string format_summary_json(const RunSummary& s) {
   return j.dump(2) + "\n";
 }
 
+// Atomic (temporary + rename): a job script or the analysis package reading the summary while
+// the run ends sees the old file or the whole new one, never a truncated JSON.
 void write_summary_json(const std::string& path, const RunSummary& summary) {
   write_text_atomic(path, format_summary_json(summary));
 }

@@ -7,6 +7,9 @@
 
 namespace rtmini::detail {
 
+// Binary mode: the bytes are the file's (no newline translation), so byte offsets in error
+// messages match the file; the line parsers strip '\r' themselves. A path that cannot be opened
+// is the user's input (InputError, exit 2); a read failing after that is the system's (exit 3).
 std::string read_text_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "cannot open file");
@@ -19,6 +22,7 @@ std::string read_text_file(const std::string& path) {
 std::vector<std::string_view> split_fields(std::string_view line) {
   std::vector<std::string_view> fields;
   std::size_t i = 0;
+  // '\r' is a separator too, so files saved with CRLF line ends parse like Unix ones.
   const auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
   while (i < line.size()) {
     while (i < line.size() && is_space(line[i])) ++i;
@@ -29,6 +33,8 @@ std::vector<std::string_view> split_fields(std::string_view line) {
   return fields;
 }
 
+// Views into the one text buffer, no copy per line: .bs maps reach gigabytes. line_ counts
+// every line, blank ones included, so "file:line" errors point at the line an editor shows.
 bool LineCursor::next(std::string_view& line) {
   if (pos_ >= text_.size()) return false;
   const std::size_t end = text_.find('\n', pos_);

@@ -8,6 +8,7 @@
 namespace rtmini {
 namespace {
 
+// ISO 8601 in UTC: runs on machines in different time zones sort and compare by this text.
 std::string utc_now() {
   const std::time_t now = std::time(nullptr);
   std::tm tm{};
@@ -25,6 +26,9 @@ void expect_size(const std::vector<T>& v, std::size_t n, const char* name) {
                                 std::to_string(n));
 }
 
+// Every array's length against the counts it is declared with, before anything is written: a
+// mismatch is a bug in the caller (hence invalid_argument, not an I/O error), and the analysis
+// package reshapes by these counts, so a wrong length would be misread silently.
 void validate(const TimingsData& d) {
   const std::size_t r = static_cast<std::size_t>(d.ranks);
   const std::size_t p = d.phase_names.size();
@@ -91,6 +95,8 @@ void write_timings(const std::string& path, const TimingsData& d) {
   f.write("/iterations/allgather_time", d.iteration_allgather_time, r, i);
   f.write("/iterations/allgather_bytes", d.iteration_allgather_bytes, r, i);
   f.write("/iterations/write_time", d.iteration_write_time, r, i);
+  // The file becomes visible only now (temporary + rename): a job that dies mid-write leaves
+  // the old timings or none, never a file the analysis would half-read.
   f.commit();
 }
 
@@ -126,6 +132,7 @@ TimingsData read_timings(const std::string& path) {
   d.rank_rays = f.read<std::int64_t>("/ranks/rays");
   d.rank_work_units = f.read<std::int64_t>("/ranks/work_units");
 
+  // The iteration count is not stored as an attribute: the [ranks x iterations] shape says it.
   std::vector<std::size_t> dims;
   d.iteration_trace_time = f.read<double>("/iterations/trace_time", &dims);
   d.iterations = dims.size() == 2 ? static_cast<int>(dims[1]) : 0;

@@ -56,6 +56,9 @@ void start_kokkos(const CommonOptions& options) {
   compat::initialize(options.threads);
 }
 
+// Every rank parses the same argv and so takes the same branch: help and version are printed
+// once (rank 0) and every rank returns the same exit code, so none is left in a collective. A
+// malformed command line becomes an InputError (exit 2, one line), never CLI11's own exit codes.
 std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv,
                                       const CommonOptions& options, bool root) {
   try {

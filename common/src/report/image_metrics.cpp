@@ -10,6 +10,7 @@ namespace rtmini {
 
 namespace {
 
+// Rec. 709 luma weights on the stored (linear) values: SSIM compares structure in luminance.
 double luminance(const Image& im, int x, int y) {
   return 0.2126 * im.at(x, y, 0) + 0.7152 * im.at(x, y, 1) + 0.0722 * im.at(x, y, 2);
 }
@@ -35,6 +36,7 @@ double mean_ssim(const Image& a, const Image& b, double peak) {
         }
       const double n = static_cast<double>(win_x) * win_y;
       const double ma = sa / n, mb = sb / n;
+      // E[x^2] - E[x]^2 can round below zero on a flat window; a variance is never negative.
       const double va = std::max(0.0, saa / n - ma * ma), vb = std::max(0.0, sbb / n - mb * mb);
       const double cov = sab / n - ma * mb;
       total += ((2 * ma * mb + c1) * (2 * cov + c2)) / ((ma * ma + mb * mb + c1) * (va + vb + c2));
@@ -54,6 +56,9 @@ ImageErrors compare_images(const Image& image, const Image& reference, const std
                      ", the image " + std::to_string(image.width) + "x" +
                      std::to_string(image.height) + "x" + std::to_string(image.channels) +
                      " (need equal sizes and RGB)");
+  // rel: squared error relative to the reference's value (+1e-2 keeps black pixels from
+  // dominating); peak: the dynamic range for PSNR and SSIM, at least 1 (display range) but as
+  // high as the brightest reference value for linear HDR images.
   double se = 0, rel = 0, peak = 1;
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x)

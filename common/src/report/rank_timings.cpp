@@ -6,11 +6,10 @@
 #include "rtmini/report/version.hpp"
 
 namespace rtmini {
-namespace {
 
-// Ranks may time different phases (rank 0 alone writes checkpoints), so the names are agreed
-// on first: the [ranks x phases] arrays need the same columns on every rank.
 std::vector<std::string> agreed_phase_names(const Communicator& comm, const PhaseTimer& timer) {
+  // NUL-terminated names in one char buffer: one allgatherv instead of a count exchange plus
+  // one message per name.
   std::vector<char> packed;
   std::vector<std::string> seen;
   for (const auto& p : timer.phases())
@@ -27,6 +26,8 @@ std::vector<std::string> agreed_phase_names(const Communicator& comm, const Phas
   }
   return names;
 }
+
+namespace {
 
 // This rank's first start and last end of each named phase; -1 for a phase it never timed.
 void phase_spans(const PhaseTimer& timer, const std::vector<std::string>& names,
@@ -52,7 +53,9 @@ void write_rank_timings(const std::string& path, const Communicator& comm, const
   std::vector<double> my_start, my_end;
   phase_spans(timer, names, my_start, my_end);
   std::vector<RankChunk> chunks = mine.chunks;
+  // The rank of each chunk travels beside it: after the gather the chunk table is one flat list.
   std::vector<std::int64_t> chunk_rank(chunks.size(), comm.rank());
+  // Per-rank scalars packed by type, one gatherv for the doubles and one for the integers.
   const std::vector<double> rank_d{mine.completion, mine.idle};
   const std::vector<std::int64_t> rank_i{comm.messages_sent(), comm.bytes_sent(), mine.rays,
                                          mine.work_units};

@@ -1,16 +1,19 @@
 #include "rtmini/report/run_report.hpp"
 
-#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <map>
 
 #include "rtmini/report/hash.hpp"
+#include "rtmini/report/rank_timings.hpp"
 #include "rtmini/report/version.hpp"
 
 namespace rtmini {
 
+// VmHWM, the kernel's high-water mark of this process's resident memory (Linux only): no
+// sampling thread, and nothing is missed between samples. Without /proc the answer is 0, which
+// the summary shows as it is rather than a guess.
 std::int64_t peak_resident_bytes() {
   std::ifstream in("/proc/self/status");
   std::string key;
@@ -36,27 +39,12 @@ RunSummary RunReport::finish(const Communicator& comm, const std::string& summar
   s.scene = scene;
   s.parameters = parameters;
   s.errors = errors;
-  // Phases in first-seen order; each rank's total per name, then the max over ranks.
-  std::vector<std::string> order;
+  // Each rank's total per phase name (a phase timed several times adds up), then the max over
+  // ranks: the summary reports the slowest rank, which is what the run waited for. The max runs
+  // over the names every rank agrees on, so every rank makes the same collective calls.
   std::map<std::string, double> totals;
-  for (const auto& p : timer.phases()) {
-    if (!totals.count(p.first)) order.push_back(p.first);
-    totals[p.first] += p.second.second - p.second.first;
-  }
-  // Ranks may time different phases (rank 0 alone writes checkpoints): reduce over the
-  // union of all ranks' names, in first-seen order, so every rank makes the same calls.
-  std::vector<char> packed;
-  for (const auto& name : order)
-    packed.insert(packed.end(), name.c_str(), name.c_str() + name.size() + 1);
-  const std::vector<char> all = comm.allgatherv(packed);
-  std::vector<std::string> names;
-  for (std::size_t i = 0; i < all.size();) {
-    std::string name(all.data() + i);
-    i += name.size() + 1;
-    if (std::find(names.begin(), names.end(), name) == names.end())
-      names.push_back(std::move(name));
-  }
-  for (const auto& name : names) {
+  for (const auto& p : timer.phases()) totals[p.first] += p.second.second - p.second.first;
+  for (const auto& name : agreed_phase_names(comm, timer)) {
     const auto it = totals.find(name);
     s.phases.emplace_back(name, comm.max(it == totals.end() ? 0.0 : it->second));
   }
@@ -65,6 +53,7 @@ RunSummary RunReport::finish(const Communicator& comm, const std::string& summar
   s.fom_unit = fom_unit;
   s.fom_value = fom_value;
   s.verification_hash = hash_hex(verification_hash);
+  // A program that knows its own peak better (device memory on a GPU) sets peak_memory_bytes.
   const std::int64_t mine = peak_memory_bytes > 0 ? peak_memory_bytes : peak_resident_bytes();
   s.peak_memory_bytes = static_cast<std::int64_t>(comm.max(static_cast<double>(mine)));
   if (comm.is_root()) {

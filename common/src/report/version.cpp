@@ -36,6 +36,8 @@ std::string build_banner() {
      << " " << compat::backend_name() << ", host SIMD " << host_simd() << ", precision "
      << (sizeof(Real) == 4 ? "float" : "double");
 #ifdef RTMINI_HAVE_MPI
+  // Allowed before MPI_Init (MPI-3), so the banner can print before any communicator exists.
+  // Open MPI's string runs over several lines (repository, release date): keep its first part.
   char lib[MPI_MAX_LIBRARY_VERSION_STRING];
   int len = 0;
   MPI_Get_library_version(lib, &len);

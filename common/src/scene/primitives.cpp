@@ -20,6 +20,8 @@ void add_face(Mesh& m, std::initializer_list<int> v, int material, int object) {
   f.object = object;
   m.faces.push_back(f);
 }
+// Callers number objects themselves (one per primitive, or several primitives per object);
+// missing names up to `object` are filled in so every face's object index is valid.
 void ensure_object(Mesh& m, int object) {
   while (static_cast<int>(m.objects.size()) <= object)
     m.objects.push_back("object" + std::to_string(m.objects.size()));
@@ -29,6 +31,9 @@ void ensure_object(Mesh& m, int object) {
 void append_icosphere(Mesh& mesh, const Vec3d& center, double radius, int level, int material,
                       int object) {
   ensure_object(mesh, object);
+  // The icosahedron from three orthogonal golden rectangles; each level splits every triangle
+  // in four and pushes the new vertices onto the sphere. A shared edge's midpoint is made once
+  // (the `mid` map), so the mesh stays watertight and its vertex count 10 * 4^level + 2.
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
   std::vector<Vec3d> p = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
                           {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
@@ -95,6 +100,7 @@ void append_box(Mesh& mesh, const Vec3d& lo, const Vec3d& hi, int material, int 
   // Outward-wound quads of the unit cube's corners (bit 0 = x, bit 1 = y, bit 2 = z).
   const int q[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
                        {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  // inward: the same quads reversed, so the normals face into the box (a room's walls).
   for (const auto& f : q) {
     if (inward)
       add_face(mesh, {base + f[0], base + f[3], base + f[2], base + f[1]}, material, object);

@@ -185,7 +185,7 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
   const std::int64_t first = total * comm.rank() / comm.size();
   const std::int64_t last = total * (comm.rank() + 1) / comm.size();
   // Rank 0 shows its own share: ranks hold equal sample counts, so it speaks for all.
-  ProgressLine trace_line("bake ao rays", "passes", o.progress && root);
+  ProgressLine trace_line("bake ao rays", "rays", o.progress && root);
   const std::vector<std::uint16_t> mine =
       ao::trace_samples(device.query(), dplan, ts, first, last, report.timer, &trace_line);
 

@@ -1,7 +1,5 @@
 #include "ao_output.hpp"
 
-#include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -9,18 +7,10 @@
 
 #include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/path.hpp"
 
 namespace rtmini::ao {
 namespace {
-
-std::string lower_extension(const std::string& path) {
-  const auto dot = path.find_last_of('.');
-  const auto slash = path.find_last_of('/');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string ext = path.substr(dot);
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
 
 std::ofstream open_binary(const std::string& tmp) {
   std::ofstream out(tmp, std::ios::binary | std::ios::trunc);

@@ -10,16 +10,16 @@ namespace detail {
 
 using DynamicPolicy = Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>>;
 
-// Counts occluded rays k in [k0, k1) for each point, added into hits.
 // Sample points, their normals and ray keys (one batch).
 struct PointBatch {
   Kokkos::View<Vec3*, MemSpace> pos, nrm;
   Kokkos::View<std::uint32_t*, MemSpace> keys;
 };
 
+// Counts occluded rays k in [k0, k1) for each point in [begin, end), added into hits.
 void trace_pass(const OcclusionQuery& query, const PointBatch& points,
-                const Kokkos::View<std::uint16_t*, MemSpace>& hits, std::int64_t n, int k0, int k1,
-                const TraceSettings& s) {
+                const Kokkos::View<std::uint16_t*, MemSpace>& hits, std::int64_t begin,
+                std::int64_t end, int k0, int k1, const TraceSettings& s) {
   const auto pos = points.pos;
   const auto nrm = points.nrm;
   const auto keys = points.keys;
@@ -28,7 +28,7 @@ void trace_pass(const OcclusionQuery& query, const PointBatch& points,
   const Real offset = s.offset, max_distance = s.max_distance;
   const Real coordinate_bound = s.coordinate_bound;
   Kokkos::parallel_for(
-      "rtmini::bake::ao::trace", DynamicPolicy(0, n), KOKKOS_LAMBDA(std::int64_t i) {
+      "rtmini::bake::ao::trace", DynamicPolicy(begin, end), KOKKOS_LAMBDA(std::int64_t i) {
         const Vec3 normal = nrm(i);
         if (length_squared(normal) == Real(0)) return;  // degenerate triangle: zero weight later
         const Frame frame(normal);
@@ -46,45 +46,54 @@ void trace_pass(const OcclusionQuery& query, const PointBatch& points,
       });
 }
 
+// Points per dispatch at least, when a progress line splits a pass (TimedChunks).
+constexpr std::int64_t kMinDispatchPoints = 4096;
+
+// With a progress line (`line` drawn, `after_dispatch` set) each pass is split into time-sized
+// dispatches, so a long pass shows its progress; a point's count is an integer sum over its rays,
+// so the counts are the same for any split.
 void trace_all_passes(const OcclusionQuery& query, const PointBatch& points,
                       const Kokkos::View<std::uint16_t*, MemSpace>& hits, std::int64_t n,
-                      const TraceSettings& s,
-                      const std::function<void(std::int64_t rays)>& after_pass = nullptr) {
+                      const TraceSettings& s, const ProgressLine* line = nullptr,
+                      const std::function<void(std::int64_t rays)>& after_dispatch = nullptr) {
   Kokkos::deep_copy(hits, std::uint16_t(0));
   for (int p = 0; p < s.passes; ++p) {
     const int k0 = static_cast<int>(static_cast<std::int64_t>(s.rays) * p / s.passes);
     const int k1 = static_cast<int>(static_cast<std::int64_t>(s.rays) * (p + 1) / s.passes);
-    trace_pass(query, points, hits, n, k0, k1, s);
-    if (after_pass) after_pass(n * (k1 - k0));
+    std::int64_t begin = 0, end = 0;
+    TimedChunks chunks(n, after_dispatch ? line : nullptr, kMinDispatchPoints);
+    while (chunks.next(begin, end)) {
+      trace_pass(query, points, hits, begin, end, k0, k1, s);
+      if (after_dispatch) after_dispatch((end - begin) * (k1 - k0));
+    }
   }
 }
 
-// Rank-local progress of the ray passes. Passes of one batch trace nearly equal ray counts, the
-// last batch fewer: the rays are the honest cost, the passes what is shown.
+// Rank-local progress of the ray passes, reported after every dispatch (a pass is split into
+// several when a line is drawn). The rays traced are both what is shown and the cost.
 class PassProgress {
  public:
-  PassProgress(ProgressLine* line, const TraceSettings& s, std::int64_t points, std::int64_t cap)
+  PassProgress(ProgressLine* line, const TraceSettings& s, std::int64_t points)
       : line_(line && line->enabled() ? line : nullptr),
-        total_passes_(static_cast<double>((points + cap - 1) / cap) * s.passes),
         total_rays_(static_cast<double>(points) * s.rays) {}
 
+  ProgressLine* line() const { return line_; }
   // Null when no line is drawn, so an unwatched run keeps its kernels unfenced.
   std::function<void(std::int64_t)> callback() {
     if (!line_) return nullptr;
     return [this](std::int64_t rays) {
-      Kokkos::fence();  // a pass counts as done once it has run, not once it is queued
-      passes_ += 1;
+      Kokkos::fence();  // a dispatch counts as done once it has run, not once it is queued
       rays_ += static_cast<double>(rays);
-      line_->update(passes_, total_passes_, rays_, total_rays_);
+      line_->update(rays_, total_rays_);
     };
   }
   void finish() {
-    if (line_) line_->finish(passes_, total_passes_);
+    if (line_) line_->finish(rays_, total_rays_);
   }
 
  private:
   ProgressLine* line_;
-  double total_passes_, total_rays_, passes_ = 0, rays_ = 0;
+  double total_rays_, rays_ = 0;
 };
 
 }  // namespace detail
@@ -153,7 +162,7 @@ std::vector<std::uint16_t> trace_samples(const OcclusionQuery& query, const Devi
   const auto offsets = plan.offsets;
   const std::int64_t num_tris = static_cast<std::int64_t>(tris.extent(0));
   const std::uint64_t seed = s.seed;
-  detail::PassProgress pass_progress(progress, s, last - first, cap);
+  detail::PassProgress pass_progress(progress, s, last - first);
   const auto after_pass = pass_progress.callback();
   for (std::int64_t b0 = first; b0 < last; b0 += cap) {
     const std::int64_t n = std::min(cap, last - b0);
@@ -179,7 +188,7 @@ std::vector<std::uint16_t> trace_samples(const OcclusionQuery& query, const Devi
         });
     timer.stop();
     timer.start("rays");
-    detail::trace_all_passes(query, batch, hits, n, s, after_pass);
+    detail::trace_all_passes(query, batch, hits, n, s, pass_progress.line(), after_pass);
     timer.stop();
     Kokkos::deep_copy(hits_h, hits);
     std::copy(hits_h.data(), hits_h.data() + n, out.begin() + (b0 - first));

@@ -4,8 +4,6 @@
 #include "render_mode.hpp"
 
 #include <CLI/CLI.hpp>
-#include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -14,6 +12,7 @@
 #include "render_map.hpp"
 #include "rtmini/io/cli_values.hpp"
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/path.hpp"
 #include "rtmini/io/scene_file.hpp"
 #include "rtmini/io/srgb.hpp"
 #include "rtmini/report/hash.hpp"
@@ -28,16 +27,6 @@ namespace {
 
 // Exit status of a run whose image misses its --reference by more than --max-rmse.
 constexpr int kExitReferenceMismatch = 1;
-
-std::string lower_extension(const std::string& path) {
-  const std::size_t slash = path.find_last_of('/');
-  const std::size_t dot = path.find_last_of('.');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string ext = path.substr(dot);
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  return ext;
-}
 
 }  // namespace
 

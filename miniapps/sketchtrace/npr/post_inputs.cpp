@@ -1,8 +1,7 @@
 #include "post_inputs.hpp"
 
-#include <cctype>
-
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/path.hpp"
 
 namespace rtmini::npr {
 
@@ -17,12 +16,7 @@ NprInputs PostImages::inputs() const {
 }
 
 namespace {
-bool is_exr(const std::string& path) {
-  if (path.size() < 4) return false;
-  std::string ext = path.substr(path.size() - 4);
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".exr";
-}
+bool is_exr(const std::string& path) { return lower_extension(path) == ".exr"; }
 }  // namespace
 
 PostImages read_post_images(const std::string& path) {

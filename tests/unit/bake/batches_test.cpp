@@ -24,7 +24,9 @@ void expect_tiling(const std::vector<Batch>& b, std::int64_t vertices, int ranks
     EXPECT_LT(b[i].begin, b[i].end);
     EXPECT_GE(b[i].rank, 0);
     EXPECT_LT(b[i].rank, ranks);
-    if (i > 0) EXPECT_EQ(b[i].begin, b[i - 1].end);
+    if (i > 0) {
+      EXPECT_EQ(b[i].begin, b[i - 1].end);
+    }
   }
 }
 

@@ -124,8 +124,9 @@ TEST(BadPng, HugeHeaderIsRefusedBeforeAllocating) {
 #endif
 
 INSTANTIATE_TEST_SUITE_P(Io, BadInputTest, ::testing::ValuesIn(kBadInputs),
-                         [](const ::testing::TestParamInfo<BadInput>& info) {
-                           std::string name = info.param.file;
+                         // Not named `info`: the macro's own parameter has that name.
+                         [](const ::testing::TestParamInfo<BadInput>& test) {
+                           std::string name = test.param.file;
                            for (char& c : name)
                              if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
                            return name;

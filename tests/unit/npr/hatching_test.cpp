@@ -146,7 +146,9 @@ TEST(NprTone, ThresholdsDefaultStrictlyDecreasing) {
     for (int k = 0; k < levels; ++k) {
       EXPECT_GT(t[k], 0.f);
       EXPECT_LT(t[k], 1.f);
-      if (k > 0) EXPECT_LT(t[k], t[k - 1]);
+      if (k > 0) {
+        EXPECT_LT(t[k], t[k - 1]);
+      }
     }
     EXPECT_NO_THROW(validate(c));
   }

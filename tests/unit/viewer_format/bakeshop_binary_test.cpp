@@ -170,8 +170,9 @@ TEST(BakeshopBinary, HalfColoursRoundToNearestAndClamp) {
     for (int c = 0; c < 3; ++c) {
       const float x = (&a.x)[c];
       const float y = (&b.x)[c];
-      if (std::fabs(x) <= 65504.f && std::fabs(x) >= 6.1035156e-05f)
+      if (std::fabs(x) <= 65504.f && std::fabs(x) >= 6.1035156e-05f) {
         EXPECT_LE(std::fabs(x - y), std::fabs(x) * 0x1p-11f) << k;
+      }
     }
   }
 }

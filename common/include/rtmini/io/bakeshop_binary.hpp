@@ -49,6 +49,13 @@ struct BakeshopBinaryOptions {
 void write_bakeshop_binary(const std::string& path, const Mesh& mesh,
                            const BakeshopBinaryOptions& options = {});
 
+// The bytes of a .bsb file after its colour section: zero padding up to the next 8-byte file
+// offset, then the materials, faces and objects sections. `colors_end` is the file offset where
+// the colours end. One function for both writers: write_bakeshop_binary above and bake's
+// parallel writer (miniapps/bake/bakeshop_mpi_writer.cpp: ranks write their own colours, rank 0
+// this tail), so the two cannot drift apart.
+std::string format_bakeshop_binary_tail(const Mesh& mesh, std::uint64_t colors_end);
+
 // Reads a .bsb file; malformed input: InputError "file: reason (at byte B)".
 Mesh read_bakeshop_binary(const std::string& path);
 

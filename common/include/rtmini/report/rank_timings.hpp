@@ -36,6 +36,11 @@ struct TimingsLabels {
   std::vector<std::string> phases;
 };
 
+// The union of every rank's phase names, each rank's first-seen order concatenated by rank,
+// each name once: ranks may time different phases (rank 0 alone writes checkpoints), and a
+// per-phase reduction or [ranks x phases] array needs the same names on every rank. Collective.
+std::vector<std::string> agreed_phase_names(const Communicator& comm, const PhaseTimer& timer);
+
 void write_rank_timings(const std::string& path, const Communicator& comm, const PhaseTimer& timer,
                         const RankTimings& mine, const TimingsLabels& labels);
 
