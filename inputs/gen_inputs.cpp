@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <array>
 #include <cmath>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <string>
@@ -15,6 +16,7 @@
 #include "rtmini/report/app_main.hpp"
 #include "rtmini/report/common_options.hpp"
 #include "rtmini/report/hash.hpp"
+#include "rtmini/report/memory_check.hpp"
 #include "rtmini/report/rank_timings.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/scene/primitives.hpp"
@@ -226,8 +228,17 @@ int gen_inputs(Communicator& comm, int argc, char** argv) {
   bunny_room->add_option("--scene", scene, "stanford-bunny.obj")->required();
   app.require_subcommand(1);
   if (const auto done = parse_command_line(app, argc, argv, common, comm.is_root())) return *done;
+  // The generated meshes are small (at most the bunny's); the one read from a file takes about
+  // its text's size again in vertices and faces while it is parsed.
+  MemoryNeed need;
+  if (!scene.empty()) {
+    std::ifstream in(scene, std::ios::binary | std::ios::ate);
+    if (in) need.host = 2.0 * static_cast<double>(in.tellg());
+  }
+  const MemoryPeak peak = require_memory(comm, need, common.memory_limit());
   RunReport report;
   report.app = "rtmini-gen-inputs";
+  report.scene["memory_estimate_bytes"] = comm.max(peak.host + peak.device);
   report.timer.start("generate");
   Mesh m;
   if (*cube) m = make_cube();

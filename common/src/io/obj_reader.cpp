@@ -242,7 +242,10 @@ Mesh read_obj(const std::string& path) {
   return mesh;
 }
 
-Mesh read_mesh(const std::string& path) {
+namespace {
+
+// The lower-case extension of the file name ("" when none).
+std::string mesh_extension(const std::string& path) {
   const std::size_t dot = path.find_last_of('.');
   const std::size_t slash = path.find_last_of('/');
   std::string ext = dot == std::string::npos || (slash != std::string::npos && dot < slash)
@@ -250,6 +253,22 @@ Mesh read_mesh(const std::string& path) {
                         : path.substr(dot);
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+}  // namespace
+
+std::vector<std::string> mesh_files(const std::string& path) {
+  std::vector<std::string> files{path};
+  if (mesh_extension(path) != ".obj") return files;
+  ObjPrescan prescan(path);
+  prescan.run(detail::read_text_file(path));
+  files.insert(files.end(), prescan.mtl_files().begin(), prescan.mtl_files().end());
+  return files;
+}
+
+Mesh read_mesh(const std::string& path) {
+  const std::string ext = mesh_extension(path);
   if (ext == ".obj") return read_obj(path);
   if (ext == ".bs") return read_bakeshop(path);
   throw InputError(path, 0, "unknown mesh format '" + ext + "' (expected .obj or .bs)");
