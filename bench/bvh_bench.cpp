@@ -219,15 +219,15 @@ Mesh load_mesh(const std::string& spec) {
 }
 
 // What the benchmark allocates after loading the mesh (report/memory_check.hpp): the uploaded
-// mesh and BVH, the two timed rebuilds alive at once, the rays and their results (secondary
-// workloads keep their primary rays), the peer's host copy of the rays.
+// mesh and BVH, the two timed rebuilds (LBVH and SAH) alive at once, the rays and their results
+// (secondary workloads keep their primary rays), the peer's host copy of the rays.
 MemoryNeed bench_memory_need(const Mesh& mesh, const Options& o) {
   const std::size_t nt = mesh.triangle_count();
   const double rays = o.workload == "ao" ? static_cast<double>(nt) * o.samples_per_face * o.rays
                                          : static_cast<double>(o.width) * o.height;
   const bool secondary = o.workload == "shadow" || o.workload == "diffuse";
   MemoryNeed need;
-  need.views = 3 * device_mesh_bytes(nt, mesh.positions.size()) +
+  need.views = device_mesh_bytes(nt, mesh.positions.size()) + 2 * bvh_bytes(nt) +
                rays * ((secondary ? 2 : 1) * sizeof(Ray) + sizeof(int)) +
                (o.workload == "ao" ? static_cast<double>(nt) * sizeof(Real) : 0.0);
   if (!o.peer.empty()) need.host = rays * (sizeof(Ray) + sizeof(int));

@@ -19,6 +19,7 @@
 #include "map_errors.hpp"
 #include "map_exchange.hpp"
 #include "rtmini/bvh/build_lbvh.hpp"
+#include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/input_files.hpp"
 #include "rtmini/io/obj_reader.hpp"
@@ -284,6 +285,7 @@ class BakeRun {
   void plan();
   nlohmann::json parameters() const;
   void print_banner(const MemoryEstimate& mem, double max_mem) const;
+  void check_outputs() const;
   void check_memory();
   void setup();
   void plan_map();
@@ -441,6 +443,16 @@ void BakeRun::print_banner(const MemoryEstimate& mem, double max_mem) const {
       human_bytes(double(mem.host)).c_str(),
       halo_ == Halo::kTraced ? " + the halo (known after the mirror trace)" : "");
   std::fflush(stdout);
+}
+
+// Every place this run will write, before anything is computed (IoError: exit 3); sizes: the
+// text map (~60 bytes a colour; the binary form is smaller) and the checkpoint's colours.
+void BakeRun::check_outputs() const {
+  const double colors = static_cast<double>(host_.colors());
+  check_output_places({{c_.output, colors * 60},
+                       {c_.checkpoint, colors * sizeof(Vec3f)},
+                       {c_.summary, 0},
+                       {c_.timings, 0}});
 }
 
 // Prints the banner and refuses (IoError on every rank: exit 3) a run that would not fit.
@@ -789,6 +801,7 @@ int BakeRun::run() {
   read();
   timer_.start("setup");
   plan();
+  check_outputs();
   check_memory();
   setup();
   timer_.stop();

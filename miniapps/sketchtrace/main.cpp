@@ -27,6 +27,7 @@
 #include "render_scene.hpp"
 #include "renderer.hpp"
 #include "result_sink.hpp"
+#include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/input_files.hpp"
 #include "rtmini/io/obj_reader.hpp"
@@ -211,6 +212,12 @@ void read_inputs(RunState& r, const CliOverrides& cli) {
   cli.apply(r.s);
   validate_settings(r.s, "command line");
   if (!opt.output.empty()) check_output_path(opt.output);
+  // Every place the run will write, before anything is read or computed (IoError: exit 3).
+  const double pixels = static_cast<double>(r.s.width) * r.s.height;
+  check_output_places({{opt.output, pixels * 3},
+                       {opt.checkpoint, pixels * (sizeof(PixelResult) + 1)},
+                       {opt.summary, 0},
+                       {opt.timings, 0}});
 #ifndef RTMINI_SKETCH_HAVE_NPR
   if (r.s.style != "none")
     throw InputError("--style " + r.s.style + ": this build has no hand-drawn passes");

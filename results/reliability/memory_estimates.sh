@@ -64,7 +64,7 @@ measure "sketchtrace | dragon.obj --spp 1" 1 "$sketch" "$in/meshes/dragon.obj" -
 measure "sketchtrace | two_spheres.toml 3840x2160 --spp 1" 1 "$sketch" "$in/two_spheres/two_spheres.toml" --width 3840 --height 2160 --spp 1 -o a.png
 measure "sketchtrace | two_spheres.toml 3840x2160 --spp 1" 2 "$sketch" "$in/two_spheres/two_spheres.toml" --width 3840 --height 2160 --spp 1 -o a.png
 measure "rtmini-bvh-bench | stanford-bunny.obj primary" 1 "$bench" "$in/meshes/stanford-bunny.obj" --repeats 1
-measure "rtmini-bvh-bench | dragon.obj ao" 1 "$bench" "$in/meshes/dragon.obj" --workload ao --repeats 1
+measure "rtmini-bvh-bench | dragon.obj ao, 1 sample x 16 rays per face" 1 "$bench" "$in/meshes/dragon.obj" --workload ao --samples-per-face 1 --rays 16 --repeats 1
 measure "rtmini-bvh-bench | dragon.obj diffuse" 1 "$bench" "$in/meshes/dragon.obj" --workload diffuse --repeats 1
 measure "rtmini-gen-inputs | cornell_big" 1 "$gen" cornell_big -o gen.bs
 measure "rtmini-gen-inputs | bunny" 1 "$gen" bunny --scene "$in/meshes/stanford-bunny.obj" -o gen.bs

@@ -7,6 +7,7 @@
 #include "ao_output.hpp"
 #include "ao_trace.hpp"
 #include "device_scene.hpp"
+#include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/report/hash.hpp"
 #include "rtmini/report/memory_check.hpp"
@@ -100,6 +101,7 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
     o.bvh =
         Kokkos::SpaceAccessibility<Kokkos::HostSpace, ao::MemSpace>::accessible ? "sah" : "lbvh";
   ao::output_format(o.output);  // reject a bad extension before any work
+  check_output_places({{o.output, 0}, {o.summary, 0}, {o.timings, 0}});
   const bool root = comm.is_root();
   RunReport report;
   report.app = "bake";

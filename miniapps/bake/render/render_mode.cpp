@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "render_map.hpp"
+#include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/cli_values.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/scene_file.hpp"
@@ -144,6 +145,8 @@ Image as_8bit_display(const Image& linear) {
 int run_render_mode(Communicator& comm, RenderOptions o, const CLI::App& app) {
   validate(o, app);
   const bool root = comm.is_root();
+  check_output_places(
+      {{o.output, 3.0 * o.params.width * o.params.height}, {o.summary, 0}, {o.timings, 0}});
   o.params.lookup = o.lookup == "sf" ? bake::Lookup::kSphericalFibonacci : bake::Lookup::kKdTree;
   if (!o.background.empty()) {
     const Vec3d b = parse_vec3("--background", o.background);
