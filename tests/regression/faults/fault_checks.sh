@@ -398,12 +398,17 @@ PYEOF
     else
       run=("$BAKE" "$INPUTS/cornell_big/cornell_big_raw.bs" --viewpoints 1000 --iterations 3 --checkpoint ck.h5 -o out.bs)
     fi
-    "${run[@]}" >out.txt 2>err.txt &
-    pid=$!
-    sleep 0.3
-    kill -INT "$pid"
+    # Launched from Python: a background job of this (non-interactive) shell would start with
+    # SIGINT ignored; Python's child starts with the default action, as from a terminal.
     rc=0
-    wait "$pid" || rc=$?
+    "$PY" - "${run[@]}" <<'PYEOF' || rc=$?
+import signal, subprocess, sys, time
+p = subprocess.Popen(sys.argv[1:], stdout=open("out.txt", "w"), stderr=open("err.txt", "w"))
+time.sleep(0.3)
+p.send_signal(signal.SIGINT)
+code = p.wait()
+sys.exit(code if code >= 0 else 128 - code)
+PYEOF
     cat err.txt
     [[ $rc == 4 ]] || fail "SIGINT during start-up gave exit $rc, expected 4 (a clean stop)"
     [[ -f ck.h5 ]] || fail "no checkpoint after the stop"

@@ -16,7 +16,9 @@ extern "C" inline void rtmini_request_stop(int) { g_stop_requested = 1; }
 inline void install_stop_handlers() {
   std::signal(SIGTERM, detail::rtmini_request_stop);
   std::signal(SIGUSR1, detail::rtmini_request_stop);
-  std::signal(SIGINT, detail::rtmini_request_stop);
+  // SIGINT only where it is not ignored: shells start background jobs with SIGINT ignored so
+  // that Ctrl-C at the terminal leaves them running, and they keep it that way.
+  if (std::signal(SIGINT, SIG_IGN) != SIG_IGN) std::signal(SIGINT, detail::rtmini_request_stop);
 }
 
 inline bool stop_requested() { return detail::g_stop_requested != 0; }
