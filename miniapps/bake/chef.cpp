@@ -300,6 +300,54 @@ struct TraceReference {
 
 }  // namespace
 
+std::vector<float> estimate_lookup_hits(const BakeSceneDevice& scene, const BakeConfig& config,
+                                        std::int64_t begin, std::int64_t end, int samples,
+                                        std::int64_t& rays) {
+  Kokkos::View<float*, MemSpace> hits("rtmini::bake::pilot_hits", end - begin);
+  const Bvh accel = scene.mesh.accel;
+  const auto positions = scene.mesh.positions;
+  const auto normal = scene.normal;
+  const auto views = scene.viewpoints;
+  const auto color_offset = scene.color_offset;
+  const auto tri_vertices = scene.mesh.tri_vertices;
+  const Real bound = scene.mesh.coordinate_bound;
+  const int n = config.viewpoints;
+  std::int64_t traced = 0;
+  Kokkos::parallel_reduce(
+      "rtmini::bake::pilot_lookup_hits",
+      Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>, Kokkos::Schedule<Kokkos::Dynamic>>(
+          begin, end),
+      KOKKOS_LAMBDA(std::int64_t v, std::int64_t & count) {
+        if (color_offset(v + 1) - color_offset(v) <= 1) return;
+        Ray ray;
+        ray.org = offset_ray_origin(positions(v), normal(v), bound);
+        int hit = 0;
+        for (int s = 0; s < samples; ++s) {
+          // Fibonacci points are ordered by height: every n/samples-th spans the sphere.
+          const int view =
+              static_cast<int>((2 * s + 1) * static_cast<std::int64_t>(n) / (2 * samples));
+          ray.dir = mirror_direction(views(view), normal(v));
+          const int prim = bvh::closest_hit(accel, ray).prim;
+          if (prim < 0) continue;
+          // Only a view-dependent vertex of the hit triangle costs a viewpoint lookup.
+          bool lookup = false;
+          for (int k = 0; k < 3; ++k) {
+            const int q = tri_vertices(prim, k);
+            lookup = lookup || color_offset(q + 1) - color_offset(q) > 1;
+          }
+          hit += lookup ? 1 : 0;
+        }
+        count += samples;
+        hits(v - begin) =
+            static_cast<float>(n) * static_cast<float>(hit) / static_cast<float>(samples);
+      },
+      traced);
+  rays += traced;
+  std::vector<float> out;
+  compat::download(hits, out);
+  return out;
+}
+
 Chef::Chef(const BakeSceneDevice& scene, const BakeConfig& config, std::int64_t local_items)
     : scene_(scene), config_(config), map_offset_(scene.color_offset), local_items_(local_items) {
   const std::size_t nv = scene.normal.extent(0);
@@ -554,18 +602,20 @@ std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, cons
                            Kokkos::View<CachedHit*, MemSpace> cache,
                            Kokkos::View<TracedHit*, MemSpace> traced,
                            Kokkos::View<std::int64_t*, MemSpace> map_offset,
-                           Kokkos::View<int*, MemSpace> order, int it, std::int64_t begin,
-                           std::int64_t end, std::int64_t cache_offset, HitCacheMode mode,
-                           Kokkos::View<const Vec3f*, MemSpace> prev,
+                           const SparseColors& sparse, Kokkos::View<int*, MemSpace> order, int it,
+                           std::int64_t begin, std::int64_t end, std::int64_t cache_offset,
+                           HitCacheMode mode, Kokkos::View<const Vec3f*, MemSpace> prev,
                            Kokkos::View<Vec3f*, MemSpace> next) {
   const Vec3f bg = cfg.background;
+  // A sparse map's offsets do not give the colour counts: the reader takes those from the scene.
   MapReader<LookupT> reader{s.mesh.tri_vertices,
-                            map_offset,
+                            sparse.empty() ? map_offset : s.color_offset,
                             prev,
                             s.emissive,
                             lookup,
                             fibonacci_radius(cfg.viewpoints),
-                            Vec3(bg)};
+                            Vec3(bg),
+                            sparse};
   std::int64_t rays = 0;
   const bool with_gather = cfg.gather_rays > 0 && it > 0;
   if (with_gather) {
@@ -617,9 +667,9 @@ std::int64_t Chef::bake_iteration(int it, std::int64_t begin, std::int64_t end,
     cache = HitCacheMode::kOff;
   if (config_.lookup == Lookup::kKdTree)
     return run_iteration(scene_, config_, kdtree_, base_, gather_, cache_, traced_, map_offset_,
-                         order_, it, begin, end, cache_offset, cache, prev, next);
+                         sparse_, order_, it, begin, end, cache_offset, cache, prev, next);
   return run_iteration(scene_, config_, inverse_, base_, gather_, cache_, traced_, map_offset_,
-                       order_, it, begin, end, cache_offset, cache, prev, next);
+                       sparse_, order_, it, begin, end, cache_offset, cache, prev, next);
 }
 
 }  // namespace rtmini::bake

@@ -4,10 +4,12 @@
 // samples); iteration k adds reflective x the previous map seen along each viewpoint's mirror
 // ray (and, with --gather-rays, diffuse x the previous map over the cosine hemisphere).
 #include <cstdint>
+#include <vector>
 
 #include "bake_config.hpp"
 #include "bake_scene.hpp"
 #include "map_errors.hpp"
+#include "map_reader.hpp"
 #include "rtmini/sampling/fibonacci_lookup.hpp"
 
 namespace rtmini::bake {
@@ -37,6 +39,14 @@ struct ReadCount {
   std::int64_t rays = 0, reads = 0, remote_reads = 0;
 };
 
+// Mirror hits of each vertex in [begin, end) that cost a viewpoint lookup (the hit triangle has a
+// view-dependent vertex), estimated from `samples` of its N mirror rays (viewpoints spread evenly
+// over the sphere) and scaled to N; 0 for view-independent vertices. The pilot of the cost
+// balance (kitchen.cpp); adds the rays it traces to `rays`.
+std::vector<float> estimate_lookup_hits(const BakeSceneDevice& scene, const BakeConfig& config,
+                                        std::int64_t begin, std::int64_t end, int samples,
+                                        std::int64_t& rays);
+
 class Chef {
  public:
   // local_items: colour entries over all of this rank's batches (sizes the hit cache).
@@ -46,8 +56,12 @@ class Chef {
   std::int64_t bake_base(std::int64_t begin, std::int64_t end);
 
   // Where each vertex's colours sit in the maps given to bake_iteration / trace_reference
-  // (MapLayout::device); the scene's global offsets until set.
-  void set_map_offset(Kokkos::View<std::int64_t*, MemSpace> offset) { map_offset_ = offset; }
+  // (MapLayout::device, and its sparse remote vertices if any); the scene's global offsets
+  // until set.
+  void set_map_offset(Kokkos::View<std::int64_t*, MemSpace> offset, SparseColors sparse = {}) {
+    map_offset_ = offset;
+    sparse_ = sparse;
+  }
 
   // Traces the mirror rays of vertices [begin, end) once, keeps the hits (and fills the hit
   // cache), flags in `read` every vertex a hit reads and counts the reads of vertices that are
@@ -99,6 +113,7 @@ class Chef {
   Kokkos::View<CachedHit*, MemSpace> cache_;
   Kokkos::View<TracedHit*, MemSpace> traced_;
   Kokkos::View<std::int64_t*, MemSpace> map_offset_;
+  SparseColors sparse_;
   std::int64_t local_items_ = 0;
   Kokkos::View<int*, MemSpace> order_;  // viewpoints in a direction-coherent order
   FibonacciKdTree<MemSpace> kdtree_;

@@ -189,8 +189,15 @@ void write_timings_file(const Communicator& comm, const BakeConfig& c, const Pha
 
 }  // namespace
 
+std::vector<double> lookup_hit_cost(const BakeSceneHost& scene, const std::vector<float>& hits) {
+  std::vector<double> cost(static_cast<std::size_t>(scene.vertices()));
+  for (std::int64_t v = 0; v < scene.vertices(); ++v)
+    cost[v] = static_cast<double>(scene.color_count(v)) + kLookupHitCost * double(hits[v]);
+  return cost;
+}
+
 std::vector<Batch> make_batches(const BakeSceneHost& scene, int ranks, Balance balance,
-                                std::int64_t batch_size) {
+                                std::int64_t batch_size, const std::vector<double>& vertex_cost) {
   const std::int64_t nv = scene.vertices();
   std::vector<Batch> out;
   if (nv == 0) return out;
@@ -202,14 +209,18 @@ std::vector<Batch> make_batches(const BakeSceneHost& scene, int ranks, Balance b
     return out;
   }
   // Cost balance: cut where the running cost passes the next multiple of total / count.
-  const double total = static_cast<double>(scene.colors());
+  std::vector<double> before(static_cast<std::size_t>(nv) + 1, 0.0);  // cost of vertices < v
+  for (std::int64_t v = 0; v < nv; ++v)
+    before[v + 1] =
+        before[v] + (vertex_cost.empty() ? double(scene.color_count(v)) : vertex_cost[v]);
+  const double total = before[nv];
   std::int64_t begin = 0;
   for (std::int64_t b = 0; b < count && begin < nv; ++b) {
     std::int64_t end = nv;
     if (b + 1 < count) {
       const double target = total * static_cast<double>(b + 1) / static_cast<double>(count);
       end = begin + 1;
-      while (end < nv && static_cast<double>(scene.color_offset[end]) < target) ++end;
+      while (end < nv && before[end] < target) ++end;
     }
     out.push_back({begin, end, static_cast<int>(b % ranks)});
     begin = end;
@@ -290,6 +301,9 @@ class BakeRun {
   void setup();
   void plan_map();
   void trace_halo(std::vector<char>& present);
+  void assign_batches(std::vector<Batch> batches);
+  void balance_by_lookup_hits();
+  std::vector<char> read_items() const;
   std::vector<std::int64_t> halo_entries(const std::vector<char>& present) const;
   void bake_base();
   void restart();
@@ -366,18 +380,9 @@ void BakeRun::plan() {
   needs_iterations_ = host_.reflective_vertices > 0 || c_.gather_rays > 0;
   // The traced reference is one pass (it follows the K mirror bounces itself).
   iterations_ = needs_iterations_ && !c_.trace_reference ? c_.iterations : 0;
-  batches_ = c_.balance == Balance::kSpatial
-                 ? make_spatial_batches(host_, mesh_.positions, comm_.size(), c_.batch_size)
-                 : make_batches(host_, comm_.size(), c_.balance, c_.batch_size);
-  owner_.assign(static_cast<std::size_t>(host_.vertices()), 0);
-  for (const Batch& b : batches_) {
-    std::fill(owner_.begin() + b.begin, owner_.begin() + b.end, b.rank);
-    if (b.rank != comm_.rank()) continue;
-    my_vertices_ += b.end - b.begin;
-    my_ranges_.push_back({b.begin, b.end});
-    my_cache_offset_.push_back(my_items_);
-    my_items_ += host_.color_offset[b.end] - host_.color_offset[b.begin];
-  }
+  assign_batches(c_.balance == Balance::kSpatial
+                     ? make_spatial_batches(host_, mesh_.positions, comm_.size(), c_.batch_size)
+                     : make_batches(host_, comm_.size(), c_.balance, c_.batch_size));
   if (comm_.size() == 1 || (c_.gather_rays > 0 && iterations_ > 0))
     halo_ = Halo::kAll;
   else if (iterations_ == 0)
@@ -390,6 +395,38 @@ void BakeRun::plan() {
       {"vertices", host_.vertices()},          {"faces", mesh_.faces.size()},
       {"triangles", mesh_.triangle_count()},   {"reflective_vertices", host_.reflective_vertices},
       {"emissive_faces", host_.lights.size()}, {"colors", host_.colors()}};
+}
+
+// Who owns which vertex, and this rank's ranges and hit-cache slots.
+void BakeRun::assign_batches(std::vector<Batch> batches) {
+  batches_ = std::move(batches);
+  owner_.assign(static_cast<std::size_t>(host_.vertices()), 0);
+  my_ranges_.clear();
+  my_cache_offset_.clear();
+  my_vertices_ = my_items_ = 0;
+  for (const Batch& b : batches_) {
+    std::fill(owner_.begin() + b.begin, owner_.begin() + b.end, b.rank);
+    if (b.rank != comm_.rank()) continue;
+    my_vertices_ += b.end - b.begin;
+    my_ranges_.push_back({b.begin, b.end});
+    my_cache_offset_.push_back(my_items_);
+    my_items_ += host_.color_offset[b.end] - host_.color_offset[b.begin];
+  }
+}
+
+// With ranks reading each other's colours along mirror rays, a colour whose ray hits a
+// view-dependent vertex costs about kLookupHitCost others (kitchen.hpp), and where the rays hit
+// varies across the mesh (bunny_room: 0.01 to 0.9 lookup hits per colour between the 16 ranks'
+// colour-balanced ranges). A pilot of kPilotRays mirror rays per vertex, traced by every rank for
+// its share of the vertices, estimates those hits; the cost balance then cuts the ranges by
+// colours plus hits.
+void BakeRun::balance_by_lookup_hits() {
+  constexpr int kPilotRays = 8;
+  const std::int64_t nv = host_.vertices(), p = comm_.size(), r = comm_.rank();
+  const std::vector<float> mine =
+      estimate_lookup_hits(*scene_, c_, nv * r / p, nv * (r + 1) / p, kPilotRays, totals_.rays);
+  assign_batches(make_batches(host_, comm_.size(), c_.balance, c_.batch_size,
+                              lookup_hit_cost(host_, comm_.allgatherv(mine))));
 }
 
 nlohmann::json BakeRun::parameters() const {
@@ -483,19 +520,27 @@ void BakeRun::setup() {
   if (!c_.reference.empty()) reference_ = read_reference_map(c_.reference, mesh_);
   scene_ = std::make_unique<BakeSceneDevice>(upload_bake_scene(
       mesh_, host_, c_.viewpoints, c_.sah ? bvh::BuildQuality::kSah : bvh::BuildQuality::kLbvh));
+  if (halo_ == Halo::kTraced && c_.balance == Balance::kCost) balance_by_lookup_hits();
   chef_ = std::make_unique<Chef>(*scene_, c_, my_items_);
 }
 
 // The vertices this rank holds, their layout and the exchange that keeps the remote ones fresh
-// (phase "map": it traces the mirror rays, so it counts as bake time).
+// (phases "map", tracing the mirror rays, and "halo", finding the colours they read and planning
+// the exchange; both count as bake time).
 void BakeRun::plan_map() {
   timer_.start("map");
   std::vector<char> present(static_cast<std::size_t>(host_.vertices()), halo_ == Halo::kAll);
   for (const VertexRange& r : my_ranges_)
     std::fill(present.begin() + r.begin, present.begin() + r.end, 1);
   if (halo_ == Halo::kTraced) trace_halo(present);
+  timer_.stop();
+  timer_.start("halo");
   layout_ = make_map_layout(host_, present);
   chef_->set_map_offset(layout_.device);
+  if (halo_ == Halo::kTraced) {
+    layout_ = make_sparse_layout(host_, layout_, read_items(), owner_, comm_.rank());
+    chef_->set_map_offset(layout_.device, layout_.sparse);
+  }
   const std::vector<std::int64_t> halo = halo_entries(present);
   exchange_ = std::make_unique<MapExchange>(comm_, host_, layout_, owner_, halo);
   prev_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_prev", layout_.colors());
@@ -523,22 +568,25 @@ void BakeRun::plan_map() {
         reads > 0 ? 100.0 * remote / reads : 0.0, human_bytes(bytes).c_str());
 }
 
-// The colours (global entry numbers, ascending) this rank reads from other ranks: every colour of
-// a present remote vertex, or with the traced halo only those the lookups at the hits read.
-std::vector<std::int64_t> BakeRun::halo_entries(const std::vector<char>& present) const {
+// One flag per entry of the (dense) layout: the remote colours this rank's traced lookups read.
+std::vector<char> BakeRun::read_items() const {
+  Kokkos::View<char*, MemSpace> items("rtmini::bake::read_items", layout_.colors());
+  for (std::size_t k = 0; k < my_ranges_.size(); ++k)
+    chef_->mark_read_items(my_ranges_[k].begin, my_ranges_[k].end, my_cache_offset_[k], owned_,
+                           items);
   std::vector<char> read;
-  if (halo_ == Halo::kTraced) {
-    Kokkos::View<char*, MemSpace> items("rtmini::bake::read_items", layout_.colors());
-    for (std::size_t k = 0; k < my_ranges_.size(); ++k)
-      chef_->mark_read_items(my_ranges_[k].begin, my_ranges_[k].end, my_cache_offset_[k], owned_,
-                             items);
-    compat::download(items, read);
-  }
+  compat::download(items, read);
+  return read;
+}
+
+// The colours (global entry numbers, ascending) this rank reads from other ranks: every colour of
+// a present remote vertex, or with the traced (sparse) halo only those the lookups read.
+std::vector<std::int64_t> BakeRun::halo_entries(const std::vector<char>& present) const {
   std::vector<std::int64_t> halo;
   for (std::int64_t v = 0; v < host_.vertices(); ++v) {
-    if (!present[v] || owner_[v] == comm_.rank()) continue;
+    if (!present[v] || owner_[v] == comm_.rank() || !layout_.present(v)) continue;
     for (std::int64_t j = 0; j < host_.color_count(v); ++j)
-      if (read.empty() || read[layout_.offset[v] + j]) halo.push_back(host_.color_offset[v] + j);
+      if (layout_.keeps(v, j)) halo.push_back(host_.color_offset[v] + j);
   }
   return halo;
 }
@@ -770,8 +818,8 @@ void BakeRun::report_results() {
   const std::uint64_t hash =
       comm_.sum_wrap(map_hash(layout_.device, prev_, batches_, comm_.rank(), c_.viewpoints));
   const double total_rays = static_cast<double>(comm_.sum(totals_.rays));
-  const double bake_time =
-      comm_.max(timer_.total("base") + timer_.total("map") + timer_.total("iterate"));
+  const double bake_time = comm_.max(timer_.total("base") + timer_.total("map") +
+                                     timer_.total("halo") + timer_.total("iterate"));
   const double baked_colors = static_cast<double>(host_.vertices()) * c_.viewpoints *
                               static_cast<double>(iterations_ - first_ + 1);
   report_.fom_name = "baked viewpoint colours";
@@ -784,8 +832,9 @@ void BakeRun::report_results() {
   report_.scene["peak_rss_bytes_per_rank"] =
       comm_.allgatherv(std::vector<double>{peak_rss_bytes()});
   if (!c_.timings.empty())
-    write_timings_file(comm_, c_, timer_, {"read", "setup", "base", "map", "iterate", "write"},
-                       iter_records_, chunks_, totals_, params_.dump());
+    write_timings_file(comm_, c_, timer_,
+                       {"read", "setup", "base", "map", "halo", "iterate", "write"}, iter_records_,
+                       chunks_, totals_, params_.dump());
   if (root_)
     std::printf(
         "  bake time %.4f s (base + iterations), %.4g rays (%.4g Mrays/s), write %.4f s, "

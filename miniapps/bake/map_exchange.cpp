@@ -73,7 +73,7 @@ std::vector<std::int64_t> entries_of(const BakeSceneHost& scene, const MapLayout
   std::vector<std::int64_t> items(global.size());
   for (std::size_t k = 0; k < global.size(); ++k) {
     const std::int64_t v = vertex_of_entry(scene, global[k]);
-    items[k] = layout.offset[v] + (global[k] - scene.color_offset[v]);
+    items[k] = layout.entry(v, global[k] - scene.color_offset[v]);
   }
   return items;
 }
@@ -87,6 +87,38 @@ MapLayout make_map_layout(const BakeSceneHost& scene, const std::vector<char>& p
   for (std::int64_t v = 0; v < nv; ++v)
     l.offset[v + 1] = l.offset[v] + (present[v] ? scene.color_count(v) : 0);
   l.device = upload("rtmini::bake::map_offset", l.offset);
+  return l;
+}
+
+MapLayout make_sparse_layout(const BakeSceneHost& scene, const MapLayout& full,
+                             const std::vector<char>& read, const std::vector<int>& owner,
+                             int rank) {
+  MapLayout l;
+  const std::int64_t nv = scene.vertices();
+  l.offset.assign(static_cast<std::size_t>(nv) + 1, 0);
+  l.mask_at.assign(static_cast<std::size_t>(nv), -1);
+  for (std::int64_t v = 0; v < nv; ++v) {
+    const std::int64_t n = full.offset[v + 1] - full.offset[v];
+    std::int64_t keep = n;
+    if (n > 1 && owner[v] != rank) {
+      l.mask_at[v] = static_cast<std::int64_t>(l.mask.size());
+      keep = 0;
+      for (std::int64_t w = 0; w < (n + 63) / 64; ++w) {
+        std::uint64_t bits = 0;
+        for (std::int64_t j = w * 64; j < std::min(n, w * 64 + 64); ++j)
+          if (read[full.offset[v] + j]) bits |= std::uint64_t(1) << (j & 63);
+        l.mask.push_back(bits);
+        l.kept.push_back(static_cast<std::int32_t>(keep));
+        keep += compat::popcount64(bits);
+      }
+    }
+    l.offset[v + 1] = l.offset[v] + keep;
+  }
+  l.device = upload("rtmini::bake::map_offset", l.offset);
+  l.sparse.start = l.device;
+  l.sparse.mask_at = upload("rtmini::bake::map_mask_at", l.mask_at);
+  l.sparse.mask = compat::upload<MemSpace>("rtmini::bake::map_mask", l.mask);
+  l.sparse.kept = compat::upload<MemSpace>("rtmini::bake::map_kept", l.kept);
   return l;
 }
 
@@ -171,10 +203,11 @@ std::vector<Vec3f> gather_global_map(const Communicator& comm, const BakeSceneHo
 std::vector<Vec3f> localise_map(const BakeSceneHost& scene, const MapLayout& layout,
                                 const std::vector<Vec3f>& global) {
   std::vector<Vec3f> local(static_cast<std::size_t>(layout.colors()));
-  for (std::int64_t v = 0; v < scene.vertices(); ++v)
-    if (layout.present(v))
-      std::copy(global.begin() + scene.color_offset[v], global.begin() + scene.color_offset[v + 1],
-                local.begin() + layout.offset[v]);
+  for (std::int64_t v = 0; v < scene.vertices(); ++v) {
+    if (!layout.present(v)) continue;
+    for (std::int64_t j = 0; j < scene.color_count(v); ++j)
+      if (layout.keeps(v, j)) local[layout.entry(v, j)] = global[scene.color_offset[v] + j];
+  }
   return local;
 }
 

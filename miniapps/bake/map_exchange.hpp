@@ -6,11 +6,13 @@
 // replicated one. The halo is fixed (mirror hits are geometry only), so the exchange that
 // refreshes it after each iteration is planned once and replayed: every owner packs the colours
 // each reader asked for (only the viewpoints its lookups read), one MPI_Alltoallv moves them,
-// every reader scatters them into place.
+// every reader scatters them into place. A remote vertex keeps only the viewpoints this rank's
+// lookups read (SparseColors, map_reader.hpp), so a rank's map is what it owns plus what it reads.
 #include <cstdint>
 #include <vector>
 
 #include "bake_scene.hpp"
+#include "map_reader.hpp"
 #include "rtmini/parallel/communicator.hpp"
 
 namespace rtmini::bake {
@@ -18,13 +20,35 @@ namespace rtmini::bake {
 // Where each vertex's colours sit in this rank's map.
 struct MapLayout {
   std::vector<std::int64_t> offset;  // vertices + 1; an absent vertex spans no entry
-  Kokkos::View<std::int64_t*, MemSpace> device;
+  // Sparse vertices (SparseColors): first mask word per vertex (-1 dense), the mask words and
+  // the kept viewpoints before each word. Empty: every present vertex keeps all its colours.
+  std::vector<std::int64_t> mask_at;
+  std::vector<std::uint64_t> mask;
+  std::vector<std::int32_t> kept;
+  Kokkos::View<std::int64_t*, MemSpace> device;  // offset
+  SparseColors sparse;                           // device copies; empty when every vertex is dense
+
   std::int64_t colors() const { return offset.back(); }
   bool present(std::int64_t v) const { return offset[v + 1] > offset[v]; }
+  bool dense(std::int64_t v) const { return mask_at.empty() || mask_at[v] < 0; }
+  // Whether vertex v keeps its viewpoint j, and where (only for kept ones).
+  bool keeps(std::int64_t v, std::int64_t j) const {
+    return dense(v) ? present(v) : ((mask[mask_at[v] + (j >> 6)] >> (j & 63)) & 1) != 0;
+  }
+  std::int64_t entry(std::int64_t v, std::int64_t j) const {
+    return dense(v) ? offset[v] + j
+                    : sparse_entry(offset[v], mask_at[v], mask.data(), kept.data(), int(j));
+  }
 };
 
 // The layout holding the vertices flagged in `present` (each with its full colour count).
 MapLayout make_map_layout(const BakeSceneHost& scene, const std::vector<char>& present);
+
+// The layout of `full` in which every view-dependent vertex that `rank` does not own keeps only
+// the viewpoints flagged in `read` (one flag per entry of `full`).
+MapLayout make_sparse_layout(const BakeSceneHost& scene, const MapLayout& full,
+                             const std::vector<char>& read, const std::vector<int>& owner,
+                             int rank);
 
 class MapExchange {
  public:

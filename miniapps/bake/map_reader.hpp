@@ -17,6 +17,30 @@ KOKKOS_INLINE_FUNCTION Vec3 mirror_direction(const Vec3& d, const Vec3& n) {
   return normalize(reflect(front, n));
 }
 
+// Where a rank keeps the colours of the vertices it reads but does not own, when it keeps only
+// the viewpoints its lookups read (MapLayout, map_exchange.hpp): at 16 ranks a rank's mirror
+// lookups read about 1 in 12 of a remote vertex's N colours, and storing all N made every rank's
+// map 5x larger than what it reads, so the gathers missed the cache. A sparse vertex v keeps the
+// viewpoints whose bits are set in its mask words mask[mask_at(v) ...], in viewpoint order from
+// start(v); kept(w) counts the kept viewpoints before word w. Empty views: every vertex dense.
+struct SparseColors {
+  Kokkos::View<const std::int64_t*, MemSpace> start;    // per vertex + 1: first local entry
+  Kokkos::View<const std::int64_t*, MemSpace> mask_at;  // per vertex: first mask word, -1 dense
+  Kokkos::View<const std::uint64_t*, MemSpace> mask;
+  Kokkos::View<const std::int32_t*, MemSpace> kept;
+
+  bool empty() const { return start.extent(0) == 0; }
+};
+
+// The local entry of viewpoint j among the kept ones (bit j of the vertex's mask words).
+KOKKOS_INLINE_FUNCTION std::int64_t sparse_entry(std::int64_t first, std::int64_t word_at,
+                                                 const std::uint64_t* mask,
+                                                 const std::int32_t* kept, int j) {
+  const std::int64_t w = word_at + (j >> 6);
+  const std::uint64_t below = mask[w] & ((std::uint64_t(1) << (j & 63)) - 1);
+  return first + kept[w] + compat::popcount64(below);
+}
+
 // Colour of the previous map seen along `dir` at a hit: the hit triangle's three vertex
 // colours, each looked up at `dir` among its nearest viewpoints, mixed barycentrically.
 template <class LookupT>
@@ -28,6 +52,15 @@ struct MapReader {
   LookupT lookup;
   Real radius;
   Vec3 background;
+  SparseColors sparse;  // empty: prev is laid out by color_offset
+
+  // The entry of vertex vert's viewpoint j in prev (first = color_offset(vert)).
+  KOKKOS_INLINE_FUNCTION std::int64_t entry(int vert, std::int64_t first, int j) const {
+    if (sparse.start.extent(0) == 0) return first + j;
+    const std::int64_t at = sparse.mask_at(vert), local = sparse.start(vert);
+    if (at < 0) return local + j;
+    return sparse_entry(local, at, sparse.mask.data(), sparse.kept.data(), j);
+  }
 
   // without_emission: the diffuse gather already has the lights through its shadow rays, so
   // it reads only the light that the hit surface reflects (no double counting).
@@ -42,7 +75,7 @@ struct MapReader {
       const int vert = tri_vertices(prim, k);
       const std::int64_t first = color_offset(vert);
       if (color_offset(vert + 1) - first == 1) {
-        sum += Vec3(prev(first)) * w[k];
+        sum += Vec3(prev(entry(vert, first, 0))) * w[k];
         continue;
       }
       if (!have_nb) {
@@ -50,7 +83,8 @@ struct MapReader {
         have_nb = true;
       }
       Vec3 c(Real(0));
-      for (int j = 0; j < nb.count; ++j) c += Vec3(prev(first + nb.index[j])) * nb.weight[j];
+      for (int j = 0; j < nb.count; ++j)
+        c += Vec3(prev(entry(vert, first, nb.index[j]))) * nb.weight[j];
       sum += c * w[k];
     }
     if (without_emission) {

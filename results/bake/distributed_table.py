@@ -17,7 +17,7 @@ def rows(out, prefix):
         rss = s["scene"].get("peak_rss_bytes_per_rank", [s.get("peak_memory_bytes", 0)])
         found.append({
             "name": os.path.basename(path)[:-5], "ranks": s["ranks"], "threads": s["threads"],
-            "time": p.get("base", 0) + p.get("map", 0) + p.get("iterate", 0),
+            "time": p.get("base", 0) + p.get("map", 0) + p.get("halo", 0) + p.get("iterate", 0),
             "vertices": s["scene"]["vertices"], "colors": s["scene"]["colors"],
             "rss_max": max(rss) / 2**30, "rss_min": min(rss) / 2**30,
             "local": m.get("local_colors_max", 0), "remote": m.get("remote_read_fraction", 0),

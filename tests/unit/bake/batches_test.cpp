@@ -49,5 +49,28 @@ TEST(BakeBatches, CostBalanceEqualisesWork) {
   EXPECT_EQ(st[0].end - st[0].begin, 481);  // 1924 / 4
 }
 
+// Lookup hits weigh in: 1000 vertices of 10 colours each, the first half hitting view-dependent
+// surfaces with every ray, so 4 ranks cut at equal colours + kLookupHitCost x hits, not at equal
+// colours.
+TEST(BakeBatches, LookupHitsShiftTheCuts) {
+  const BakeSceneHost s = scene_with(1000, 0, 10);
+  std::vector<float> hits(1000, 0.f);
+  for (int v = 0; v < 500; ++v) hits[v] = 10.f;
+  const std::vector<double> cost = lookup_hit_cost(s, hits);
+  EXPECT_DOUBLE_EQ(cost[0], 10.0 + 10.0 * kLookupHitCost);
+  EXPECT_DOUBLE_EQ(cost[999], 10.0);
+  const auto b = make_batches(s, 4, Balance::kCost, 0, cost);
+  expect_tiling(b, 1000, 4);
+  ASSERT_EQ(b.size(), 4u);
+  double total = 0;
+  for (double c : cost) total += c;
+  for (const Batch& x : b) {
+    double part = 0;
+    for (std::int64_t v = x.begin; v < x.end; ++v) part += cost[v];
+    EXPECT_NEAR(part / total, 0.25, 0.01);
+  }
+  EXPECT_LT(b[2].end, 500);  // three of the four ranks share the expensive half
+}
+
 }  // namespace
 }  // namespace rtmini::bake
