@@ -196,14 +196,15 @@ int run_render_mode(Communicator& comm, RenderOptions o, const CLI::App& app) {
                   {"viewpoints", map.viewpoints},
                   {"view_dependent_vertices", map.view_dependent_vertices},
                   {"colors", map.colors.size()}};
-  // Only rank 0 renders: the map and its BVH, the image (linear floats) and its output copy.
+  // Only rank 0 renders: the map and its BVH, the image (linear floats), its 8-bit output rows
+  // and, from a device, its host copy.
   MemoryNeed need;
   if (root) {
     const double pixels = static_cast<double>(p.width) * p.height;
     need.views = static_cast<double>(map.colors.size()) * sizeof(Vec3f) +
                  device_mesh_bytes(map.mesh.triangle_count(), map.mesh.positions.size()) +
                  pixels * sizeof(Vec3f);
-    need.host = pixels * (2 * sizeof(Vec3f) + 4);
+    need.host = pixels * (4 + (compat::kDeviceMemory ? sizeof(Vec3f) : 0));
   }
   const MemoryPeak peak = require_memory(comm, need, o.max_memory);
   report.scene["memory_estimate_bytes"] = comm.max(peak.host + peak.device);
