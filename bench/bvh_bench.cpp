@@ -18,6 +18,7 @@
 #include "rtmini/report/app_main.hpp"
 #include "rtmini/report/common_options.hpp"
 #include "rtmini/report/hash.hpp"
+#include "rtmini/report/memory_check.hpp"
 #include "rtmini/report/rank_timings.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/report/version.hpp"
@@ -310,10 +311,28 @@ void print_wide_layout(const bvh::Bvh<Mem>& accel) {
               leaves, double(tris) / std::max<std::size_t>(1, leaves), bytes / (1 << 20));
 }
 
-int run(const Options& o, RunReport& report) {
+// What the benchmark allocates after loading the mesh (report/memory_check.hpp): the uploaded
+// mesh and BVH, the two timed rebuilds (LBVH and SAH) alive at once, the rays and their results
+// (secondary workloads keep their primary rays), the peer's host copy of the rays.
+MemoryNeed bench_memory_need(const Mesh& mesh, const Options& o) {
+  const std::size_t nt = mesh.triangle_count();
+  const double rays = o.workload == "ao" ? static_cast<double>(nt) * o.samples_per_face * o.rays
+                                         : static_cast<double>(o.width) * o.height;
+  const bool secondary = o.workload == "shadow" || o.workload == "diffuse";
+  MemoryNeed need;
+  need.views = device_mesh_bytes(nt, mesh.positions.size()) + 2 * bvh_bytes(nt) +
+               rays * ((secondary ? 2 : 1) * sizeof(Ray) + sizeof(int)) +
+               (o.workload == "ao" ? static_cast<double>(nt) * sizeof(Real) : 0.0);
+  if (!o.peer.empty()) need.host = rays * (sizeof(Ray) + sizeof(int));
+  return need;
+}
+
+int run(const Options& o, RunReport& report, const Communicator& comm, std::int64_t limit) {
   report.timer.start("load");
   const Mesh mesh = load_mesh(o.mesh);
   report.timer.stop();
+  const MemoryPeak peak = require_memory(comm, bench_memory_need(mesh, o), limit);
+  report.scene["memory_estimate_bytes"] = comm.max(peak.host + peak.device);
   bvh::BuildQuality quality;
   if (o.quality == "lbvh")
     quality = bvh::BuildQuality::kLbvh;
@@ -560,7 +579,7 @@ int bench_main(Communicator& comm, int argc, char** argv) {
   report.app = "rtmini-bvh-bench";
   report.parameters = {{"mesh", o.mesh},       {"workload", o.workload}, {"quality", o.quality},
                        {"repeats", o.repeats}, {"camera", o.camera},     {"seed", o.seed}};
-  const int code = run(o, report);
+  const int code = run(o, report, comm, common.memory_limit());
   // Phases only: the program has no dispatch loop of its own to record.
   if (!common.timings.empty())
     write_rank_timings(common.timings, comm, report.timer, RankTimings{},

@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <array>
 #include <cmath>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <string>
@@ -16,6 +17,7 @@
 #include "rtmini/report/app_main.hpp"
 #include "rtmini/report/common_options.hpp"
 #include "rtmini/report/hash.hpp"
+#include "rtmini/report/memory_check.hpp"
 #include "rtmini/report/rank_timings.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/scene/primitives.hpp"
@@ -236,8 +238,18 @@ int gen_inputs(Communicator& comm, int argc, char** argv) {
       ->check(CLI::Range(1e-6, 6.283));
   app.require_subcommand(1);
   if (const auto done = parse_command_line(app, argc, argv, common, comm.is_root())) return *done;
+  // The generated meshes are small but for those read from a file: its text, the OBJ reader's
+  // arrays, the Mesh and the .bs text written take about 6 times the file's size (measured on
+  // the bunny, results/reliability/memory_estimates.md).
+  MemoryNeed need;
+  if (!scene.empty()) {
+    std::ifstream in(scene, std::ios::binary | std::ios::ate);
+    if (in) need.host = 6.0 * static_cast<double>(in.tellg());
+  }
+  const MemoryPeak peak = require_memory(comm, need, common.memory_limit());
   RunReport report;
   report.app = "rtmini-gen-inputs";
+  report.scene["memory_estimate_bytes"] = comm.max(peak.host + peak.device);
   report.timer.start("generate");
   Mesh m;
   if (*cube) m = make_cube();

@@ -24,7 +24,7 @@ struct BakeConfig {
   Lookup lookup = Lookup::kKdTree;
   Balance balance = Balance::kCost;
   std::int64_t batch_size = 0;  // 0 = vertices / ranks, rounded up
-  std::int64_t max_memory = 0;  // bytes per rank; 0 = no limit
+  std::int64_t max_memory = 0;  // --max-memory (report/memory_check.hpp): 0 = the machine's
   double time_limit_minutes = 0;
   Vec3f background{0.f, 0.f, 0.f};
   bool sah = false;

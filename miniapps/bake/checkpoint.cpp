@@ -17,16 +17,19 @@ void write_checkpoint(const std::string& path, const Checkpoint& cp) {
   f.set_attribute("/", "app", "bake");
   f.set_attribute("/", "iteration", static_cast<std::int64_t>(cp.iteration));
   f.set_attribute("/", "parameter_hash", cp.parameter_hash);
+  f.set_attribute("/", "inputs", cp.inputs);
   f.set_attribute("/", "vertices", cp.vertices);
   f.set_attribute("/", "viewpoints", static_cast<std::int64_t>(cp.viewpoints));
   f.commit();
 }
 
 Checkpoint read_checkpoint(const std::string& path, const std::string& expected_hash,
-                           std::int64_t expected_colors) {
+                           const std::vector<InputFileHash>& inputs, std::int64_t expected_colors) {
   Hdf5File f = Hdf5File::open(path);
   if (!f.exists("/colors")) throw InputError(path, 0, "not a bake checkpoint (no /colors)");
   Checkpoint cp;
+  cp.inputs = f.string_attribute("/", "inputs");
+  verify_input_hashes(path, cp.inputs, inputs);
   cp.parameter_hash = f.string_attribute("/", "parameter_hash");
   if (cp.parameter_hash != expected_hash)
     throw InputError(path, 0,

@@ -19,10 +19,13 @@
 #include "map_errors.hpp"
 #include "map_exchange.hpp"
 #include "rtmini/bvh/build_lbvh.hpp"
+#include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/input_files.hpp"
 #include "rtmini/io/obj_reader.hpp"
 #include "rtmini/io/timings.hpp"
 #include "rtmini/report/hash.hpp"
+#include "rtmini/report/memory_check.hpp"
 #include "rtmini/report/progress.hpp"
 #include "rtmini/report/rank_timings.hpp"
 #include "rtmini/report/run_report.hpp"
@@ -53,17 +56,16 @@ std::string human_bytes(double b) {
   return buf;
 }
 
-// Everything that changes the colours: the input's bytes and the physics parameters (not K,
-// so a finished run can be extended; not the lookup or BVH kind, which give the same result).
+// Every parameter that changes the colours (not K, so a finished run can be extended; not the
+// lookup or BVH kind, which give the same result). The inputs' content is compared file by
+// file (io/input_files.hpp), so that a refusal can name the file that changed.
 std::string parameter_hash(const BakeConfig& c) {
-  std::ifstream in(c.input, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::ostringstream p;
-  p << "bake-map-v1 N=" << c.viewpoints << " S=" << c.shadow_samples << " M=" << c.gather_rays
+  p << "bake-map-v2 N=" << c.viewpoints << " S=" << c.shadow_samples << " M=" << c.gather_rays
     << " seed=" << c.seed << " bg=" << c.background.x << "," << c.background.y << ","
     << c.background.z << " real=" << sizeof(Real) << (c.trace_reference ? " traced" : "");
   const std::string params = p.str();
-  return hash_hex(fnv1a(params.data(), params.size(), fnv1a(bytes.data(), bytes.size())));
+  return hash_hex(fnv1a(params.data(), params.size()));
 }
 
 // local_colors: the colours this rank's map holds (owned + halo; the halo is known only after
@@ -79,7 +81,9 @@ MemoryEstimate estimate_memory(const Mesh& mesh, const BakeSceneHost& s, std::in
             static_cast<std::int64_t>(c.viewpoints) * (vec * 2 + 8);
   m.maps = 2 * local_colors * col;                   // prev + next on the device
   m.host = local_colors * col + 2 * my_items * col;  // local map, exchange buffers
-  m.host += my_vertices * c.viewpoints * 60;         // formatted output text
+  // Formatted output text (~60 bytes a colour), at its peak held twice over in part: the
+  // per-task pieces, grown by appending, and the joined copy (bakeshop_mpi_writer.cpp).
+  m.host += my_vertices * c.viewpoints * 90;
   // The root holds the whole map once for a checkpoint or a comparison.
   if (root && (!c.checkpoint.empty() || !c.reference.empty())) m.host += s.colors() * col;
   if (!c.reference.empty()) m.host += nv * c.viewpoints * col;  // the reference's colours
@@ -292,7 +296,8 @@ class BakeRun {
   void plan();
   nlohmann::json parameters() const;
   void print_banner(const MemoryEstimate& mem, double max_mem) const;
-  bool check_memory();
+  void check_outputs() const;
+  void check_memory();
   void setup();
   void plan_map();
   void trace_halo(std::vector<char>& present);
@@ -333,6 +338,7 @@ class BakeRun {
   std::int64_t my_items_ = 0, my_vertices_ = 0;
   nlohmann::json params_;
   std::string phash_;
+  std::vector<InputFileHash> inputs_;  // content of the scene's files, when checkpointing
   Checkpoint restart_cp_;
   ReferenceMap reference_;
 
@@ -359,6 +365,9 @@ class BakeRun {
 void BakeRun::read() {
   timer_.start("read");
   mesh_ = read_mesh(c_.input);
+  // Hashed as read, for the checkpoint to remember and the restart to compare.
+  if (!c_.checkpoint.empty() || !c_.restart.empty())
+    inputs_ = hash_input_files(mesh_files(c_.input));
   timer_.stop();
   if (mesh_.positions.empty() || mesh_.faces.empty())
     throw InputError(c_.input, 0, "the scene has no vertices or no faces");
@@ -465,7 +474,8 @@ void BakeRun::print_banner(const MemoryEstimate& mem, double max_mem) const {
                 c_.iterations);
   if (host_.lights.empty()) std::printf("  note: no emissive faces: no shadow rays\n");
   std::printf(
-      "  memory estimate (max over ranks): %s (scene %s, maps %s, hit cache %s, host %s)%s\n",
+      "  memory estimate (max over ranks): %s peak resident (scene %s, maps %s, hit cache %s, "
+      "host %s)%s\n",
       human_bytes(max_mem).c_str(), human_bytes(double(mem.scene)).c_str(),
       human_bytes(double(mem.maps)).c_str(), human_bytes(double(mem.hit_cache)).c_str(),
       human_bytes(double(mem.host)).c_str(),
@@ -473,20 +483,28 @@ void BakeRun::print_banner(const MemoryEstimate& mem, double max_mem) const {
   std::fflush(stdout);
 }
 
-// Prints the banner and refuses a run over --max-memory (false: exit 3).
-bool BakeRun::check_memory() {
+// Every place this run will write, before anything is computed (IoError: exit 3); sizes: the
+// text map (~60 bytes a colour; the binary form is smaller) and the checkpoint's colours.
+void BakeRun::check_outputs() const {
+  const double colors = static_cast<double>(host_.colors());
+  check_output_places({{c_.output, colors * 60},
+                       {c_.checkpoint, colors * sizeof(Vec3f)},
+                       {c_.summary, 0},
+                       {c_.timings, 0}});
+}
+
+// Prints the banner and refuses (IoError on every rank: exit 3) a run that would not fit.
+void BakeRun::check_memory() {
   const std::int64_t local = halo_ == Halo::kAll ? host_.colors() : my_items_;
   const MemoryEstimate mem =
       estimate_memory(mesh_, host_, my_items_, my_vertices_, local, iterations_, c_, root_);
-  const double max_mem = comm_.max(static_cast<double>(mem.total()));
-  if (root_) print_banner(mem, max_mem);
-  if (c_.max_memory > 0 && max_mem > static_cast<double>(c_.max_memory)) {
-    if (root_)
-      std::cerr << "bake: estimated memory " << human_bytes(max_mem) << " exceeds --max-memory "
-                << human_bytes(double(c_.max_memory)) << "; use more ranks or fewer viewpoints\n";
-    return false;
-  }
-  return true;
+  const MemoryNeed need{static_cast<double>(mem.host),
+                        static_cast<double>(mem.scene + mem.maps + mem.hit_cache)};
+  const MemoryPeak peak = expected_peak(need);
+  const double max_peak = comm_.max(peak.host + peak.device);
+  report_.scene["memory_estimate_bytes"] = max_peak;
+  if (root_) print_banner(mem, max_peak);
+  require_memory(comm_, need, c_.max_memory);
 }
 
 // Validates the restart and the reference (every rank, so all agree on a bad one: exit 2)
@@ -494,7 +512,7 @@ bool BakeRun::check_memory() {
 void BakeRun::setup() {
   phash_ = parameter_hash(c_);
   if (!c_.restart.empty()) {
-    restart_cp_ = read_checkpoint(c_.restart, phash_, host_.colors());
+    restart_cp_ = read_checkpoint(c_.restart, phash_, inputs_, host_.colors());
     if (restart_cp_.iteration > iterations_)
       throw InputError(c_.restart, 0,
                        "checkpoint is at iteration " + std::to_string(restart_cp_.iteration) +
@@ -694,6 +712,7 @@ void BakeRun::checkpoint(int it) {
     Checkpoint cp;
     cp.iteration = it;
     cp.parameter_hash = phash_;
+    cp.inputs = format_input_hashes(inputs_);
     cp.vertices = host_.vertices();
     cp.viewpoints = c_.viewpoints;
     cp.colors = std::move(colors);
@@ -832,7 +851,8 @@ int BakeRun::run() {
   read();
   timer_.start("setup");
   plan();
-  if (!check_memory()) return kExitResource;
+  check_outputs();
+  check_memory();
   setup();
   timer_.stop();
   bake_base();

@@ -51,7 +51,7 @@ std::string default_output(const std::string& input) {
 // The map bake's options and the values that need converting after parsing.
 struct MapCli {
   std::string lookup = "kdtree", balance = "cost", bvh_kind = "lbvh", mode = "map";
-  std::string max_memory, background;
+  std::string background;
   bool no_cache = false;
   void add_to(CLI::App& app, BakeConfig& c);
   void finish(BakeConfig& c) const;
@@ -80,7 +80,6 @@ void MapCli::add_to(CLI::App& app, BakeConfig& c) {
                  "batch cuts: cost (equal work), static (equal vertex counts) or spatial "
                  "(blocks in Morton order, equal work per rank)");
   app.add_option("--batch-size", c.batch_size, "vertices per batch (0 = vertices/ranks)");
-  app.add_option("--max-memory", max_memory, "refuse runs estimated above this (e.g. 2G)");
   app.add_option("--time-limit", c.time_limit_minutes,
                  "minutes; checkpoint and exit 4 if the next iteration would not fit (0 = none)");
   app.add_option("--background", background, "colour of rays that leave the scene, r,g,b");
@@ -138,7 +137,6 @@ void MapCli::finish(BakeConfig& c) const {
                        std::to_string(kMaxReferenceIterations) + " (up to 3^K rays per colour)");
     c.cache_hits = false;
   }
-  if (!max_memory.empty()) c.max_memory = parse_byte_size("--max-memory", max_memory);
   if (!background.empty()) c.background = parse_color(background);
   if (c.output.empty()) c.output = default_output(c.input);
 }
@@ -202,6 +200,7 @@ int run(Communicator& comm, int argc, char** argv) {
     ao_options.summary = common.summary;
     ao_options.timings = common.timings;
     ao_options.progress = progress;
+    ao_options.max_memory = common.memory_limit();
     return run_ao_mode(comm, ao_options);
   }
   if (*render_app) {
@@ -209,12 +208,14 @@ int run(Communicator& comm, int argc, char** argv) {
     render_options.summary = common.summary;
     render_options.timings = common.timings;
     render_options.progress = progress;
+    render_options.max_memory = common.memory_limit();
     return run_render_mode(comm, render_options, *render_app);
 #else
     throw InputError("`bake render` is not part of this build (miniapps/bake/render missing)");
 #endif
   }
   map.finish(config);
+  config.max_memory = common.memory_limit();
   config.summary = common.summary;
   config.timings = common.timings;
   config.progress = progress;

@@ -11,6 +11,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
   Hdf5File f = Hdf5File::create(path);
   f.set_attribute("/", "app", "sketchtrace");
   f.set_attribute("/", "signature", c.signature);
+  f.set_attribute("/", "inputs", c.inputs);
   f.set_attribute("/", "width", static_cast<std::int64_t>(c.width));
   f.set_attribute("/", "height", static_cast<std::int64_t>(c.height));
   f.set_attribute("/", "pixel_bytes", static_cast<std::int64_t>(sizeof(PixelResult)));
@@ -30,6 +31,7 @@ Checkpoint read_checkpoint(const std::string& path) {
     if (f.int_attribute("/", "pixel_bytes") != static_cast<std::int64_t>(sizeof(PixelResult)))
       throw InputError(path + ": checkpoint from an incompatible build");
     c.signature = f.string_attribute("/", "signature");
+    c.inputs = f.string_attribute("/", "inputs");
     c.width = static_cast<int>(f.int_attribute("/", "width"));
     c.height = static_cast<int>(f.int_attribute("/", "height"));
     c.done = f.read<std::uint8_t>("/pixels/done");

@@ -61,8 +61,6 @@ void CliOverrides::add_to(CLI::App& app, RunOptions& run) {
   app.add_flag("--stats", stats_, "Count ray-triangle tests per ray (vs brute force)");
   // Testing and measurement: the kernel with every feature branch, whatever the scene uses.
   app.add_flag("--general-kernel", general_kernel_)->group("");
-  app.add_option("--max-memory", max_memory_,
-                 "Refuse runs estimated above this many bytes per rank (e.g. 2G, 512M)");
   app.add_option("--checkpoint", run.checkpoint, "Write progress to this HDF5 file");
   app.add_option("--checkpoint-interval", run.checkpoint_interval, "Seconds between checkpoints");
   app.add_option("--restart", run.restart, "Resume from this checkpoint");
@@ -130,10 +128,6 @@ void CliOverrides::apply(RenderSettings& s) const {
   }
   if (stats_) s.stats = true;
   if (general_kernel_) s.general_kernel = true;
-}
-
-std::int64_t CliOverrides::max_memory() const {
-  return given("--max-memory") ? parse_byte_size("--max-memory", max_memory_) : 0;
 }
 
 void CliOverrides::apply_camera(RenderSettings& s) const {

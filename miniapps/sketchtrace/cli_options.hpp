@@ -23,7 +23,7 @@ struct RunOptions {
   bool comm_thread = true;      // bargain/steal: answer peers from a thread while rendering
   std::string reference;        // compare the colour image with this image (linear RMSE)
   double max_rmse = -1.0;       // exit 1 when the RMSE exceeds this (when >= 0)
-  std::int64_t max_memory = 0;  // bytes; refuse runs estimated above this (0 = no limit)
+  std::int64_t max_memory = 0;  // --max-memory (report/memory_check.hpp): 0 = the machine's
 };
 
 class CliOverrides {
@@ -35,8 +35,6 @@ class CliOverrides {
   void apply(RenderSettings& s) const;
   // Applies the camera options (after the scene's default camera is known).
   void apply_camera(RenderSettings& s) const;
-  // --max-memory in bytes (0 when not given).
-  std::int64_t max_memory() const;
 
  private:
   CLI::App* app_ = nullptr;
@@ -49,7 +47,6 @@ class CliOverrides {
   std::uint64_t seed_ = 0;
   bool stats_ = false;
   bool general_kernel_ = false;
-  std::string max_memory_;
 
   bool given(const char* name) const;
 };

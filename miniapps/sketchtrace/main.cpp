@@ -27,13 +27,18 @@
 #include "render_scene.hpp"
 #include "renderer.hpp"
 #include "result_sink.hpp"
+#include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/input_files.hpp"
+#include "rtmini/io/obj_reader.hpp"
 #include "rtmini/io/path.hpp"
+#include "rtmini/io/scene_file.hpp"
 #include "rtmini/io/timings.hpp"
 #include "rtmini/report/app_main.hpp"
 #include "rtmini/report/common_options.hpp"
 #include "rtmini/report/hash.hpp"
 #include "rtmini/report/image_metrics.hpp"
+#include "rtmini/report/memory_check.hpp"
 #include "rtmini/report/progress.hpp"
 #include "rtmini/report/rank_timings.hpp"
 #include "rtmini/report/run_report.hpp"
@@ -168,6 +173,8 @@ struct RunState {
   std::vector<std::uint8_t> done;         // rank 0: per-pixel done mask
   std::vector<PixelResult> frame_pixels;  // rank 0: the whole image
   std::string signature;                  // what a checkpoint must match
+  std::vector<InputFileHash> inputs;      // content of every file the scene was read from
+  double peak_bytes = 0;                  // expected peak resident bytes, max over ranks
   std::unique_ptr<PixelOrder> order;
   std::int64_t batch = 0;  // pixels per dispatch
   CostMap cost;
@@ -196,9 +203,14 @@ void read_inputs(RunState& r, const CliOverrides& cli) {
     throw InputError(opt.input + ": cannot open the input");
   }
   cli.apply(r.s);
-  opt.max_memory = cli.max_memory();
   validate_settings(r.s, "command line");
   if (!opt.output.empty()) check_output_path(opt.output);
+  // Every place the run will write, before anything is read or computed (IoError: exit 3).
+  const double pixels = static_cast<double>(r.s.width) * r.s.height;
+  check_output_places({{opt.output, pixels * 3},
+                       {opt.checkpoint, pixels * (sizeof(PixelResult) + 1)},
+                       {opt.summary, 0},
+                       {opt.timings, 0}});
 #ifndef RTMINI_SKETCH_HAVE_NPR
   if (r.s.style != "none")
     throw InputError("--style " + r.s.style + ": this build has no hand-drawn passes");
@@ -209,6 +221,15 @@ void read_inputs(RunState& r, const CliOverrides& cli) {
                      std::to_string(opt.time_limit_minutes) + ")");
   if (!(opt.checkpoint_interval > 0)) throw InputError("--checkpoint-interval must be > 0 seconds");
   r.scene = std::make_unique<HostScene>(build_scene(opt.input, desc.get(), r.s));
+  // Hashed as read, for the checkpoint to remember and the restart to compare.
+  if (!opt.checkpoint.empty() || !opt.restart.empty()) {
+    std::vector<std::string> files =
+        desc ? std::vector<std::string>{opt.input} : mesh_files(opt.input);
+    if (desc)
+      for (const MeshDesc& m : desc->meshes)
+        for (std::string& f : mesh_files(m.file)) files.push_back(std::move(f));
+    r.inputs = hash_input_files(files);
+  }
   cli.apply_camera(r.s);
   validate_settings(r.s, "command line");
   r.report.timer.stop();
@@ -228,43 +249,53 @@ void upload_scene(RunState& r) {
                     {"materials", r.scene->mesh.materials.size()},
                     {"quad_lights", ds.num_quads},
                     {"mesh_lights", ds.num_mesh_lights},
-                    {"point_lights", ds.num_points}};
+                    {"point_lights", ds.num_points},
+                    {"memory_estimate_bytes", r.peak_bytes}};
 }
 
-// The banner and the memory estimate; false (every rank alike) when over --max-memory.
-bool memory_fits(const RunState& r) {
-  const DeviceScene& ds = r.renderer->scene();
-  // Rank 0 holds the scene and the whole frame (pixel results, output planes, the
-  // done flags); other ranks only the scene, so rank 0's total is the maximum.
-  const double frame_bytes =
-      static_cast<double>(r.pixels_total()) * (sizeof(PixelResult) + 11 * sizeof(float) + 1);
-  const double peak_bytes = static_cast<double>(ds.bytes) + frame_bytes;
-  if (r.root()) {
-    std::printf("%s\n", build_banner().c_str());
-    std::printf("sketchtrace: input %s, output %s\n", r.opt.input.c_str(),
-                r.opt.output.empty() ? "(none)" : r.opt.output.c_str());
-    std::printf("  parameters: %s\n", r.report.parameters.dump().c_str());
-    std::printf("  scene: %s\n", r.report.scene.dump().c_str());
-    std::printf("  kernel features: %s%s, ranks %d, threads per rank %d\n",
-                feature_names(r.renderer->features()).c_str(),
-                r.s.general_kernel ? " (forced general kernel)" : "", r.comm.size(),
-                compat::concurrency());
-    std::printf(
-        "  memory estimate (max over ranks): %.1f MiB (scene %.1f MiB per rank, frame %.1f MiB on "
-        "rank 0)\n",
-        peak_bytes / 1048576.0, static_cast<double>(ds.bytes) / 1048576.0, frame_bytes / 1048576.0);
-    std::fflush(stdout);
-  }
-  // Every rank computes the same estimate, so all refuse together (exit 3, as bake does).
-  if (r.opt.max_memory > 0 && peak_bytes > static_cast<double>(r.opt.max_memory)) {
-    if (r.root())
-      std::fprintf(stderr,
-                   "sketchtrace: estimated memory %.1f MiB exceeds --max-memory %.1f MiB; lower "
-                   "the resolution\n",
-                   peak_bytes / 1048576.0, static_cast<double>(r.opt.max_memory) / 1048576.0);
-    return false;
-  }
-  return true;
+// What the run will allocate from here on (report/memory_check.hpp), from the host scene and
+// the frame size, before anything is uploaded. Rank 0 holds the whole frame (pixel results,
+// output planes, done flags); every rank the device scene and one dispatch's buffers.
+MemoryNeed memory_need(const RunState& r) {
+  const double nt = static_cast<double>(r.scene->mesh.triangle_count());
+  const double nv = static_cast<double>(r.scene->mesh.positions.size());
+  const double pixels = static_cast<double>(r.pixels_total());
+  const double dispatch = static_cast<double>(
+      dispatch_pixels(r.s, static_cast<std::int64_t>(r.pixels_total()), r.comm.size()));
+  MemoryNeed need;
+  need.views = device_mesh_bytes(r.scene->mesh.triangle_count(), r.scene->mesh.positions.size()) +
+               nv * sizeof(Vec3) + dispatch * (sizeof(std::int64_t) + sizeof(PixelResult));
+  // Upload's host side (triangle list, normals in double) and one dispatch's results.
+  need.host = nt * 4 * sizeof(int) + nv * (sizeof(Vec3d) + sizeof(Vec3)) +
+              dispatch * (sizeof(std::int64_t) + sizeof(PixelResult));
+  if (r.root()) need.host += pixels * (sizeof(PixelResult) + 11 * sizeof(float) + 1);
+  return need;
+}
+
+// Refuses, on every rank alike (IoError: exit 3), a run that would not fit; keeps the peak
+// expected for the banner.
+void check_memory(RunState& r) {
+  const MemoryNeed need = memory_need(r);
+  const MemoryPeak peak = expected_peak(need);
+  r.peak_bytes = r.comm.max(peak.host + peak.device);
+  require_memory(r.comm, need, r.opt.max_memory);
+}
+
+// The banner, with the memory estimate.
+void print_banner(const RunState& r) {
+  if (!r.root()) return;
+  std::printf("%s\n", build_banner().c_str());
+  std::printf("sketchtrace: input %s, output %s\n", r.opt.input.c_str(),
+              r.opt.output.empty() ? "(none)" : r.opt.output.c_str());
+  std::printf("  parameters: %s\n", r.report.parameters.dump().c_str());
+  std::printf("  scene: %s\n", r.report.scene.dump().c_str());
+  std::printf("  kernel features: %s%s, ranks %d, threads per rank %d\n",
+              feature_names(r.renderer->features()).c_str(),
+              r.s.general_kernel ? " (forced general kernel)" : "", r.comm.size(),
+              compat::concurrency());
+  std::printf("  memory estimate (max over ranks): %.1f MiB peak resident\n",
+              r.peak_bytes / 1048576.0);
+  std::fflush(stdout);
 }
 
 // Restart: rank 0 reads the finished pixels, every rank learns which to skip.
@@ -277,6 +308,7 @@ void read_restart(RunState& r) {
   if (r.opt.restart.empty()) return;
   if (r.root()) {
     Checkpoint c = read_checkpoint(r.opt.restart);
+    verify_input_hashes(r.opt.restart, c.inputs, r.inputs);
     if (c.width != r.s.width || c.height != r.s.height || c.signature != r.signature)
       throw InputError(r.opt.restart +
                        ": checkpoint was written with different parameters or scene");
@@ -423,7 +455,8 @@ void gather(RunState& r, Scheduler& scheduler, ResultSink& sink, TraceResult& t)
 
 void save_checkpoint(RunState& r) {
   r.report.timer.start("checkpoint");
-  write_checkpoint(r.opt.checkpoint, {r.s.width, r.s.height, r.signature, r.done, r.frame_pixels});
+  write_checkpoint(r.opt.checkpoint, {r.s.width, r.s.height, r.signature,
+                                      format_input_hashes(r.inputs), r.done, r.frame_pixels});
   r.report.timer.stop();
 }
 
@@ -624,14 +657,16 @@ int run(Communicator& comm, int argc, char** argv) {
   opt.summary = common.summary;
   opt.timings = common.timings;
   opt.progress = progress_wanted(common);
+  opt.max_memory = common.memory_limit();
 
   RunState r(comm);  // its report's clock starts here, after Kokkos, as before the split
   r.opt = opt;
   r.report.app = "sketchtrace";
 
   read_inputs(r, cli);
+  check_memory(r);
   upload_scene(r);
-  if (!memory_fits(r)) return kExitResource;
+  print_banner(r);
   plan(r);
   const TraceResult t = trace(r);
   report_rates(r, t);

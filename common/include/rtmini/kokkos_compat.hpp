@@ -113,6 +113,32 @@ inline int concurrency() {
 #endif
 }
 
+// Whether the default memory space is separate device memory (then a run's Views count
+// against the device, not the host).
+inline constexpr bool kDeviceMemory =
+    !Kokkos::SpaceAccessibility<Kokkos::HostSpace,
+                                Kokkos::DefaultExecutionSpace::memory_space>::accessible;
+
+// Free bytes of this rank's device, and the number of devices on the node; -1 where the
+// build has no device runtime to ask (host backends: the host check covers everything).
+struct DeviceMemoryInfo {
+  double free_bytes = -1;
+  int devices = 0;
+};
+inline DeviceMemoryInfo device_memory_info() {
+  DeviceMemoryInfo info;
+#ifdef KOKKOS_ENABLE_CUDA
+  std::size_t free_bytes = 0, total_bytes = 0;
+  int devices = 0;
+  if (cudaMemGetInfo(&free_bytes, &total_bytes) == cudaSuccess &&
+      cudaGetDeviceCount(&devices) == cudaSuccess) {
+    info.free_bytes = static_cast<double>(free_bytes);
+    info.devices = devices;
+  }
+#endif
+  return info;
+}
+
 // Starts Kokkos from the program's own settings, never from argv (see
 // report/common_options.hpp). Both versions still read KOKKOS_* environment variables.
 // threads <= 0 leaves the host thread count to OMP_NUM_THREADS or the core count.

@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -49,6 +50,30 @@ void check_replaceable(const std::string& path) {
   if (::stat(path.c_str(), &st) != 0) return;  // absent (or unreachable: creating it will say)
   if (!S_ISREG(st.st_mode))
     throw IoError(path + ": refusing to replace something that is not a regular file");
+}
+
+void check_output_place(const std::string& path, double expected_bytes) {
+  const std::string dir = directory_of(path);
+  struct stat st {};
+  if (::stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
+    throw IoError(path + ": cannot write here: the directory " + dir + " does not exist");
+  if (::access(dir.c_str(), W_OK | X_OK) != 0)
+    throw IoError(path + ": cannot write here: the directory " + dir + " is not writable (" +
+                  std::strerror(errno) + ")");
+  check_replaceable(path);
+  struct statvfs fs {};
+  if (expected_bytes > 0 && ::statvfs(dir.c_str(), &fs) == 0) {
+    const double free_bytes = static_cast<double>(fs.f_bavail) * static_cast<double>(fs.f_frsize);
+    if (free_bytes < expected_bytes)
+      throw IoError(path + ": needs ~" + std::to_string(static_cast<long long>(expected_bytes)) +
+                    " bytes, " + std::to_string(static_cast<long long>(free_bytes)) +
+                    " free on its filesystem");
+  }
+}
+
+void check_output_places(const std::vector<std::pair<std::string, double>>& outputs) {
+  for (const auto& [path, bytes] : outputs)
+    if (!path.empty()) check_output_place(path, bytes);
 }
 
 // Removes PATH.tmp.<pid> files left by runs that died before their rename. Only when the pid

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <mutex>
 
 #include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/error.hpp"
@@ -57,20 +58,6 @@ class Handle {
   hid_t id_;
 };
 
-// Suppresses HDF5's error-stack printing: failures become exceptions instead.
-class QuietErrors {
- public:
-  QuietErrors() {
-    H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~QuietErrors() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
-
- private:
-  H5E_auto2_t func_ = nullptr;
-  void* data_ = nullptr;
-};
-
 [[noreturn]] void fail(const std::string& file, const std::string& what) {
   throw IoError(file + ": HDF5 " + what);
 }
@@ -85,6 +72,8 @@ constexpr std::uint64_t kMaxDatasetBytes = std::uint64_t(1) << 36;  // 64 GiB
 constexpr std::size_t kMaxAttributeChars = std::size_t(1) << 20;
 // The attribute holding a dataset's checksum (XXH64 of its bytes, seed 0).
 constexpr const char* kChecksumAttribute = "xxh64";
+// The companion dataset of a slab-written dataset: (offset, count, XXH64) rows.
+constexpr const char* kSlabTableSuffix = ".xxh64_slabs";
 
 std::int64_t checksum_of(const void* data, std::size_t bytes) {
   return static_cast<std::int64_t>(XXH64(data, bytes, 0));
@@ -190,7 +179,7 @@ hid_t transfer_plist(bool parallel) {
 }  // namespace
 
 Hdf5File Hdf5File::create(const std::string& path) {
-  QuietErrors quiet;
+  quiet_hdf5_errors();
   Hdf5File f;
   f.path_ = path;
   check_replaceable(path);
@@ -204,7 +193,7 @@ Hdf5File Hdf5File::create(const std::string& path) {
 #ifdef RTMINI_HAVE_MPI
 Hdf5File Hdf5File::create(const std::string& path, MPI_Comm comm) {
 #ifdef RTMINI_HAVE_PARALLEL_HDF5
-  QuietErrors quiet;
+  quiet_hdf5_errors();
   Hdf5File f;
   f.path_ = path;
   f.parallel_ = true;
@@ -227,7 +216,7 @@ Hdf5File Hdf5File::create(const std::string& path, MPI_Comm comm) {
 #endif
 
 Hdf5File Hdf5File::open(const std::string& path) {
-  QuietErrors quiet;
+  quiet_hdf5_errors();
   Hdf5File f;
   f.path_ = path;
   verify_trailer(path);
@@ -267,6 +256,7 @@ void Hdf5File::close() noexcept {
 
 void Hdf5File::commit() {
   if (tmp_path_.empty()) return;
+  write_slab_checksums();
   // No size to compare with (HDF5's own idea of the file size differs from the
   // closed file's): the write errors H5Fclose reports, sealing it with the trailer
   // (append_trailer reads every byte back) and the fsync are the checks.
@@ -303,7 +293,6 @@ void Hdf5File::create_group(const std::string& path) {
 }
 
 bool Hdf5File::exists(const std::string& path) const {
-  QuietErrors quiet;
   if (path == "/") return true;
   // Check each prefix: H5Lexists fails on a missing intermediate group.
   for (std::size_t pos = 1; pos <= path.size(); ++pos) {
@@ -371,17 +360,67 @@ std::size_t checked_count(hid_t dset, const std::string& file, const std::string
 
 // Datasets written whole carry a checksum: it must match what was read.
 // (Datasets assembled from slabs by several ranks have none.)
-void verify_checksum(hid_t dset, const std::string& file, const std::string& path, const void* data,
-                     std::size_t bytes) {
-  if (H5Aexists(dset, kChecksumAttribute) <= 0) return;
-  const Handle attr(H5Aopen(dset, kChecksumAttribute, H5P_DEFAULT));
-  std::int64_t stored = 0;
-  if (!attr.valid() || H5Aread(attr.get(), H5T_NATIVE_INT64, &stored) < 0 ||
-      stored != checksum_of(data, bytes))
-    corrupt(file, "checksum mismatch in '" + path + "'");
+// The slab table of `path` ("<path>.xxh64_slabs"): rows (offset, count, XXH64) that must
+// tile the dataset's `elements` exactly and match its bytes.
+void verify_slab_checksums(hid_t file, const std::string& file_path, const std::string& path,
+                           const void* data, std::size_t elements, std::size_t element_bytes);
+
+void verify_checksum(hid_t file, hid_t dset, const std::string& file_path, const std::string& path,
+                     const void* data, std::size_t elements, std::size_t element_bytes) {
+  if (H5Aexists(dset, kChecksumAttribute) > 0) {
+    const Handle attr(H5Aopen(dset, kChecksumAttribute, H5P_DEFAULT));
+    std::int64_t stored = 0;
+    if (!attr.valid() || H5Aread(attr.get(), H5T_NATIVE_INT64, &stored) < 0 ||
+        stored != checksum_of(data, elements * element_bytes))
+      corrupt(file_path, "checksum mismatch in '" + path + "'");
+    return;
+  }
+  verify_slab_checksums(file, file_path, path, data, elements, element_bytes);
+}
+
+void verify_slab_checksums(hid_t file, const std::string& file_path, const std::string& path,
+                           const void* data, std::size_t elements, std::size_t element_bytes) {
+  const std::string table_path = path + kSlabTableSuffix;
+  if (H5Lexists(file, table_path.c_str(), H5P_DEFAULT) <= 0)
+    corrupt(file_path, "no checksum for '" + path + "'");
+  const Handle table(H5Dopen2(file, table_path.c_str(), H5P_DEFAULT));
+  if (!table.valid()) corrupt(file_path, "no dataset '" + table_path + "'");
+  std::vector<std::size_t> dims;
+  std::vector<std::int64_t> rows(
+      checked_count<std::int64_t>(table.get(), file_path, table_path, &dims));
+  if (dims.size() != 2 || dims[1] != 3)
+    corrupt(file_path, "'" + table_path + "' is not a table of (offset, count, checksum)");
+  if (!rows.empty() &&
+      H5Dread(table.get(), H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows.data()) < 0)
+    corrupt(file_path, "cannot read dataset '" + table_path + "'");
+  verify_checksum(file, table.get(), file_path, table_path, rows.data(), rows.size(),
+                  sizeof(std::int64_t));
+  // The slabs, in file order, must tile [0, elements) and each match its checksum.
+  std::vector<std::array<std::int64_t, 3>> slabs(rows.size() / 3);
+  for (std::size_t i = 0; i < slabs.size(); ++i)
+    slabs[i] = {rows[3 * i], rows[3 * i + 1], rows[3 * i + 2]};
+  std::sort(slabs.begin(), slabs.end());
+  std::int64_t next = 0;
+  const char* bytes = static_cast<const char*>(data);
+  for (const auto& [offset, count, hash] : slabs) {
+    if (offset != next || count <= 0 || static_cast<std::size_t>(offset + count) > elements)
+      corrupt(file_path, "slab table of '" + path + "' does not cover the dataset");
+    if (checksum_of(bytes + static_cast<std::size_t>(offset) * element_bytes,
+                    static_cast<std::size_t>(count) * element_bytes) != hash)
+      corrupt(file_path,
+              "checksum mismatch in '" + path + "' (slab at " + std::to_string(offset) + ")");
+    next = offset + count;
+  }
+  if (static_cast<std::size_t>(next) != elements)
+    corrupt(file_path, "slab table of '" + path + "' does not cover the dataset");
 }
 
 }  // namespace
+
+void quiet_hdf5_errors() {
+  static std::once_flag once;
+  std::call_once(once, [] { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); });
+}
 
 template <class T>
 void Hdf5File::write(const std::string& path, const std::vector<T>& data) {
@@ -400,14 +439,13 @@ void Hdf5File::write(const std::string& path, const std::vector<T>& data, std::s
 
 template <class T>
 std::vector<T> Hdf5File::read(const std::string& path, std::vector<std::size_t>* dims) const {
-  QuietErrors quiet;
   const Handle dset(H5Dopen2(id_, path.c_str(), H5P_DEFAULT));
   if (!dset.valid()) corrupt(path_, "no dataset '" + path + "'");
   std::vector<T> data(checked_count<T>(dset.get(), path_, path, dims));
   if (!data.empty() &&
       H5Dread(dset.get(), native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
     corrupt(path_, "cannot read dataset '" + path + "'");
-  verify_checksum(dset.get(), path_, path, data.data(), data.size() * sizeof(T));
+  verify_checksum(id_, dset.get(), path_, path, data.data(), data.size(), sizeof(T));
   return data;
 }
 
@@ -442,6 +480,34 @@ void Hdf5File::write_slab(const std::string& path, std::size_t offset,
   if (H5Dwrite(dset.get(), native_type<T>(), mem_space.get(), file_space.get(), xfer.get(),
                local.data()) < 0)
     fail(path_, "cannot write slab of '" + path + "'");
+  if (!local.empty())
+    slabs_[path].push_back({static_cast<std::int64_t>(offset),
+                            static_cast<std::int64_t>(local.size()),
+                            checksum_of(local.data(), local.size() * sizeof(T))});
+}
+
+// Every rank's slab rows of each slab-written dataset, gathered (collective in a parallel
+// file: every rank writes the same table), as "<path>.xxh64_slabs".
+void Hdf5File::write_slab_checksums() {
+  for (auto& [path, rows] : slabs_) {
+    std::vector<std::int64_t> flat;
+    for (const auto& r : rows) flat.insert(flat.end(), r.begin(), r.end());
+#ifdef RTMINI_HAVE_MPI
+    if (parallel_) {
+      int size = 0, mine = static_cast<int>(flat.size());
+      MPI_Comm_size(comm_, &size);
+      std::vector<int> counts(static_cast<std::size_t>(size)), displs(counts.size(), 0);
+      MPI_Allgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_);
+      for (std::size_t r = 1; r < counts.size(); ++r) displs[r] = displs[r - 1] + counts[r - 1];
+      std::vector<std::int64_t> all(static_cast<std::size_t>(displs.back() + counts.back()));
+      MPI_Allgatherv(flat.data(), mine, MPI_INT64_T, all.data(), counts.data(), displs.data(),
+                     MPI_INT64_T, comm_);
+      flat = std::move(all);
+    }
+#endif
+    write(path + kSlabTableSuffix, flat, flat.size() / 3, 3);
+  }
+  slabs_.clear();
 }
 
 // Fixed-width, NUL-padded strings (width of the longest, at least 1), for the same reason as
@@ -469,7 +535,6 @@ void Hdf5File::write_strings(const std::string& path, const std::vector<std::str
 }
 
 std::vector<std::string> Hdf5File::read_strings(const std::string& path) const {
-  QuietErrors quiet;
   const Handle dset(H5Dopen2(id_, path.c_str(), H5P_DEFAULT));
   if (!dset.valid()) corrupt(path_, "no dataset '" + path + "'");
   const Handle type(H5Dget_type(dset.get()));
@@ -521,7 +586,6 @@ hid_t open_attribute(hid_t file, const std::string& file_path, const std::string
 template <class T>
 T read_scalar_attribute(hid_t file, const std::string& file_path, const std::string& object,
                         const std::string& name) {
-  QuietErrors quiet;
   const hid_t attr = open_attribute(file, file_path, object, name);
   T value{};
   const Handle type(H5Aget_type(attr));
@@ -560,7 +624,6 @@ void Hdf5File::set_attribute(const std::string& object, const std::string& name,
 }
 
 std::string Hdf5File::string_attribute(const std::string& object, const std::string& name) const {
-  QuietErrors quiet;
   const Handle attr(open_attribute(id_, path_, object, name));
   const Handle type(H5Aget_type(attr.get()));
   const Handle space(H5Aget_space(attr.get()));
@@ -604,6 +667,8 @@ Hdf5File::Hdf5File(Hdf5File&& other) noexcept : path_(std::move(other.path_)) {}
 Hdf5File& Hdf5File::operator=(Hdf5File&&) noexcept { return *this; }
 Hdf5File::~Hdf5File() = default;
 void Hdf5File::close() noexcept {}
+void quiet_hdf5_errors() {}
+void Hdf5File::write_slab_checksums() {}
 void Hdf5File::commit() { no_hdf5(path_); }
 void Hdf5File::create_group(const std::string&) { no_hdf5(path_); }
 bool Hdf5File::exists(const std::string&) const { no_hdf5(path_); }

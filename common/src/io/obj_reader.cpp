@@ -249,6 +249,15 @@ Mesh read_obj(const std::string& path) {
   return mesh;
 }
 
+std::vector<std::string> mesh_files(const std::string& path) {
+  std::vector<std::string> files{path};
+  if (lower_extension(path) != ".obj") return files;
+  ObjPrescan prescan(path);
+  prescan.run(detail::read_text_file(path));
+  files.insert(files.end(), prescan.mtl_files().begin(), prescan.mtl_files().end());
+  return files;
+}
+
 Mesh read_mesh(const std::string& path) {
   const std::string ext = lower_extension(path);
   if (ext == ".obj") return read_obj(path);

@@ -7,6 +7,7 @@
 
 #include "rtmini/io/error.hpp"
 #include "rtmini/kokkos_compat.hpp"
+#include "rtmini/report/memory_check.hpp"
 #include "rtmini/report/version.hpp"
 
 namespace rtmini {
@@ -32,6 +33,11 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
       ->group("Common");
   app.add_flag("--progress", options.progress,
                "progress with rate and ETA on stderr (default: only when stderr is a terminal)")
+      ->group("Common");
+  app.add_option("--max-memory", options.max_memory,
+                 "memory per rank the run may use (e.g. 2G, 512M, or 'unlimited'); default: "
+                 "what the node (cgroup limit, MemAvailable) and device offer, shared among the "
+                 "ranks on them")
       ->group("Common");
   app.add_flag_callback(
          "--version", [] { throw CLI::CallForVersion(); }, "print the build banner and exit")
@@ -77,6 +83,10 @@ std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv,
   }
   start_kokkos(options);
   return std::nullopt;
+}
+
+std::int64_t CommonOptions::memory_limit() const {
+  return parse_memory_limit("--max-memory", max_memory);
 }
 
 bool progress_wanted(const CommonOptions& options) {

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
         options.summary = common.summary;
         options.timings = common.timings;
         options.progress = progress_wanted(common);
+        options.max_memory = common.memory_limit();
         return run_ao_mode(comm, options);
       });
 }

@@ -7,12 +7,15 @@
 #include "ao_output.hpp"
 #include "ao_trace.hpp"
 #include "device_scene.hpp"
+#include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/report/hash.hpp"
+#include "rtmini/report/memory_check.hpp"
 #include "rtmini/report/progress.hpp"
 #include "rtmini/report/rank_timings.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/report/version.hpp"
+#include "rtmini/scene/device_mesh.hpp"
 #include "rtmini/scene/recentre.hpp"
 #include "vertex_mapping.hpp"
 
@@ -74,6 +77,22 @@ nlohmann::json parameters_json(const ao::AoOptions& o) {
           {"bvh", o.bvh}};
 }
 
+// What the AO bake allocates after the scene is read (report/memory_check.hpp): one BVH per
+// stored mesh and the sample plan on the device, a batch of rays in flight, this rank's
+// occlusion counts; rank 0 also gathers every sample and maps them onto the vertices.
+MemoryNeed ao_memory_need(const ao::SamplePlan& plan, std::int64_t stored_tris, std::int64_t batch,
+                          std::int64_t total, const Communicator& comm) {
+  const double samples = static_cast<double>(total);
+  const double share = samples / comm.size() + 1;
+  MemoryNeed need;
+  need.views = device_mesh_bytes(static_cast<std::size_t>(stored_tris), 0) +
+               static_cast<double>(plan.total_triangles()) * 52.0 +
+               static_cast<double>(std::min(batch, total)) * (24.0 + 2.0) + share * 2.0;
+  need.host = share * 2.0;
+  if (comm.is_root()) need.host += samples * (2.0 + 8.0);
+  return need;
+}
+
 }  // namespace
 
 int run_ao_mode(Communicator& comm, ao::AoOptions o) {
@@ -86,6 +105,7 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
   const ao::FitMethod fit = ao::parse_fit_method(o.fit);
   o.fit = ao::fit_method_name(fit);
   ao::output_format(o.output);  // reject a bad extension before any work
+  check_output_places({{o.output, 0}, {o.summary, 0}, {o.timings, 0}});
   const bool root = comm.is_root();
   RunReport report;
   report.app = "bake";
@@ -125,11 +145,10 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
   std::int64_t stored_tris = 0;
   for (const auto& m : scene.meshes) stored_tris += static_cast<std::int64_t>(m.tris.size());
 
+  const MemoryPeak peak =
+      require_memory(comm, ao_memory_need(plan, stored_tris, o.batch, total, comm), o.max_memory);
+  const double peak_estimate = comm.max(peak.host + peak.device);
   if (root) {
-    const std::int64_t batch = std::min<std::int64_t>(o.batch, total);
-    const double mib = 1.0 / (1024.0 * 1024.0);
-    const double est = stored_tris * (36.0 + 4.0 + 28.0) + plan.total_triangles() * 52.0 +
-                       batch * (24.0 + 2.0) + total * (2.0 + 8.0);
     std::printf("%s\n", build_banner().c_str());
     std::printf("bake --mode ao: %s\n", o.input.c_str());
     std::printf(
@@ -160,8 +179,8 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
         o.bvh.c_str());
     std::printf("  ranks %d, threads per rank %d, output %s\n", comm.size(), compat::concurrency(),
                 o.output.empty() ? "(none)" : o.output.c_str());
-    std::printf("  memory estimate per rank: %.1f MiB device, %.1f MiB host results\n", est * mib,
-                total * (2.0 + 8.0) * mib);
+    std::printf("  memory estimate (rank 0): %.1f MiB peak resident host, %.1f MiB device\n",
+                peak.host / 1048576.0, peak.device / 1048576.0);
     std::fflush(stdout);
   }
 
@@ -290,6 +309,7 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
                                      {"factorizations", lsq.factorizations},
                                      {"cg_iterations", lsq.cg_iterations},
                                      {"fallbacks", lsq.fallbacks}};
+  report.scene["memory_estimate_bytes"] = peak_estimate;
   report.fom_name = "ao_rays_per_second";
   report.fom_unit = "rays/s";
   report.fom_value = t[4] > 0 ? total_rays / t[4] : 0.0;

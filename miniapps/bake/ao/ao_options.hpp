@@ -36,6 +36,7 @@ struct AoOptions {
   std::string summary;  // --summary FILE.json (the shared option group)
   std::string timings;  // --timings FILE.h5 (the shared option group)
   bool progress = false;
+  std::int64_t max_memory = 0;  // --max-memory (report/memory_check.hpp)
 };
 
 // The `bake ao` command line, registered on `bake`'s `ao` subcommand or on rtmini-ao's app.

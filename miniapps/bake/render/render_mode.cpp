@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "render_map.hpp"
+#include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/cli_values.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/path.hpp"
@@ -17,10 +18,12 @@
 #include "rtmini/io/srgb.hpp"
 #include "rtmini/report/hash.hpp"
 #include "rtmini/report/image_metrics.hpp"
+#include "rtmini/report/memory_check.hpp"
 #include "rtmini/report/progress.hpp"
 #include "rtmini/report/rank_timings.hpp"
 #include "rtmini/report/run_report.hpp"
 #include "rtmini/report/version.hpp"
+#include "rtmini/scene/device_mesh.hpp"
 
 namespace rtmini {
 namespace {
@@ -131,6 +134,8 @@ Image as_8bit_display(const Image& linear) {
 int run_render_mode(Communicator& comm, RenderOptions o, const CLI::App& app) {
   validate(o, app);
   const bool root = comm.is_root();
+  check_output_places(
+      {{o.output, 3.0 * o.params.width * o.params.height}, {o.summary, 0}, {o.timings, 0}});
   o.params.lookup = o.lookup == "sf" ? bake::Lookup::kSphericalFibonacci : bake::Lookup::kKdTree;
   if (!o.background.empty()) {
     const Vec3d b = parse_vec3("--background", o.background);
@@ -180,18 +185,26 @@ int run_render_mode(Communicator& comm, RenderOptions o, const CLI::App& app) {
                   {"viewpoints", map.viewpoints},
                   {"view_dependent_vertices", map.view_dependent_vertices},
                   {"colors", map.colors.size()}};
+  // Only rank 0 renders: the map and its BVH, the image (linear floats), its 8-bit output rows
+  // and, from a device, its host copy.
+  MemoryNeed need;
+  if (root) {
+    const double pixels = static_cast<double>(p.width) * p.height;
+    need.views = static_cast<double>(map.colors.size()) * sizeof(Vec3f) +
+                 device_mesh_bytes(map.mesh.triangle_count(), map.mesh.positions.size()) +
+                 pixels * sizeof(Vec3f);
+    need.host = pixels * (4 + (compat::kDeviceMemory ? sizeof(Vec3f) : 0));
+  }
+  const MemoryPeak peak = require_memory(comm, need, o.max_memory);
+  report.scene["memory_estimate_bytes"] = comm.max(peak.host + peak.device);
   if (root) {
     std::printf("%s\n", build_banner().c_str());
     std::printf("bake render: map %s, output %s\n", o.input.c_str(),
                 o.output.empty() ? "(none)" : o.output.c_str());
     std::printf("  parameters: %s\n", report.parameters.dump().c_str());
     std::printf("  scene: %s\n", report.scene.dump().c_str());
-    std::printf("  ranks %d (rank 0 renders), threads %d, memory estimate %.1f MiB\n", comm.size(),
-                compat::concurrency(),
-                (static_cast<double>(map.colors.size()) * sizeof(Vec3f) +
-                 static_cast<double>(map.mesh.triangle_count()) * 128.0 +
-                 static_cast<double>(p.width) * p.height * 12.0) /
-                    1048576.0);
+    std::printf("  ranks %d (rank 0 renders), threads %d, memory estimate %.1f MiB peak resident\n",
+                comm.size(), compat::concurrency(), (peak.host + peak.device) / 1048576.0);
     if (!o.scene.empty())
       std::printf("  camera from %s (pinhole: aperture and motion ignored)\n", o.scene.c_str());
     std::fflush(stdout);

@@ -17,6 +17,7 @@ struct RenderOptions {
   std::string lookup = "kdtree", bvh = "sah";
   bake::RenderParams params;
   bool progress = false;
+  std::int64_t max_memory = 0;  // --max-memory (report/memory_check.hpp)
 };
 
 // Registers every `bake render` option on `app` (the shared group is added by the caller).

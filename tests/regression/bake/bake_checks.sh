@@ -281,7 +281,7 @@ PY
     rc=$?
     cat err.txt
     [ $rc -eq 3 ] || fail "exit $rc, expected 3"
-    grep -q "exceeds --max-memory" err.txt || fail "no clear message"
+    grep -q "needs ~.* GiB on rank 0, .* available (--max-memory)" err.txt || fail "no clear message"
     [ ! -e out.bs ] || fail "output file left behind"
     ;;
   *)

@@ -15,12 +15,22 @@
 #                        map with both Open MPI I/O components; sketchtrace's cost map,
 #                        bake ao's .bin/.ply/.obj/.glb and bake render's images too. Stale
 #                        temporaries of dead runs are removed, those of live processes kept.
+#   memory APP NP        --max-memory 1MiB: exit 3 and the one "needs ~X GiB on rank r, Y GiB
+#                        available" line (APP: bake, sketchtrace, bake-ao, bake-render)
+#   estimate APP         the up-front memory estimate in the summary is within -25 %/+50 % of
+#                        the measured peak resident set (every program, a bundled scene)
+#   restart_inputs APP   one byte of a mesh (and bake's material library) changed between the
+#                        checkpointed run and the restart: exit 2 naming the file; unchanged:
+#                        the uninterrupted run's hash
+#   places APP           --checkpoint / -o into a missing directory and a read-only one: exit 3
+#                        and one line before anything is computed
+#   signal APP           SIGINT during start-up: a clean stop (exit 4, a checkpoint written)
 #   corrupt APP          APP's checkpoint (and sketchtrace's cost map) with one bit flipped
 #                        in each dataset, truncated, and with single bytes changed across
 #                        the file: restart gives exit 2 and one line, or (a harmless byte)
 #                        exit 0 and the uninterrupted run's hash; never a crash. The fuzzers'
 #                        HDF5 reproducers (tests/data/bad/h5_*.h5): exit 2, one stderr line.
-# Environment: SKETCH, BAKE (binaries), INPUTS, BAD (bad bake inputs), SKETCH_BAD,
+# Environment: SKETCH, BAKE, BENCH, GEN (binaries), INPUTS, BAD (bad bake inputs), SKETCH_BAD,
 # MPIEXEC, NPFLAG, HDF5 (ON when built with HDF5).
 set -euo pipefail
 mode=$1
@@ -311,6 +321,147 @@ PYEOF
       mutate cm.h5 bad_cm.h5 truncate
       expect_one_line sketchtrace 2 "bad_cm.h5" "${run[@]}" --balance metric --cost-map bad_cm.h5
     fi
+    ;;
+  memory)
+    app=$1
+    np=$2
+    case $app in
+      sketchtrace) run=("$SKETCH" "$INPUTS/two_spheres/two_spheres.toml" "${sketch_args[@]}" -o out.png) ;;
+      bake) run=("$BAKE" "$INPUTS/cube/cube.bs" "${bake_args[@]}" -o out.bs) ;;
+      bake-ao) run=("$BAKE" ao "$INPUTS/meshes/spot.obj" -o out.ply) ;;
+      bake-render)
+        "$BAKE" "$INPUTS/cube/cube.bs" "${bake_args[@]}" -o map.bs >/dev/null 2>&1 || fail "no map to render"
+        run=("$BAKE" render map.bs --width 64 --height 48 -o out.png)
+        ;;
+    esac
+    launch=()
+    ((np > 1)) && launch=("$MPIEXEC" "$NPFLAG" "$np" --oversubscribe)
+    expect_one_line "${app%%-*}" 3 \
+      "needs ~[0-9.e+-]+ GiB on rank 0, 0.000977 GiB available \(--max-memory\); --max-memory overrides" \
+      "${launch[@]}" "${run[@]}" --max-memory 1MiB
+    [[ ! -e out.png && ! -e out.bs && ! -e out.ply ]] || fail "a refused run wrote its output"
+    # The same run without a limit, and with 'unlimited', goes through.
+    "${launch[@]}" "${run[@]}" --max-memory unlimited >/dev/null 2>&1 || fail "--max-memory unlimited failed"
+    "${launch[@]}" "${run[@]}" >/dev/null 2>&1 || fail "the run failed its check against the machine"
+    ;;
+  estimate)
+    app=$1
+    case $app in
+      sketchtrace) run=("$SKETCH" "$INPUTS/meshes/stanford-bunny.obj" --width 640 --height 480 --spp 1 -o out.png) ;;
+      bake) run=("$BAKE" "$INPUTS/cornell_big/cornell_big_raw.bs" --viewpoints 300 -o out.bs) ;;
+      bake-ao) run=("$BAKE" ao "$INPUTS/meshes/dragon.obj") ;;
+      bake-render)
+        "$BAKE" "$INPUTS/cornell_big/cornell_big_raw.bs" -o map.bs >/dev/null 2>&1 || fail "no map to render"
+        run=("$BAKE" render map.bs --width 1280 --height 720 -o out.png)
+        ;;
+      bench) run=("$BENCH" "$INPUTS/meshes/stanford-bunny.obj" --workload ao --samples-per-face 2 --rays 8 --repeats 1) ;;
+      gen) run=("$GEN" bunny --scene "$INPUTS/meshes/stanford-bunny.obj" -o out.bs) ;;
+    esac
+    "${run[@]}" --summary s.json >out.txt 2>&1 || { cat out.txt; fail "the run failed"; }
+    "$PY" - s.json <<'PYEOF' || fail "estimate too far from the peak"
+import json, sys
+s = json.load(open(sys.argv[1]))
+est, peak = s["scene"]["memory_estimate_bytes"], s["peak_memory_bytes"]
+print(f"estimate {est / 2**20:.1f} MiB, peak resident {peak / 2**20:.1f} MiB, ratio {est / peak:.2f}")
+sys.exit(0 if 0.75 <= est / peak <= 1.5 else 1)
+PYEOF
+    ;;
+  restart_inputs)
+    app=$1
+    hash_of() { tail -n 1 "$1" | sed -n 's/.*verification \([0-9a-f]*\)$/\1/p'; }
+    # change_byte FILE: one byte of FILE changed in place (the last digit of its first vertex,
+    # or in an MTL file the first letter of its first comment), still a valid file.
+    change_byte() {
+      "$PY" - "$1" <<'PYEOF'
+import sys
+data = bytearray(open(sys.argv[1], "rb").read())
+if sys.argv[1].endswith(".mtl"):
+    i = data.index(b"#") + 2
+    data[i] ^= 0x20
+else:
+    start = data.index(b"\nv ") + 1
+    i = data.index(b"\n", start) - 1
+    while not chr(data[i]).isdigit():
+        i -= 1
+    data[i] = ord("2") if data[i] != ord("2") else ord("3")
+open(sys.argv[1], "wb").write(data)
+PYEOF
+    }
+    if [[ $app == sketchtrace ]]; then
+      cp -r "$INPUTS/two_spheres" scene
+      run=("$SKETCH" scene/two_spheres.toml "${sketch_args[@]}" --chunk-pixels 500)
+      stop=(--stop-after-chunks 2)
+      changed=(scene/floor.obj)
+    else
+      mkdir scene
+      cp "$INPUTS/meshes/CornellBox-Original.obj" "$INPUTS/meshes/CornellBox-Original.mtl" scene/
+      run=("$BAKE" scene/CornellBox-Original.obj "${bake_args[@]}" --iterations 2 -o out.bs)
+      stop=(--stop-after-iteration 1)
+      changed=(scene/CornellBox-Original.mtl scene/CornellBox-Original.obj)
+    fi
+    "${run[@]}" >full.txt 2>/dev/null || fail "the uninterrupted run failed"
+    rc=0
+    "${run[@]}" --checkpoint ck.h5 "${stop[@]}" >stop.txt 2>&1 || rc=$?
+    [[ $rc == 4 && -f ck.h5 ]] || fail "the stopped run gave exit $rc and no checkpoint"
+    "${run[@]}" --restart ck.h5 >resumed.txt 2>&1 || { cat resumed.txt; fail "the unchanged restart failed"; }
+    [[ $(hash_of resumed.txt) == "$(hash_of full.txt)" ]] || fail "the resumed run's hash differs"
+    echo "ok: unchanged inputs resume to the uninterrupted hash $(hash_of full.txt)"
+    for f in "${changed[@]}"; do
+      cp "$f" "$f.orig"
+      change_byte "$f"
+      cmp -s "$f" "$f.orig" && fail "no byte of $f changed"
+      expect_one_line "$app" 2 "$f: content changed since the checkpoint ck.h5 was written" \
+        "${run[@]}" --restart ck.h5
+      mv "$f.orig" "$f"
+    done
+    ;;
+  places)
+    app=$1
+    if [[ $app == sketchtrace ]]; then
+      run=("$SKETCH" "$INPUTS/two_spheres/two_spheres.toml" "${sketch_args[@]}")
+      computed="rendered|pixels to render"
+    else
+      run=("$BAKE" "$INPUTS/cube/cube.bs" "${bake_args[@]}")
+      computed="map per rank|bake time"
+    fi
+    dirs=("$work/missing_dir")
+    if try_mount "$work/ro" ro,size=64k; then
+      dirs+=("$work/ro")
+    else
+      echo "SKIP read-only directory: mounting a tmpfs is not allowed here"
+    fi
+    for dir in "${dirs[@]}"; do
+      for flag in --checkpoint -o; do
+        name=x.h5
+        [[ $flag == -o ]] && name=x.png && [[ $app == bake ]] && name=x.bs
+        expect_one_line "$app" 3 "$(basename "$dir")" "${run[@]}" "$flag" "$dir/$name"
+        if grep -Eq "$computed" out.txt; then fail "$flag into $dir was refused only after computing"; fi
+      done
+    done
+    ;;
+  signal)
+    app=$1
+    # A start-up that takes a while: a large mesh to read and build.
+    if [[ $app == sketchtrace ]]; then
+      run=("$SKETCH" "$INPUTS/meshes/dragon.obj" --width 320 --height 240 --spp 4 --checkpoint ck.h5)
+    else
+      run=("$BAKE" "$INPUTS/cornell_big/cornell_big_raw.bs" --viewpoints 1000 --iterations 3 --checkpoint ck.h5 -o out.bs)
+    fi
+    # Launched from Python: a background job of this (non-interactive) shell would start with
+    # SIGINT ignored; Python's child starts with the default action, as from a terminal.
+    rc=0
+    "$PY" - "${run[@]}" <<'PYEOF' || rc=$?
+import signal, subprocess, sys, time
+p = subprocess.Popen(sys.argv[1:], stdout=open("out.txt", "w"), stderr=open("err.txt", "w"))
+time.sleep(0.3)
+p.send_signal(signal.SIGINT)
+code = p.wait()
+sys.exit(code if code >= 0 else 128 - code)
+PYEOF
+    cat err.txt
+    [[ $rc == 4 ]] || fail "SIGINT during start-up gave exit $rc, expected 4 (a clean stop)"
+    [[ -f ck.h5 ]] || fail "no checkpoint after the stop"
+    echo "ok: SIGINT at 0.3 s: exit 4 with a checkpoint"
     ;;
   *)
     fail "unknown mode $mode"

@@ -149,19 +149,19 @@ EOF
     rc=$?
     cat out.txt err.txt
     [ $rc -eq 3 ] || fail "16K x 16K under --max-memory 1G exited $rc, expected 3"
-    grep -q "memory estimate" out.txt || fail "no memory estimate before the refusal"
-    grep -q "exceeds --max-memory" err.txt || fail "no clear refusal message"
+    grep -q "needs ~.* GiB on rank 0, 1 GiB available (--max-memory)" err.txt ||
+      fail "no clear refusal message"
     [ "$(wc -l <err.txt)" -eq 1 ] || fail "expected exactly one line on stderr"
     [ ! -e big.ppm ] || fail "output written despite the refusal"
     # The estimate is at least the frame's pixel results (16384^2 x 48 bytes = 12 GiB).
-    mib=$(sed -n 's/.*memory estimate (max over ranks): \([0-9.]*\) MiB.*/\1/p' out.txt)
-    awk -v m="$mib" 'BEGIN { exit !(m > 12288) }' || fail "estimate $mib MiB is too small"
+    gib=$(sed -n 's/.*needs ~\([0-9.]*\) GiB.*/\1/p' err.txt)
+    awk -v m="$gib" 'BEGIN { exit !(m > 12) }' || fail "estimate $gib GiB is too small"
     # A limit above the estimate lets the same small render run.
     "$SKETCH" "$scene" --width 8 --height 8 --spp 1 --max-memory 4G >log.txt 2>&1 ||
       { cat log.txt; fail "8x8 render under --max-memory 4G failed"; }
     "$SKETCH" "$scene" --width 8 --height 8 --max-memory 12X >out.txt 2>err.txt
     [ $? -eq 2 ] || fail "bad --max-memory unit not refused with exit 2"
-    echo "1x1 renders; 16K refused after a ${mib} MiB estimate"
+    echo "1x1 renders; 16K refused after a ${gib} GiB estimate"
     ;;
   general_kernel)
     for scene in two_spheres spheres; do

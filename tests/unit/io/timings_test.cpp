@@ -155,5 +155,37 @@ TEST(Hdf5File, TypesSlabsAttributesAndUncommittedCleanup) {
   EXPECT_THROW(Hdf5File::open(dir.file("never.h5")), InputError);
 }
 
+// Slab-written datasets carry per-slab checksums (issue 17): a changed byte in any slab is
+// refused on read, as a changed byte of a dataset written whole is.
+TEST(Hdf5File, SlabChecksumsRefuseAChangedByte) {
+  RTMINI_REQUIRE_HDF5();
+  test::TempDir dir;
+  const std::int64_t marker = 0x0123456789abcdefLL;
+  {
+    Hdf5File f = Hdf5File::create(dir.file("s.h5"));
+    f.create_dataset<std::int64_t>("/slab", 4);
+    f.write_slab<std::int64_t>("/slab", 2, {marker, 7});
+    f.write_slab<std::int64_t>("/slab", 0, {1, 2});
+    f.commit();
+  }
+  EXPECT_EQ(Hdf5File::open(dir.file("s.h5")).read<std::int64_t>("/slab"),
+            (std::vector<std::int64_t>{1, 2, marker, 7}));
+  std::string bytes = test::read_file(dir.file("s.h5"));
+  const std::string needle(reinterpret_cast<const char*>(&marker), sizeof marker);
+  const std::size_t at = bytes.find(needle);
+  ASSERT_NE(at, std::string::npos);
+  ASSERT_EQ(bytes.find(needle, at + 1), std::string::npos);  // the data, not the checksum table
+  bytes[at] ^= 0x01;
+  test::write_file(dir.file("bad.h5"), bytes);
+  try {
+    Hdf5File::open(dir.file("bad.h5")).read<std::int64_t>("/slab");
+    FAIL() << "a changed byte in a slab was not refused";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("checksum mismatch in '/slab' (slab at 2)"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace rtmini

@@ -8,6 +8,8 @@
 #include <functional>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace rtmini {
 
@@ -24,6 +26,14 @@ void write_text_atomic(const std::string& path, std::string_view bytes);
 
 // IoError unless path is absent or a regular file (a writer may replace it).
 void check_replaceable(const std::string& path);
+
+// Checks, before a run computes anything, that an output can be written at `path`: its
+// directory exists and is writable (a read-only filesystem included), the path itself is
+// replaceable, and the filesystem has `expected_bytes` free (statvfs; 0 = no size check).
+// IoError with one line naming the path otherwise (exit 3).
+void check_output_place(const std::string& path, double expected_bytes = 0);
+// check_output_place for each (path, expected bytes) whose path is not empty.
+void check_output_places(const std::vector<std::pair<std::string, double>>& outputs);
 
 // Removes "path.tmp.<pid>" files that killed runs left behind: regular files
 // only, and only when no process <pid> exists on this host any more.

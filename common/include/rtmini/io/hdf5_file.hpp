@@ -9,8 +9,15 @@
 // destroying it uncommitted deletes the temporary, so readers never see a half-written file. With
 // RTMINI_HAVE_PARALLEL_HDF5, create(path, comm) opens it through MPI-IO: every call is then
 // collective over comm and commit() renames on rank 0 and synchronises.
+//
+// Every dataset carries a checksum that read() verifies (InputError when it does not match
+// or is missing): an XXH64 attribute for datasets written whole; for datasets written as
+// slabs (possibly by several ranks), a companion dataset "<path>.xxh64_slabs" of
+// (offset, count, XXH64) rows, one per slab, written by commit().
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -19,6 +26,11 @@
 #endif
 
 namespace rtmini {
+
+// Turns off libhdf5's own error-stack printing for the whole process (idempotent): every
+// HDF5 failure becomes one exception and one line. app_main calls it first thing; Hdf5File
+// calls it too, for programs outside app_main.
+void quiet_hdf5_errors();
 
 class Hdf5File {
  public:
@@ -86,6 +98,9 @@ class Hdf5File {
   std::int64_t id_ = -1;  // hid_t
   bool parallel_ = false;
   int rank_ = 0;
+  // This rank's slabs per dataset, (offset, count, XXH64), until commit() writes them.
+  std::map<std::string, std::vector<std::array<std::int64_t, 3>>> slabs_;
+  void write_slab_checksums();
 #ifdef RTMINI_HAVE_MPI
   MPI_Comm comm_ = MPI_COMM_NULL;
 #endif

@@ -2,6 +2,7 @@
 // Wavefront OBJ/MTL input (through Debian's tinyobjloader) and the mesh-file
 // dispatcher used by the apps and the scene loader.
 #include <string>
+#include <vector>
 
 #include "rtmini/scene/mesh.hpp"
 
@@ -18,5 +19,9 @@ Mesh read_obj(const std::string& path);
 
 // Dispatches on the extension (case-insensitive): .obj -> read_obj, .bs -> read_bakeshop.
 Mesh read_mesh(const std::string& path);
+
+// The files read_mesh(path) reads: the mesh itself and, for an OBJ, the material libraries it
+// names that exist (io/input_files.hpp hashes them for the restart signature).
+std::vector<std::string> mesh_files(const std::string& path);
 
 }  // namespace rtmini

@@ -60,6 +60,13 @@ class Communicator {
     MPI_Comm_rank(comm_, &rank_);
     MPI_Comm_size(comm_, &size_);
     MPI_Comm_dup(comm_, &fail_);
+    // Ranks sharing this node's memory (the memory check divides the node among them).
+    // Counted once here, where every rank passes, so that no later step blocks on it.
+    MPI_Comm node = MPI_COMM_NULL;
+    MPI_Comm_split_type(comm_, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node);
+    MPI_Comm_size(node, &node_size_);
+    MPI_Comm_rank(node, &node_rank_);
+    MPI_Comm_free(&node);
   }
   MPI_Comm native() const { return comm_; }
   Communicator(const Communicator&) = delete;
@@ -119,6 +126,9 @@ class Communicator {
   int rank() const { return rank_; }
   int size() const { return size_; }
   bool is_root() const { return rank_ == 0; }
+  // Ranks on this rank's node (shared memory), and this rank's number among them.
+  int node_size() const { return node_size_; }
+  int node_rank() const { return node_rank_; }
 
   void barrier() const {
 #ifdef RTMINI_HAVE_MPI
@@ -379,6 +389,8 @@ class Communicator {
 #endif
   int rank_ = 0;
   int size_ = 1;
+  int node_size_ = 1;
+  int node_rank_ = 0;
   mutable std::int64_t bytes_ = 0;
   mutable std::int64_t messages_ = 0;
 };

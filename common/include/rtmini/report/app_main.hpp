@@ -12,6 +12,7 @@
 #include <string>
 
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/hdf5_file.hpp"
 #include "rtmini/parallel/communicator.hpp"
 #include "rtmini/report/stop_request.hpp"
 
@@ -24,9 +25,10 @@ inline double agreement_patience(const Communicator& comm) { return comm.is_root
 
 template <class Body>
 int app_main(const char* app, int argc, char** argv, Body&& body) {
-  // Before MPI and Kokkos start (seconds on a large job): a SIGTERM/SIGUSR1 in
+  // Before MPI and Kokkos start (seconds on a large job): a SIGTERM/SIGUSR1/SIGINT in
   // start-up then stops the run cleanly at its first check instead of killing it.
   install_stop_handlers();
+  quiet_hdf5_errors();  // HDF5 failures are our one line, never libhdf5's stack dump
   Environment env(argc, argv);
   Communicator comm;
   int code = kExitOk;

@@ -1,23 +1,30 @@
 #pragma once
 // The option group every rtmini program shares (--threads, --summary, --timings, --progress,
-// --version, --kokkos-help), defined once so that the programs agree on spelling, defaults and
-// behaviour, and the one parse step that turns a command line into either "go on" (Kokkos
-// started from these settings) or an exit code (help, version: 0; bad usage: InputError -> 2).
+// --max-memory, --version, --kokkos-help), defined once so that the programs agree on spelling,
+// defaults and behaviour, and the one parse step that turns a command line into either "go on"
+// (Kokkos started from these settings) or an exit code (help, version: 0; bad usage: InputError ->
+// 2).
 //
 // Kokkos is started here from the parsed settings, never from argv: Kokkos 3.4 parses argv
 // itself and aborts on spellings it half-recognises (`--threads 1` without '='), and prints its
 // own 40-line help in front of ours on `--help`.
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <optional>
 #include <string>
 
 namespace rtmini {
 
 struct CommonOptions {
-  int threads = 0;        // host threads; 0 = OMP_NUM_THREADS / KOKKOS_NUM_THREADS / every core
-  std::string summary;    // JSON run summary (rank 0)
-  std::string timings;    // per-rank timings, HDF5 (rank 0 writes everyone's)
-  bool progress = false;  // progress lines on stderr even when stderr is not a terminal
+  int threads = 0;         // host threads; 0 = OMP_NUM_THREADS / KOKKOS_NUM_THREADS / every core
+  std::string summary;     // JSON run summary (rank 0)
+  std::string timings;     // per-rank timings, HDF5 (rank 0 writes everyone's)
+  bool progress = false;   // progress lines on stderr even when stderr is not a terminal
+  std::string max_memory;  // per-rank memory limit for the up-front check, or "unlimited"
+
+  // --max-memory as report/memory_check.hpp takes it (0 = check against the machine,
+  // kMemoryUnlimited, or bytes); InputError for a malformed size.
+  std::int64_t memory_limit() const;
 };
 
 // Adds the shared group to `app` (and makes `app` show every option's default in --help).

@@ -35,6 +35,23 @@ inline DeviceMaterial to_device(const Material& m) {
           Real(m.shininess), Real(m.ior),        Real(m.opacity)};
 }
 
+// Bytes upload_mesh takes at its peak for `triangles` triangles over `vertices` vertices:
+// the mesh tables and the BVH (bvh_bytes: up to 2 nodes per triangle, the triangles again in
+// leaf order, plus the build's temporaries - Morton keys, children, ranges, parents, boxes,
+// costs - freed after the build but counted towards the peak). For the up-front memory check
+// (report/memory_check.hpp), before anything is uploaded.
+inline double bvh_bytes(std::size_t triangles) {
+  const double nt = static_cast<double>(triangles);
+  const double bvh = 2 * nt * sizeof(bvh::BvhNode) + nt * (sizeof(Triangle) + sizeof(int));
+  const double build =
+      2 * nt * (sizeof(std::uint64_t) + 5 * sizeof(int) + sizeof(Aabb) + sizeof(Real));
+  return bvh + build;
+}
+inline double device_mesh_bytes(std::size_t triangles, std::size_t vertices) {
+  const double nt = static_cast<double>(triangles), nv = static_cast<double>(vertices);
+  return nv * sizeof(Vec3) + nt * (sizeof(Triangle) + 6 * sizeof(int)) + bvh_bytes(triangles);
+}
+
 template <class ExecSpace = Kokkos::DefaultExecutionSpace>
 DeviceMesh<typename ExecSpace::memory_space> upload_mesh(const Mesh& mesh,
                                                          bvh::BuildQuality quality,
