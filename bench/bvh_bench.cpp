@@ -494,10 +494,10 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
     Kokkos::parallel_reduce(
         "rtmini::bench::mean_ao", Kokkos::RangePolicy<Exec>(0, int(area.extent(0))),
         KOKKOS_LAMBDA(int t, double& n, double& d) {
-          int hits = 0;
+          int occluded = 0;
           for (long long k = std::int64_t(t) * S * R; k < std::int64_t(t + 1) * S * R; ++k)
-            hits += result(k);
-          n += double(area(t)) * (1.0 - double(hits) / (S * R));
+            occluded += result(k);
+          n += double(area(t)) * (1.0 - double(occluded) / (S * R));
           d += double(area(t));
         },
         num, den);

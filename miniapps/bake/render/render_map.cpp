@@ -68,7 +68,8 @@ std::int64_t run_kernel(const BakedMapDevice& map, const LookupT& lookup,
                                   Kokkos::View<Vec3*, MemSpace>(),
                                   lookup,
                                   fibonacci_radius(map.viewpoints),
-                                  Vec3(p.background)};
+                                  Vec3(p.background),
+                                  SparseColors{}};
   const int grid = static_cast<int>(std::sqrt(static_cast<double>(p.spp)) + 1e-9);
   const RenderPixels<LookupT> kernel{map.mesh.accel, reader, camera, out,
                                      p.width,        p.spp,  grid,   p.seed};

@@ -312,86 +312,87 @@ TEST(QuantizedWide, TinyAndDegenerateInputs) {
       expect_same(trace_quantized(accel, rays),
                   trace_all(bvh::BruteForce<TestMemSpace>{tris}, rays),
                   "quantized degenerate n=" + std::to_string(count) + " " + bvh::to_string(q));
-      // The sliver fan of issue 18, scaled down: 800 triangles sharing one apex over one radian
-      // (aspect 800). Every diagonal sliver's box is mostly empty, so without pre-splitting a ray
-      // through the fan tests a third of them. The tests per ray of a flat fan fall only as
-      // 1 / (references per triangle) (results/bvh/slivers.md), so the default budget (2x) halves
-      // them: 800 is the size where that half is under the issue's bound of 150.
-      Mesh sliver_fan() {
-        Mesh m;
-        m.materials.push_back(Material{});
-        append_fan(m, {0, 0, 0}, 1.0, 1.0, 800, 0, 0);
-        return m;
-      }
+    }
+  }
+}
 
-      // Rays from above the fan to uniform points of its bounding box (some miss the fan).
-      template <class ExecSpace>
-      Kokkos::View<Ray*, typename ExecSpace::memory_space> fan_rays(int n) {
-        Kokkos::View<Ray*, typename ExecSpace::memory_space> rays("fan_rays", n);
-        Kokkos::parallel_for(
-            "test::fan_rays", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
-              const Rng rng(5, std::uint64_t(i), 0);
-              const Vec3 target(Real(1.1) * rng.uniform(0) - Real(0.05),
-                                Real(0.95) * rng.uniform(1) - Real(0.05), 0);
-              Ray r;
-              r.org = Vec3(Real(0.4), Real(0.3), Real(1.5));
-              r.dir = normalize(target - r.org);
-              rays(i) = r;
-            });
-        return rays;
-      }
+// The sliver fan of issue 18, scaled down: 800 triangles sharing one apex over one radian
+// (aspect 800). Every diagonal sliver's box is mostly empty, so without pre-splitting a ray
+// through the fan tests a third of them. The tests per ray of a flat fan fall only as
+// 1 / (references per triangle) (results/bvh/slivers.md), so the default budget (2x) halves
+// them: 800 is the size where that half is under the issue's bound of 150.
+Mesh sliver_fan() {
+  Mesh m;
+  m.materials.push_back(Material{});
+  append_fan(m, {0, 0, 0}, 1.0, 1.0, 800, 0, 0);
+  return m;
+}
 
-      TEST(Bvh, PresplitSliverFanMatchesBruteForce) {
-        const Mesh mesh = sliver_fan();
-        auto tris = upload_triangles(mesh);
-        const bvh::BruteForce<TestMemSpace> ref{tris};
-        const auto sah =
-            bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, bvh::BuildQuality::kSah);
-        EXPECT_GT(sah.num_prims, int(tris.extent(0))) << "the fan's slivers must be pre-split";
-        expect_same_hits(sah, ref, random_rays(tris, sah.bounds, 20000, 17),
-                         "sliver fan, random rays");
-        expect_same_hits(sah, ref, fan_rays<TestExecSpace>(20000), "sliver fan, rays from above");
-      }
+// Rays from above the fan to uniform points of its bounding box (some miss the fan).
+template <class ExecSpace>
+Kokkos::View<Ray*, typename ExecSpace::memory_space> fan_rays(int n) {
+  Kokkos::View<Ray*, typename ExecSpace::memory_space> rays("fan_rays", n);
+  Kokkos::parallel_for(
+      "test::fan_rays", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+        const Rng rng(5, std::uint64_t(i), 0);
+        const Vec3 target(Real(1.1) * rng.uniform(0) - Real(0.05),
+                          Real(0.95) * rng.uniform(1) - Real(0.05), 0);
+        Ray r;
+        r.org = Vec3(Real(0.4), Real(0.3), Real(1.5));
+        r.dir = normalize(target - r.org);
+        rays(i) = r;
+      });
+  return rays;
+}
 
-      // Mean ray-triangle tests per ray on the host (binary or 8-wide layout).
-      double host_tests_per_ray(const bvh::Bvh<Kokkos::HostSpace>& accel,
-                                const Kokkos::View<Ray*, Kokkos::HostSpace>& rays) {
-        double tests = 0;
-        for (std::size_t i = 0; i < rays.extent(0); ++i) {
-          bvh::TraversalStats st;
-          bvh::closest_hit(accel, rays(i), st);
-          tests += st.tests;
-        }
-        return tests / double(rays.extent(0));
-      }
+TEST(Bvh, PresplitSliverFanMatchesBruteForce) {
+  const Mesh mesh = sliver_fan();
+  auto tris = upload_triangles(mesh);
+  const bvh::BruteForce<TestMemSpace> ref{tris};
+  const auto sah =
+      bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, bvh::BuildQuality::kSah);
+  EXPECT_GT(sah.num_prims, int(tris.extent(0))) << "the fan's slivers must be pre-split";
+  expect_same_hits(sah, ref, random_rays(tris, sah.bounds, 20000, 17), "sliver fan, random rays");
+  expect_same_hits(sah, ref, fan_rays<TestExecSpace>(20000), "sliver fan, rays from above");
+}
 
-      TEST(Bvh, PresplitSliverFanTestsPerRay) {
-        using Host = Kokkos::DefaultHostExecutionSpace;
-        const TriangleList tl = triangulate(sliver_fan());
-        Kokkos::View<Triangle*, Kokkos::HostSpace> tris("tris", tl.vertices.size());
-        const Mesh mesh = sliver_fan();
-        for (std::size_t t = 0; t < tl.vertices.size(); ++t)
-          tris(t) = {Vec3(mesh.positions[tl.vertices[t][0]]),
-                     Vec3(mesh.positions[tl.vertices[t][1]]),
-                     Vec3(mesh.positions[tl.vertices[t][2]])};
-        const auto rays = fan_rays<Host>(4000);
-        for (const double budget : {0.0, bvh::kDefaultSplitBudget}) {
-          auto accel = bvh::build<Host, Kokkos::HostSpace>(Host(), tris, bvh::BuildQuality::kSah,
-                                                           bvh::QuantizedWide::kOnDevices, budget);
-          const double wide = host_tests_per_ray(accel, rays);
-          accel.wide = {};  // the binary layout, as traversed on devices
-          const double binary = host_tests_per_ray(accel, rays);
-          std::printf(
-              "split budget %.2f: %d references, %.1f tests per ray (8-wide), %.1f (binary)\n",
-              budget, accel.num_prims, wide, binary);
-          if (budget == 0.0) {
-            EXPECT_GT(binary, 200.0) << "without pre-splitting the fan must be a hard case";
-          } else {
-            EXPECT_LE(wide, 150.0);
-            EXPECT_LE(binary, 150.0);
-          }
-        }
-      }
+// Mean ray-triangle tests per ray on the host (binary or 8-wide layout).
+double host_tests_per_ray(const bvh::Bvh<Kokkos::HostSpace>& accel,
+                          const Kokkos::View<Ray*, Kokkos::HostSpace>& rays) {
+  double tests = 0;
+  for (std::size_t i = 0; i < rays.extent(0); ++i) {
+    bvh::TraversalStats st;
+    bvh::closest_hit(accel, rays(i), st);
+    tests += st.tests;
+  }
+  return tests / double(rays.extent(0));
+}
 
-    }  // namespace
-  }    // namespace rtmini::test
+TEST(Bvh, PresplitSliverFanTestsPerRay) {
+  using Host = Kokkos::DefaultHostExecutionSpace;
+  const TriangleList tl = triangulate(sliver_fan());
+  Kokkos::View<Triangle*, Kokkos::HostSpace> tris("tris", tl.vertices.size());
+  const Mesh mesh = sliver_fan();
+  for (std::size_t t = 0; t < tl.vertices.size(); ++t)
+    tris(t) = {Vec3(mesh.positions[tl.vertices[t][0]]), Vec3(mesh.positions[tl.vertices[t][1]]),
+               Vec3(mesh.positions[tl.vertices[t][2]])};
+  const auto rays = fan_rays<Host>(4000);
+  for (const double budget : {0.0, bvh::kDefaultSplitBudget}) {
+    auto accel = bvh::build<Host, Kokkos::HostSpace>(Host(), tris, bvh::BuildQuality::kSah,
+                                                     bvh::QuantizedWide::kOnDevices, budget);
+    const double wide = host_tests_per_ray(accel, rays);
+    accel.wide = {};  // the binary layout, as traversed on devices
+    const double binary = host_tests_per_ray(accel, rays);
+    std::printf("split budget %.2f: %d references, %.1f tests per ray (8-wide), %.1f (binary)\n",
+                budget, accel.num_prims, wide, binary);
+    if (budget == 0.0) {
+      EXPECT_GT(binary, 200.0) << "without pre-splitting the fan must be a hard case";
+    } else {
+      EXPECT_LE(wide, 150.0);
+      EXPECT_LE(binary, 150.0);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rtmini::test
