@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#define XXH_INLINE_ALL  // header-only use: the test reseals a file as Hdf5File::commit does
+#include <xxhash.h>
+
 #include "../optional_features.hpp"
 #include "io_test_util.hpp"
 #include "rtmini/io/error.hpp"
@@ -176,6 +179,13 @@ TEST(Hdf5File, SlabChecksumsRefuseAChangedByte) {
   ASSERT_NE(at, std::string::npos);
   ASSERT_EQ(bytes.find(needle, at + 1), std::string::npos);  // the data, not the checksum table
   bytes[at] ^= 0x01;
+  // As it is, the whole-file trailer (Hdf5File::commit) refuses the file before libhdf5 reads
+  // it; resealed, the slab's own checksum must still refuse it.
+  test::write_file(dir.file("unsealed.h5"), bytes);
+  EXPECT_THROW(Hdf5File::open(dir.file("unsealed.h5")), InputError);
+  const std::size_t body = bytes.size() - 16;  // the trailer: 8 magic bytes, XXH64 (LE)
+  const std::uint64_t seal = XXH64(bytes.data(), body, 0);
+  for (int i = 0; i < 8; ++i) bytes[body + 8 + i] = static_cast<char>((seal >> (8 * i)) & 0xff);
   test::write_file(dir.file("bad.h5"), bytes);
   try {
     Hdf5File::open(dir.file("bad.h5")).read<std::int64_t>("/slab");
