@@ -16,7 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       hash = f.string_attribute("/", "parameter_hash");
       vertices = f.int_attribute("/", "vertices");
     }
-    (void)rtmini::bake::read_checkpoint(path, hash, vertices);
+    (void)rtmini::bake::read_checkpoint(path, hash, {}, vertices);
   });
   return 0;
 }
