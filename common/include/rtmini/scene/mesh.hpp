@@ -10,6 +10,22 @@
 
 namespace rtmini {
 
+// A texture coordinate (OBJ `vt`, glTF TEXCOORD_0); v grows upwards as in OBJ.
+struct TexCoord {
+  float u = 0.f, v = 0.f;
+};
+
+// Image maps of a material (MTL map_Kd, map_Ks, norm, map_bump/bump, disp; glTF
+// baseColorTexture): paths resolved against the scene file's folder, empty = none.
+// A scene without maps renders with the constant-material kernels.
+struct MaterialMaps {
+  std::string diffuse, specular, normal, bump, displacement;
+  bool any() const {
+    return !diffuse.empty() || !specular.empty() || !normal.empty() || !bump.empty() ||
+           !displacement.empty();
+  }
+};
+
 // Phong-style material of the seed papers: Kd diffuse, Ks mirror reflectance,
 // Ke emission, Ns glossiness exponent, Ni index of refraction, d opacity.
 struct Material {
@@ -20,16 +36,19 @@ struct Material {
   float shininess = 0.f;  // Ns; 0 (or >= kMirrorShininess) means a perfect mirror
   float ior = 1.f;        // Ni
   float opacity = 1.f;    // d; < 1 makes the surface refractive
+  MaterialMaps maps;
   bool is_emissive() const { return emissive.x > 0.f || emissive.y > 0.f || emissive.z > 0.f; }
   bool is_reflective() const {
     return reflective.x > 0.f || reflective.y > 0.f || reflective.z > 0.f;
   }
 };
 
-// A polygon: 3 or 4 vertex indices (0-based), a material index (-1 = none),
-// and the object (OBJ group / mesh instance) it belongs to.
+// A polygon: 3 or 4 vertex indices (0-based), optional texture-coordinate
+// indices (into Mesh::texcoords, -1 = none), a material index (-1 = none), and
+// the object (OBJ group / mesh instance) it belongs to.
 struct Face {
   std::array<int, 4> v{-1, -1, -1, -1};
+  std::array<int, 4> uv{-1, -1, -1, -1};
   int count = 3;
   int material = -1;
   int object = 0;
@@ -47,6 +66,7 @@ struct ViewpointColors {
 struct Mesh {
   std::vector<Vec3d> positions;
   std::vector<Face> faces;
+  std::vector<TexCoord> texcoords;  // empty when no face has texture coordinates
   std::vector<Material> materials;
   std::vector<std::string> objects;  // names; Face::object indexes this
   ViewpointColors viewpoints;        // only for baked .bs maps
