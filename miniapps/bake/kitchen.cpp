@@ -641,7 +641,8 @@ void BakeRun::report_map_plan() {
                           {"local_colors_mean", sum_local / comm_.size()},
                           {"mirror_reads", reads},
                           {"remote_read_fraction", reads > 0 ? remote / reads : 0.0},
-                          {"exchange_bytes_per_iteration", bytes}};
+                          {"exchange_bytes_per_iteration", bytes},
+                          {"exchange_buffers", exchange_->direct() ? "direct" : "host-staged"}};
   params_["map"] = report_.scene["map"];
   if (root_)
     std::printf(

@@ -1,7 +1,13 @@
 #include "map_exchange.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <stdexcept>
+#include <string>
+
+#if defined(RTMINI_HAVE_MPI) && defined(OPEN_MPI) && __has_include(<mpi-ext.h>)
+#include <mpi-ext.h>  // MPIX_Query_cuda_support
+#endif
 
 namespace rtmini::bake {
 namespace {
@@ -79,6 +85,17 @@ std::vector<std::int64_t> entries_of(const BakeSceneHost& scene, const MapLayout
 }
 
 }  // namespace
+
+bool mpi_takes_map_memory() {
+  if (Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpace>::accessible) return true;
+  if (const char* e = std::getenv("RTMINI_MPI_DEVICE_BUFFERS"); e && std::string(e) == "0")
+    return false;
+#if defined(MPIX_CUDA_AWARE_SUPPORT) && MPIX_CUDA_AWARE_SUPPORT
+  return MPIX_Query_cuda_support() == 1;
+#else
+  return false;
+#endif
+}
 
 MapLayout make_map_layout(const BakeSceneHost& scene, const std::vector<char>& present) {
   MapLayout l;
@@ -186,8 +203,11 @@ MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
   recv_items_ = upload("rtmini::bake::exchange_recv_items", recv);
   send_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_send", send.size());
   recv_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_recv", recv.size());
-  host_send_.resize(send.size());
-  host_recv_.resize(recv.size());
+  direct_ = mpi_takes_map_memory();
+  if (!direct_) {
+    host_send_.resize(send.size());
+    host_recv_.resize(recv.size());
+  }
 }
 
 std::int64_t MapExchange::run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map) {
@@ -198,10 +218,15 @@ std::int64_t MapExchange::run(const Communicator& comm, Kokkos::View<Vec3f*, Mem
   Kokkos::parallel_for(
       "rtmini::bake::exchange_pack", Policy(0, static_cast<std::int64_t>(send_items.extent(0))),
       KOKKOS_LAMBDA(std::int64_t i) { send_buf(i) = map(send_items(i)); });
-  // Through host buffers: works with any MPI (a CUDA-aware one could take the device views).
-  Kokkos::deep_copy(compat::host_view(host_send_.data(), host_send_.size()), send_buf);
-  alltoallv(comm, host_send_.data(), send_counts_, host_recv_.data(), recv_counts_);
-  Kokkos::deep_copy(recv_buf, compat::host_view(host_recv_.data(), host_recv_.size()));
+  if (direct_) {
+    Kokkos::fence();  // the packed colours must be in memory before MPI reads them
+    alltoallv(comm, send_buf.data(), send_counts_, recv_buf.data(), recv_counts_);
+  } else {
+    // Device memory and an MPI that cannot read it: through host buffers (any MPI works).
+    Kokkos::deep_copy(compat::host_view(host_send_.data(), host_send_.size()), send_buf);
+    alltoallv(comm, host_send_.data(), send_counts_, host_recv_.data(), recv_counts_);
+    Kokkos::deep_copy(recv_buf, compat::host_view(host_recv_.data(), host_recv_.size()));
+  }
   Kokkos::parallel_for(
       "rtmini::bake::exchange_scatter", Policy(0, static_cast<std::int64_t>(recv_items.extent(0))),
       KOKKOS_LAMBDA(std::int64_t i) { map(recv_items(i)) = recv_buf(i); });

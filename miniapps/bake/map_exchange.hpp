@@ -60,6 +60,12 @@ std::vector<Vec3f> fetch_vertex_colors(const Communicator& comm, const std::vect
                                        const std::vector<std::int64_t>& wanted,
                                        const std::vector<Vec3f>& own);
 
+// Whether MPI can read and write the map's memory space directly: always for host memory; for
+// device memory with a CUDA-aware MPI, detected at run time (Open MPI's MPIX_Query_cuda_support;
+// RTMINI_MPI_DEVICE_BUFFERS=0 forces the host staging, for comparison). Never required: without
+// it the exchange stages through host buffers.
+bool mpi_takes_map_memory();
+
 class MapExchange {
  public:
   // Plans the exchange (collective): `halo` lists, ascending, the colours (global entry
@@ -72,6 +78,7 @@ class MapExchange {
   std::int64_t run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
 
   std::int64_t send_colors() const { return total(send_counts_); }
+  bool direct() const { return direct_; }  // MPI moves the map's own buffers (no host copies)
   std::int64_t recv_colors() const { return total(recv_counts_); }
 
  private:
@@ -83,7 +90,8 @@ class MapExchange {
   std::vector<int> send_counts_, send_displs_, recv_counts_, recv_displs_;  // in colours
   Kokkos::View<std::int64_t*, MemSpace> send_items_, recv_items_;           // local entries
   Kokkos::View<Vec3f*, MemSpace> send_buf_, recv_buf_;
-  std::vector<Vec3f> host_send_, host_recv_;
+  std::vector<Vec3f> host_send_, host_recv_;  // only when MPI cannot take MemSpace (direct_)
+  bool direct_ = false;
 };
 
 // Every rank's owned colours in the global (replicated) order, on the root only (empty
