@@ -2,8 +2,9 @@
 // "cornell_big_raw" cases, the furnace box of the correctness tests, the bundled Cornell box
 // (inputs/meshes) converted to .bs, and two bunny bake scenes built around
 // inputs/meshes/stanford-bunny.obj; and the sliver fan that measures the SAH build's pre-splitting
-// (results/bvh/slivers.md).
+// (results/bvh/slivers.md); and the image maps of the textured cube (inputs/textured_cube).
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <fstream>
@@ -13,7 +14,9 @@
 
 #include "rtmini/io/bakeshop.hpp"
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/image.hpp"
 #include "rtmini/io/obj_reader.hpp"
+#include "rtmini/io/srgb.hpp"
 #include "rtmini/report/app_main.hpp"
 #include "rtmini/report/common_options.hpp"
 #include "rtmini/report/hash.hpp"
@@ -194,6 +197,69 @@ namespace rtmini {
 namespace {
 
 // Order-independent hash of the written mesh: vertex positions and face corner indices.
+// Image maps of the textured cube, 128 x 128, 8 x 8 tiles with grout between them.
+constexpr int kMapSize = 128, kTiles = 8;
+
+// Height of the tile pattern at texel centre (x, y): 1 on a tile, 0 in the grout, with a
+// bevel ramp of 2 texels between them (the height field of the POM/displacement tests).
+float tile_height(int x, int y) {
+  const double cell = double(kMapSize) / kTiles;
+  const auto edge = [&](int i) {
+    const double f = std::fmod(i + 0.5, cell);
+    return std::min(f, cell - f);  // distance to the nearest tile border, texels
+  };
+  const double d = std::min(edge(x), edge(y));
+  return static_cast<float>(std::clamp((d - 1.0) / 2.0, 0.0, 1.0));
+}
+
+// Data maps (normals, heights) hold their 8-bit code as the value: write_png sRGB-encodes, so
+// the value is handed over decoded and comes back as the code.
+Image as_png_data(const Image& data) {
+  Image out = data;
+  for (float& v : out.data) v = srgb_decode(std::round(std::clamp(v, 0.f, 1.f) * 255.f) / 255.f);
+  return out;
+}
+
+// tiles_albedo.png (colour: two-tone tiles, dark grout), tiles_height.png (tile_height),
+// tiles_normal.png (tangent-space normals of that height field at 1/16 of the tile's
+// size in depth, from central differences), dimples_height.png (a bump map: cosine dimples).
+void write_texture_maps(const std::string& folder) {
+  Image albedo(kMapSize, kMapSize), height(kMapSize, kMapSize, 1), normal(kMapSize, kMapSize);
+  Image dimples(kMapSize, kMapSize, 1);
+  const auto h = [](int x, int y) {
+    return tile_height((x + kMapSize) % kMapSize, (y + kMapSize) % kMapSize);
+  };
+  const double depth_texels = double(kMapSize) / kTiles / 16.0;
+  for (int y = 0; y < kMapSize; ++y)
+    for (int x = 0; x < kMapSize; ++x) {
+      const int tile = x / (kMapSize / kTiles) + y / (kMapSize / kTiles);
+      const float hh = h(x, y);
+      const Vec3f tone = tile % 2 ? Vec3f(0.75f, 0.35f, 0.2f) : Vec3f(0.85f, 0.8f, 0.65f);
+      const Vec3f c = tone * hh + Vec3f(0.15f) * (1.f - hh);
+      albedo.at(x, y, 0) = c.x;
+      albedo.at(x, y, 1) = c.y;
+      albedo.at(x, y, 2) = c.z;
+      height.at(x, y, 0) = hh;
+      // Image rows grow downwards, v upwards: dh/dv = -(h(y+1) - h(y-1)) / 2.
+      const double dhdu = (h(x + 1, y) - h(x - 1, y)) * 0.5 * depth_texels;
+      const double dhdv = -(h(x, y + 1) - h(x, y - 1)) * 0.5 * depth_texels;
+      const Vec3d n = normalize(Vec3d(-dhdu, -dhdv, 1.0));
+      normal.at(x, y, 0) = static_cast<float>(0.5 * n.x + 0.5);
+      normal.at(x, y, 1) = static_cast<float>(0.5 * n.y + 0.5);
+      normal.at(x, y, 2) = static_cast<float>(0.5 * n.z + 0.5);
+      const double cell = double(kMapSize) / kTiles;
+      const double fx = std::fmod(x + 0.5, cell) / cell - 0.5,
+                   fy = std::fmod(y + 0.5, cell) / cell - 0.5;
+      const double r = std::sqrt(fx * fx + fy * fy);
+      dimples.at(x, y, 0) =
+          static_cast<float>(r < 0.4 ? 0.5 + 0.5 * std::cos(math::kPi * r / 0.4) : 0.0);
+    }
+  write_png(folder + "/tiles_albedo.png", albedo);
+  write_png(folder + "/tiles_height.png", as_png_data(height));
+  write_png(folder + "/tiles_normal.png", as_png_data(normal));
+  write_png(folder + "/dimples_height.png", as_png_data(dimples));
+}
+
 std::uint64_t mesh_hash(const Mesh& m) {
   std::uint64_t h = 0, k = 0;
   for (const Vec3d& p : m.positions)
@@ -218,9 +284,10 @@ int gen_inputs(Communicator& comm, int argc, char** argv) {
   auto* bunny = app.add_subcommand("bunny", "the bunny bake scene");
   auto* bunny_room = app.add_subcommand("bunny_room", "the bunny on a floor, the paper's fig. 4.g");
   auto* fan = app.add_subcommand("sliver_fan", "a flat fan of slivers sharing one apex (BVH test)");
+  auto* maps = app.add_subcommand("texture_maps", "the textured cube's PNG maps (-o: a folder)");
   int fan_count = 100000;
   double fan_angle = 1.0;
-  for (auto* sub : {cube, big, furnace, cornell, bunny, bunny_room, fan}) {
+  for (auto* sub : {cube, big, furnace, cornell, bunny, bunny_room, fan, maps}) {
     add_common_options(*sub, common);
     sub->add_option("-o,--output", out, "output .bs")->required();
   }
@@ -238,6 +305,10 @@ int gen_inputs(Communicator& comm, int argc, char** argv) {
       ->check(CLI::Range(1e-6, 6.283));
   app.require_subcommand(1);
   if (const auto done = parse_command_line(app, argc, argv, common, comm.is_root())) return *done;
+  if (*maps) {
+    if (comm.is_root()) write_texture_maps(out);
+    return kExitOk;
+  }
   // The generated meshes are small but for those read from a file: its text, the OBJ reader's
   // arrays, the Mesh and the .bs text written take about 6 times the file's size (measured on
   // the bunny, results/reliability/memory_estimates.md).

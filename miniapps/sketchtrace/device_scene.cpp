@@ -17,6 +17,17 @@ Kokkos::View<T*, MemSpace> to_device(const char* label, const std::vector<T>& ho
   return view;
 }
 
+// Texture-coordinate ids of each triangle's corners, in triangulate()'s order.
+std::vector<std::array<int, 3>> corner_uv_ids(const Mesh& mesh) {
+  std::vector<std::array<int, 3>> ids;
+  ids.reserve(mesh.triangle_count());
+  for (const Face& f : mesh.faces) {
+    ids.push_back({f.uv[0], f.uv[1], f.uv[2]});
+    if (f.count == 4) ids.push_back({f.uv[0], f.uv[2], f.uv[3]});
+  }
+  return ids;
+}
+
 }  // namespace
 
 DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality, double cos_crease) {
@@ -35,6 +46,8 @@ DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality, doub
   for (std::size_t t = 0; t < tl.vertices.size(); ++t)
     for (int k = 0; k < 3; ++k) corner_host(t, k) = corners.of_corner[t][k];
   Kokkos::deep_copy(d.corner_normal, corner_host);
+  d.maps = upload_surface_maps(scene.mesh, scene.map_images, tl.vertices, corner_uv_ids(scene.mesh),
+                               corners.of_corner, normals);
   d.objects = to_device("rtmini::sketch::objects", scene.objects);
   d.quads = to_device("rtmini::sketch::quad_lights", scene.quads);
   d.points = to_device("rtmini::sketch::point_lights", scene.points);
@@ -84,7 +97,8 @@ DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality, doub
   const std::size_t nt = d.triangles, nv = scene.mesh.positions.size();
   d.bytes = (nv + normals.size()) * sizeof(Vec3) + nt * (sizeof(Triangle) * 2 + 9 * sizeof(int)) +
             d.mesh.accel.nodes.extent(0) * sizeof(bvh::BvhNode) +
-            tris.size() * (sizeof(int) + sizeof(Real));
+            tris.size() * (sizeof(int) + sizeof(Real)) + d.maps.bytes;
+  d.texture_bytes = d.maps.bytes;
   return d;
 }
 

@@ -4,6 +4,7 @@
 // objects) and light lists, all Views in the default memory space.
 #include "render_scene.hpp"
 #include "rtmini/scene/device_mesh.hpp"
+#include "textures.hpp"
 
 namespace rtmini::sketch {
 
@@ -20,10 +21,12 @@ struct DeviceScene {
   Kokkos::View<int*, MemSpace> emissive_tris;  // triangle ids grouped by light
   Kokkos::View<Real*, MemSpace> emissive_cdf;  // cumulative area within each light, in (0, 1]
   Kokkos::View<SolidBall*, MemSpace> solid_balls;
+  SurfaceMaps<MemSpace> maps;  // image maps; maps.any false (nothing allocated) without any
   int num_quads = 0, num_points = 0, num_mesh_lights = 0, num_solid_balls = 0;
   bool any_secondary = false;  // some material reflects or transmits
   std::size_t triangles = 0;
-  std::size_t bytes = 0;  // device memory estimate
+  std::size_t bytes = 0;          // device memory estimate, textures included
+  std::size_t texture_bytes = 0;  // of which image maps and per-triangle texture records
 };
 
 // Uploads the mesh (building the BVH with `quality`), the shading normals split at creases

@@ -173,6 +173,7 @@ HostScene build_scene(const std::string& input, const SceneDescription* desc,
   if (!settings.has_camera)
     settings.camera = frame_bounds(lo + s.origin, hi + s.origin, settings.camera.fov_deg);
   if (s.mesh.faces.empty()) throw InputError(input, 0, "the scene has no geometry");
+  s.map_images = load_map_images(s.mesh.materials);
   return s;
 }
 

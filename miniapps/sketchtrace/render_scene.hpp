@@ -10,6 +10,7 @@
 #include "render_settings.hpp"
 #include "rtmini/scene/mesh.hpp"
 #include "rtmini/scene/recentre.hpp"
+#include "surface_maps.hpp"
 
 namespace rtmini::sketch {
 
@@ -56,6 +57,7 @@ struct HostScene {
   std::vector<ObjectShading> objects;      // one per mesh object
   std::vector<char> object_is_quad_light;  // excluded from the mesh-light list
   std::vector<SolidBall> solid_balls;      // one per generated sphere
+  std::vector<MapImage> map_images;        // the materials' image maps, decoded once
   // Everything above is in the render frame: world position = frame position + origin
   // (the bounding-box centre of the scene file's geometry and lights; geometry/offset.hpp).
   Vec3d origin{0.0};

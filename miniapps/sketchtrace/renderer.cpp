@@ -63,6 +63,7 @@ std::string feature_names(unsigned f) {
   add(kSecondary, "secondary");
   add(kLights, "lights");
   add(kCameraSampling, "camera-sampling");
+  add(kTextures, "textures");
   return s.empty() ? "primary-only" : s;
 }
 
@@ -83,6 +84,9 @@ Renderer::Renderer(const HostScene& scene, const RenderSettings& s) {
   params_.background = Vec3(s.background);
   params_.ambient = Vec3(s.ambient);
   params_.seed = s.seed;
+  // One pixel's angle (RTG ch. 20): up is scaled to the image plane's half height.
+  params_.cone_spread = static_cast<Real>(
+      std::atan(2.0 * length(Vec3d(camera_.up)) / length(Vec3d(camera_.forward)) / s.height));
   params_.lens = s.camera.aperture > 0.0;
   params_.motion =
       s.camera.shutter_close > s.camera.shutter_open && length(s.camera.velocity) > 0.0;
@@ -97,6 +101,9 @@ Renderer::Renderer(const HostScene& scene, const RenderSettings& s) {
   if (scene_.num_quads + scene_.num_mesh_lights + scene_.num_points > 0) features_ |= kLights;
   if (params_.lens || params_.motion) features_ |= kCameraSampling;
   if (s.general_kernel) features_ = kSecondary | kLights | kCameraSampling;
+  // Textured scenes get two instantiations only, with secondary rays and lights compiled in
+  // (both are checked at run time too), so the untextured kernels stay as they were.
+  if (scene_.maps.any) features_ |= kTextures | kSecondary | kLights;
 }
 
 template <unsigned kFeatures>
@@ -143,8 +150,14 @@ void Renderer::run(const TraceParams& params, bool aov, const std::vector<std::i
     case 6:
       launch<6>(params, aov, pixels, results);
       break;
-    default:
+    case 7:
       launch<7>(params, aov, pixels, results);
+      break;
+    case kTextures | kSecondary | kLights:
+      launch<kTextures | kSecondary | kLights>(params, aov, pixels, results);
+      break;
+    default:
+      launch<kTextures | kSecondary | kLights | kCameraSampling>(params, aov, pixels, results);
       break;
   }
   auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), results);

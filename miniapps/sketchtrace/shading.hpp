@@ -23,6 +23,7 @@ struct Surface {
   int object = -1;
   bool front = true;          // the ray hit the side the winding calls outside
   Real coordinate_bound = 0;  // the scene's, for offset_ray_origin
+  Real self_shadow = 1;       // height-field self-shadowing of the direct light (parallax.hpp)
 };
 
 template <class Scene>

@@ -10,11 +10,13 @@
 #include "light_sampling.hpp"
 #include "pixel_result.hpp"
 #include "rtmini/scene/camera.hpp"
+#include "surface_detail.hpp"
 
 namespace rtmini::sketch {
 
 // Scene features a kernel instantiation may skip (checked at launch time).
-enum FeatureBits : unsigned { kSecondary = 1u, kLights = 2u, kCameraSampling = 4u };
+// kTextures: some material has image maps (surface_detail.hpp), looked up at ray-cone LODs.
+enum FeatureBits : unsigned { kSecondary = 1u, kLights = 2u, kCameraSampling = 4u, kTextures = 8u };
 
 struct TraceParams {
   int width = 1, height = 1;
@@ -30,6 +32,7 @@ struct TraceParams {
   bool lens = false, motion = false;
   Vec3 background, ambient;
   std::uint64_t seed = 1;
+  Real cone_spread = 0;  // one pixel's angle: the camera's ray-cone spread (textures.hpp)
 };
 
 // Random-number layout per (pixel, sample): pairs 0-1 pixel jitter and lens, pair 2
@@ -57,7 +60,11 @@ struct RadianceEstimator {
     const Vec3 kd = m.diffuse * m.opacity;
     if (max_component(kd) <= Real(0)) return l;
     Vec3 e = p.ambient;
-    if (kFeatures & kLights) e += direct_irradiance(scene, s, rng, plan, c) * Real(1.0 / math::kPi);
+    if (kFeatures & kLights) {
+      Vec3 direct = direct_irradiance(scene, s, rng, plan, c) * Real(1.0 / math::kPi);
+      if (kFeatures & kTextures) direct *= s.self_shadow;
+      e += direct;
+    }
     return l + kd * e;
   }
 
@@ -84,6 +91,11 @@ struct RadianceEstimator {
     if (!hit.valid()) return p.background;
     Surface s = surface_at(scene, ray, hit, p.smooth);
     DeviceMaterial m = scene.mesh.materials(s.material);
+    RayCone cone{Real(0), p.cone_spread};
+    if (kFeatures & kTextures) {
+      cone.advance(hit.t);
+      apply_surface_maps(scene, ray, hit, cone, s, m);
+    }
     // S > 1: each pixel sample stratifies every light on its own. S = 1: the pixel
     // samples share the light's strata through a per-pixel random permutation (Cook
     // et al. 1984); an unpermuted split would correlate light strata with sub-pixel
@@ -112,14 +124,20 @@ struct RadianceEstimator {
       if (!sample_continuation(m, s, ray.dir, p.indirect, u_pick, u1, u2, next, weight, diffuse))
         continue;
       Vec3 throughput = weight * branch_weight;
+      RayCone branch_cone = cone;
+      if (kFeatures & kTextures) branch_cone.scatter(m.shininess, is_glossy(m.shininess), diffuse);
       for (int depth = 1; depth <= p.bounces; ++depth) {
         const Hit h = trace_closest(scene.mesh.accel, next, c);
         if (!h.valid()) {
           radiance += throughput * p.background;
           break;
         }
-        const Surface sd = surface_at(scene, next, h, p.smooth);
-        const DeviceMaterial md = scene.mesh.materials(sd.material);
+        Surface sd = surface_at(scene, next, h, p.smooth);
+        DeviceMaterial md = scene.mesh.materials(sd.material);
+        if (kFeatures & kTextures) {
+          branch_cone.advance(h.t);
+          apply_surface_maps(scene, next, h, branch_cone, sd, md);
+        }
         // Vertex slot for random numbers: first hit = 0, then per branch and depth.
         const std::uint32_t slot = 1u + static_cast<std::uint32_t>(b * p.bounces + depth - 1);
         ShadowPlan plan;
@@ -141,6 +159,8 @@ struct RadianceEstimator {
         if (!sample_continuation(md, sd, dir, p.indirect, u_pick, u1, u2, next, weight, diffuse))
           break;
         throughput *= weight;
+        if (kFeatures & kTextures)
+          branch_cone.scatter(md.shininess, is_glossy(md.shininess), diffuse);
       }
     }
     return radiance;

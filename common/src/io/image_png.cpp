@@ -44,7 +44,11 @@ void write_png(const std::string& path, const Image& image) {
   });
 }
 
-Image read_png(const std::string& path) {
+namespace {
+
+// Decodes to RGB(A); colour codes go through `decode`, alpha is always code / 255.
+template <class Decode>
+Image read_png_with(const std::string& path, Decode decode) {
   png_image png;
   std::memset(&png, 0, sizeof(png));
   png.version = PNG_IMAGE_VERSION;
@@ -69,9 +73,19 @@ Image read_png(const std::string& path) {
   }
   for (std::size_t i = 0; i < pixels.size(); ++i) {
     const bool is_alpha = alpha && i % 4 == 3;
-    image.data[i] = is_alpha ? pixels[i] / 255.f : srgb_decode_8bit(pixels[i]);
+    image.data[i] = is_alpha ? pixels[i] / 255.f : decode(pixels[i]);
   }
   return image;
+}
+
+}  // namespace
+
+Image read_png(const std::string& path) {
+  return read_png_with(path, [](std::uint8_t c) { return srgb_decode_8bit(c); });
+}
+
+Image read_png_data(const std::string& path) {
+  return read_png_with(path, [](std::uint8_t c) { return c / 255.f; });
 }
 
 #else
@@ -84,6 +98,7 @@ void write_png(const std::string& path, const Image&) {
 Image read_png(const std::string& path) {
   throw IoError(path + ": built without PNG support (libpng not found at configure time)");
 }
+Image read_png_data(const std::string& path) { return read_png(path); }
 
 #endif
 

@@ -15,6 +15,7 @@
 
 #include "rtmini/io/bakeshop.hpp"
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/image.hpp"
 #include "rtmini/io/path.hpp"
 #include "rtmini/io/text_fields.hpp"
 
@@ -79,11 +80,15 @@ class ObjPrescan {
 
   const std::vector<std::pair<std::string, long>>& usemtl() const { return usemtl_; }
   const std::vector<std::string>& mtl_files() const { return mtl_files_; }
+  const std::vector<std::string>& image_files() const { return image_files_; }
 
   // A material library: the numbers of the statements rtmini reads (colours Ka Kd Ks Ke Tf,
-  // scalars Ns Ni d Tr), so that a bad value is reported at its own file and line.
+  // scalars Ns Ni d Tr), so that a bad value is reported at its own file and line, and the
+  // image maps (map_Kd map_Ks map_bump bump norm disp), each decoded once here so that a
+  // missing or broken image is reported at the line that names it.
   void run_mtl(std::string_view text) {
     for_each_statement(text, [&](const std::vector<std::string_view>& f) {
+      if (is_image_map(f[0])) return check_image_map(f);
       const bool colour =
           f[0] == "Ka" || f[0] == "Kd" || f[0] == "Ks" || f[0] == "Ke" || f[0] == "Tf";
       const bool scalar = f[0] == "Ns" || f[0] == "Ni" || f[0] == "d" || f[0] == "Tr";
@@ -111,6 +116,29 @@ class ObjPrescan {
 
   [[noreturn]] void fail(const std::string& reason) const {
     throw InputError(path_, line_, reason);
+  }
+
+  static bool is_image_map(std::string_view keyword) {
+    return keyword == "map_Kd" || keyword == "map_Ks" || keyword == "map_bump" ||
+           keyword == "map_Bump" || keyword == "bump" || keyword == "norm" || keyword == "disp";
+  }
+
+  // `keyword [-option values...] file`: tinyobjloader parses the options (-bm is kept as the
+  // map's scale, the others are accepted and ignored); the file is the last field.
+  void check_image_map(const std::vector<std::string_view>& f) {
+    if (f.size() < 2) fail(std::string(f[0]) + " needs an image file");
+    const std::string name(f.back());
+    if (name[0] == '-') fail(std::string(f[0]) + " needs an image file after its options");
+    const std::string file = directory_of(path_) + "/" + name;
+    if (lower_extension(file) != ".png")
+      fail("image map '" + name + "' is not a PNG file (only PNG maps are read)");
+    if (std::find(image_files_.begin(), image_files_.end(), file) != image_files_.end()) return;
+    try {
+      (void)read_png_data(file);
+    } catch (const std::exception& e) {
+      fail("cannot read image map '" + name + "': " + e.what());
+    }
+    image_files_.push_back(file);
   }
 
   void check_numbers(const std::vector<std::string_view>& f, const char* what) const {
@@ -153,11 +181,18 @@ class ObjPrescan {
   long nv_ = 0, nvt_ = 0, nvn_ = 0;
   std::vector<std::pair<std::string, long>> usemtl_;
   std::vector<std::string> mtl_files_;
+  std::vector<std::string> image_files_;
   long missing_mtl_line_ = 0;
   std::string missing_mtl_;
 };
 
-Material to_material(const tinyobj::material_t& m) {
+// An MTL map name resolved against the library's folder (the OBJ's, where tinyobjloader
+// looks for libraries); empty stays empty.
+std::string map_path(const std::string& folder, const std::string& name) {
+  return name.empty() ? name : folder + "/" + name;
+}
+
+Material to_material(const tinyobj::material_t& m, const std::string& folder) {
   const auto v = [](const tinyobj::real_t* c) {
     return Vec3f(static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2]));
   };
@@ -169,12 +204,20 @@ Material to_material(const tinyobj::material_t& m) {
   out.shininess = static_cast<float>(m.shininess);
   out.ior = static_cast<float>(m.ior);
   out.opacity = static_cast<float>(m.dissolve);
+  out.maps.diffuse = map_path(folder, m.diffuse_texname);
+  out.maps.specular = map_path(folder, m.specular_texname);
+  out.maps.normal = map_path(folder, m.normal_texname);
+  out.maps.bump = map_path(folder, m.bump_texname);
+  out.maps.displacement = map_path(folder, m.displacement_texname);
+  out.maps.bump_scale = static_cast<float>(m.bump_texopt.bump_multiplier);
+  out.maps.displacement_scale = static_cast<float>(m.displacement_texopt.bump_multiplier);
   return out;
 }
 
 bool material_is_finite(const Material& m) {
   return is_finite(m.diffuse) && is_finite(m.reflective) && is_finite(m.emissive) &&
-         std::isfinite(m.shininess) && std::isfinite(m.ior) && std::isfinite(m.opacity);
+         std::isfinite(m.shininess) && std::isfinite(m.ior) && std::isfinite(m.opacity) &&
+         std::isfinite(m.maps.bump_scale) && std::isfinite(m.maps.displacement_scale);
 }
 
 }  // namespace
@@ -200,7 +243,7 @@ Mesh read_obj(const std::string& path) {
 
   Mesh mesh;
   for (const tinyobj::material_t& m : reader.GetMaterials()) {
-    mesh.materials.push_back(to_material(m));
+    mesh.materials.push_back(to_material(m, config.mtl_search_path));
     if (!material_is_finite(mesh.materials.back()))
       throw InputError(path, 0, "material '" + m.name + "' has a non-finite value");
   }
@@ -217,6 +260,10 @@ Mesh read_obj(const std::string& path) {
   mesh.positions.reserve(v.size() / 3);
   for (std::size_t i = 0; i + 2 < v.size(); i += 3)
     mesh.positions.emplace_back(v[i], v[i + 1], v[i + 2]);
+  const std::vector<tinyobj::real_t>& vt = reader.GetAttrib().texcoords;
+  mesh.texcoords.reserve(vt.size() / 2);
+  for (std::size_t i = 0; i + 1 < vt.size(); i += 2)
+    mesh.texcoords.push_back({static_cast<float>(vt[i]), static_cast<float>(vt[i + 1])});
 
   // Objects by name: OBJ files may reopen a group ("g wall") later; its faces join the first.
   std::map<std::string, int> object_ids;
@@ -228,18 +275,23 @@ Mesh read_obj(const std::string& path) {
     for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
       const int n = shape.mesh.num_face_vertices[f];
       const auto index = [&](int k) { return shape.mesh.indices[base + k].vertex_index; };
+      const auto uv = [&](int k) { return shape.mesh.indices[base + k].texcoord_index; };
       Face face;
       face.material = shape.mesh.material_ids[f];
       face.object = it->second;
       if (n <= 4) {
         face.count = n;
-        for (int k = 0; k < n; ++k) face.v[k] = index(k);
+        for (int k = 0; k < n; ++k) {
+          face.v[k] = index(k);
+          face.uv[k] = uv(k);
+        }
         mesh.faces.push_back(face);
       } else {
         // A fan from the first vertex: exact for the convex polygons OBJ exporters write.
         face.count = 3;
         for (int k = 1; k + 1 < n; ++k) {
           face.v = {index(0), index(k), index(k + 1), -1};
+          face.uv = {uv(0), uv(k), uv(k + 1), -1};
           mesh.faces.push_back(face);
         }
       }
@@ -255,6 +307,11 @@ std::vector<std::string> mesh_files(const std::string& path) {
   ObjPrescan prescan(path);
   prescan.run(detail::read_text_file(path));
   files.insert(files.end(), prescan.mtl_files().begin(), prescan.mtl_files().end());
+  for (const std::string& mtl : prescan.mtl_files()) {
+    ObjPrescan library(mtl);
+    library.run_mtl(detail::read_text_file(mtl));
+    files.insert(files.end(), library.image_files().begin(), library.image_files().end());
+  }
   return files;
 }
 

@@ -43,6 +43,8 @@ Mesh load_scene_meshes(const SceneDescription& scene) {
     const int vertex_base = static_cast<int>(out.positions.size());
     const int object_base = static_cast<int>(out.objects.size());
     const int material_base = static_cast<int>(out.materials.size());
+    const int texcoord_base = static_cast<int>(out.texcoords.size());
+    out.texcoords.insert(out.texcoords.end(), mesh.texcoords.begin(), mesh.texcoords.end());
     // Scale, rotate, then translate: size and orientation in the mesh's own frame, then place it.
     for (const Vec3d& p : mesh.positions)
       out.positions.push_back(rotation.apply(p * desc.scale) + desc.translate);
@@ -58,14 +60,21 @@ Mesh load_scene_meshes(const SceneDescription& scene) {
       replacement = material_base;
       out.materials.push_back(make_material(*overrides.at(desc.material)));
     } else {
+      // A height field's height is in the mesh's units: it scales with the mesh (by the
+      // geometric mean of a non-uniform scale).
+      const double height_scale = std::cbrt(std::fabs(desc.scale.x * desc.scale.y * desc.scale.z));
       for (Material m : mesh.materials) {
         if (const auto it = overrides.find(m.name); it != overrides.end())
           apply_material_override(*it->second, m);
+        m.maps.displacement_scale *= static_cast<float>(height_scale);
         out.materials.push_back(m);
       }
     }
     for (Face f : mesh.faces) {
-      for (int k = 0; k < f.count; ++k) f.v[k] += vertex_base;
+      for (int k = 0; k < f.count; ++k) {
+        f.v[k] += vertex_base;
+        if (f.uv[k] >= 0) f.uv[k] += texcoord_base;
+      }
       f.object += object_base;
       if (replacement >= 0) {
         f.material = replacement;

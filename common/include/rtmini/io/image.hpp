@@ -49,6 +49,9 @@ Image read_ppm(const std::string& path);
 // 8-bit sRGB (grey, RGB or RGBA; alpha stored linearly). IoError without libpng.
 void write_png(const std::string& path, const Image& image);
 Image read_png(const std::string& path);
+// The same file as data (normal, bump and height maps): each 8-bit code c becomes c / 255,
+// with no transfer function.
+Image read_png_data(const std::string& path);
 
 // Linear RGB(A) in channels R, G, B (A). IoError without OpenEXR.
 void write_exr(const std::string& path, const Image& image, ExrPixel pixel = ExrPixel::kHalf);

@@ -11,7 +11,9 @@ namespace rtmini {
 // Reads an OBJ and its MTL libraries. Triangles and quads are kept as they are;
 // polygons with more vertices are fan-triangulated. Each `o`/`g` name becomes one
 // entry of Mesh::objects (repeated names share an id; unnamed faces go to "default").
-// MTL Kd/Ks/Ke/Ns/Ni/d fill Material. A light pre-scan validates field counts,
+// MTL Kd/Ks/Ke/Ns/Ni/d fill Material; `vt` and `f v/vt[/vn]` fill Mesh::texcoords and
+// Face::uv; map_Kd, map_Ks, norm, map_bump/bump and disp (PNG only, paths resolved against the
+// OBJ's folder, `-bm` kept as the map's scale) fill Material::maps. A light pre-scan validates field counts,
 // numbers, finiteness and index ranges first, so errors carry "file:line: reason";
 // an undefined `usemtl` name, or a missing MTL file in an OBJ that uses materials,
 // is an InputError too (an OBJ without `usemtl` loads without its missing library).
@@ -21,7 +23,8 @@ Mesh read_obj(const std::string& path);
 Mesh read_mesh(const std::string& path);
 
 // The files read_mesh(path) reads: the mesh itself and, for an OBJ, the material libraries it
-// names that exist (io/input_files.hpp hashes them for the restart signature).
+// names that exist and the image maps those name (io/input_files.hpp hashes them for the
+// restart signature).
 std::vector<std::string> mesh_files(const std::string& path);
 
 }  // namespace rtmini

@@ -20,6 +20,9 @@ struct TexCoord {
 // A scene without maps renders with the constant-material kernels.
 struct MaterialMaps {
   std::string diffuse, specular, normal, bump, displacement;
+  // MTL `-bm` of map_bump (height scale of the bump map) and of disp (the height, in the
+  // mesh's units, of a white texel of the height field); 1 when not given.
+  float bump_scale = 1.f, displacement_scale = 1.f;
   bool any() const {
     return !diffuse.empty() || !specular.empty() || !normal.empty() || !bump.empty() ||
            !displacement.empty();
