@@ -110,35 +110,6 @@ double merged_cost(const CostMap& cost, const std::vector<std::uint8_t>& done) {
   return sum;
 }
 
-// Seconds per pixel as a + b * probe cost, fitted by least squares to rank 0's dispatches. The
-// probe counts the rays of one camera sample; the constant part carries what it does not see
-// (anti-aliasing samples, the stencil, the per-pixel work of cheap background pixels), without
-// which the ETA over-weights the costly pixels still to come.
-class PixelCostFit {
- public:
-  void add(double seconds, double pixels, double probe_cost) {
-    nn_ += pixels * pixels;
-    nc_ += pixels * probe_cost;
-    cc_ += probe_cost * probe_cost;
-    tn_ += seconds * pixels;
-    tc_ += seconds * probe_cost;
-  }
-  // Estimated seconds of `pixels` pixels whose probe costs sum to `probe_cost`.
-  double cost(double pixels, double probe_cost) const {
-    const double det = nn_ * cc_ - nc_ * nc_;
-    double a = det > 1e-12 * nn_ * cc_ ? (tn_ * cc_ - tc_ * nc_) / det : -1.0;
-    double b = det > 1e-12 * nn_ * cc_ ? (tc_ * nn_ - tn_ * nc_) / det : -1.0;
-    if (a < 0 || b < 0) {  // one term explains the data: fall back to the probe cost alone
-      a = 0;
-      b = cc_ > 0 ? tc_ / cc_ : 0.0;
-    }
-    return a * pixels + b * probe_cost;
-  }
-
- private:
-  double nn_ = 0, nc_ = 0, cc_ = 0, tn_ = 0, tc_ = 0;
-};
-
 struct BandRecord {
   double start, end;
   std::int64_t pixels, rays;
@@ -371,7 +342,7 @@ class RenderProgress {
  private:
   const RunState& r_;
   ProgressLine line_;
-  PixelCostFit fit_;
+  CostFit fit_;  // seconds per pixel as a + b x probe cost
   double restart_cost_ = 0, total_probe_cost_ = 0;
 };
 

@@ -96,4 +96,25 @@ bool TimedChunks::next(std::int64_t& begin, std::int64_t& end) {
   return true;
 }
 
+void CostFit::add(double seconds, double items, double probe_cost) {
+  nn_ += items * items;
+  nc_ += items * probe_cost;
+  cc_ += probe_cost * probe_cost;
+  tn_ += seconds * items;
+  tc_ += seconds * probe_cost;
+}
+
+double CostFit::cost(double items, double probe_cost) const {
+  // The normal equations of min sum (t - a n - b c)^2 over the pieces added.
+  const double det = nn_ * cc_ - nc_ * nc_;
+  const bool solvable = det > 1e-12 * nn_ * cc_;
+  double a = solvable ? (tn_ * cc_ - tc_ * nc_) / det : -1.0;
+  double b = solvable ? (tc_ * nn_ - tn_ * nc_) / det : -1.0;
+  if (a < 0 || b < 0) {  // one piece, or one term explains the data: the probe cost alone
+    a = 0;
+    b = cc_ > 0 ? tc_ / cc_ : 0.0;
+  }
+  return a * items + b * probe_cost;
+}
+
 }  // namespace rtmini

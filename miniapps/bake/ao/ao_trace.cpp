@@ -4,6 +4,7 @@
 #include <functional>
 
 #include "rtmini/geometry/offset.hpp"
+#include "rtmini/parallel/spread_order.hpp"
 
 namespace rtmini::ao {
 namespace detail {
@@ -16,10 +17,12 @@ struct PointBatch {
   Kokkos::View<std::uint32_t*, MemSpace> keys;
 };
 
-// Counts occluded rays k in [k0, k1) for each point in [begin, end), added into hits.
+// Counts occluded rays k in [k0, k1) for each point at positions [begin, end) of `order`,
+// added into hits.
 void trace_pass(const OcclusionQuery& query, const PointBatch& points,
                 const Kokkos::View<std::uint16_t*, MemSpace>& hits, std::int64_t begin,
-                std::int64_t end, int k0, int k1, const TraceSettings& s) {
+                std::int64_t end, int k0, int k1, const TraceSettings& s,
+                const SpreadOrder& order) {
   const auto pos = points.pos;
   const auto nrm = points.nrm;
   const auto keys = points.keys;
@@ -28,7 +31,8 @@ void trace_pass(const OcclusionQuery& query, const PointBatch& points,
   const Real offset = s.offset, max_distance = s.max_distance;
   const Real coordinate_bound = s.coordinate_bound;
   Kokkos::parallel_for(
-      "rtmini::bake::ao::trace", DynamicPolicy(begin, end), KOKKOS_LAMBDA(std::int64_t i) {
+      "rtmini::bake::ao::trace", DynamicPolicy(begin, end), KOKKOS_LAMBDA(std::int64_t at) {
+        const std::int64_t i = order.item(at);
         const Vec3 normal = nrm(i);
         if (length_squared(normal) == Real(0)) return;  // degenerate triangle: zero weight later
         const Frame frame(normal);
@@ -48,10 +52,15 @@ void trace_pass(const OcclusionQuery& query, const PointBatch& points,
 
 // Points per dispatch at least, when a progress line splits a pass (TimedChunks).
 constexpr std::int64_t kMinDispatchPoints = 4096;
+// Consecutive points kept together by the spread order (a few neighbouring triangles' samples,
+// whose rays share BVH nodes).
+constexpr std::int64_t kSpreadBlockPoints = 256;
 
 // With a progress line (`line` drawn, `after_dispatch` set) each pass is split into time-sized
-// dispatches, so a long pass shows its progress; a point's count is an integer sum over its rays,
-// so the counts are the same for any split.
+// dispatches, so a long pass shows its progress, over the points in a spread order (each dispatch
+// a sample of the whole batch: the rate so far holds for the rest, whatever part of the mesh is
+// cheap to trace); a point's count is an integer sum over its rays, so the counts are the same
+// for any split and order.
 void trace_all_passes(const OcclusionQuery& query, const PointBatch& points,
                       const Kokkos::View<std::uint16_t*, MemSpace>& hits, std::int64_t n,
                       const TraceSettings& s, const ProgressLine* line = nullptr,
@@ -62,8 +71,9 @@ void trace_all_passes(const OcclusionQuery& query, const PointBatch& points,
     const int k1 = static_cast<int>(static_cast<std::int64_t>(s.rays) * (p + 1) / s.passes);
     std::int64_t begin = 0, end = 0;
     TimedChunks chunks(n, after_dispatch ? line : nullptr, kMinDispatchPoints);
+    const SpreadOrder order = after_dispatch ? SpreadOrder(n, kSpreadBlockPoints) : SpreadOrder();
     while (chunks.next(begin, end)) {
-      trace_pass(query, points, hits, begin, end, k0, k1, s);
+      trace_pass(query, points, hits, begin, end, k0, k1, s, order);
       if (after_dispatch) after_dispatch((end - begin) * (k1 - k0));
     }
   }

@@ -6,6 +6,7 @@
 
 #include "map_reader.hpp"
 #include "rtmini/bvh/traverse.hpp"
+#include "rtmini/parallel/spread_order.hpp"
 #include "rtmini/report/hash.hpp"
 #include "rtmini/sampling/rng.hpp"
 #include "rtmini/sampling/sampling.hpp"
@@ -16,8 +17,10 @@ namespace {
 using Exec = Kokkos::DefaultExecutionSpace;
 
 // With a progress line the frame is traced in time-sized dispatches (TimedChunks: a fixed 64
-// equal ones cost 20-35 %), each of at least kMinDispatchPixels; without one, in one. Each pixel
-// is independent and the hit count an integer sum, so the image and hash are the same either way.
+// equal ones cost 20-35 %), each of at least kMinDispatchPixels, its rows in a spread order
+// (SpreadOrder: each dispatch a sample of the whole frame, so the ETA holds); without one, in one
+// dispatch, row after row. Each pixel is independent and the hit count an integer sum, so the
+// image and hash are the same either way.
 constexpr std::int64_t kMinDispatchPixels = 32768;
 
 // One pixel: spp camera rays, each coloured by MapReader::read at its closest hit along the
@@ -30,8 +33,10 @@ struct RenderPixels {
   Kokkos::View<float* [3], MemSpace> out;
   int width, spp, grid;
   std::uint64_t seed;
+  SpreadOrder order;  // position -> pixel
 
-  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t pixel, std::int64_t& hits) const {
+  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t pos, std::int64_t& hits) const {
+    const std::int64_t pixel = order.item(pos);
     const int x = static_cast<int>(pixel % width), y = static_cast<int>(pixel / width);
     Vec3 sum(Real(0));
     for (int s = 0; s < spp; ++s) {
@@ -72,9 +77,17 @@ std::int64_t run_kernel(const BakedMapDevice& map, const LookupT& lookup,
                                   SparseColors{},
                                   FirstReads{}};
   const int grid = static_cast<int>(std::sqrt(static_cast<double>(p.spp)) + 1e-9);
-  const RenderPixels<LookupT> kernel{map.mesh.accel, reader, camera, out,
-                                     p.width,        p.spp,  grid,   p.seed};
   const std::int64_t pixels = static_cast<std::int64_t>(p.width) * p.height;
+  const bool shown = progress && progress->enabled();
+  const RenderPixels<LookupT> kernel{map.mesh.accel,
+                                     reader,
+                                     camera,
+                                     out,
+                                     p.width,
+                                     p.spp,
+                                     grid,
+                                     p.seed,
+                                     shown ? SpreadOrder(pixels, p.width) : SpreadOrder()};
   std::int64_t hits = 0, begin = 0, end = 0;
   TimedChunks chunks(pixels, progress, kMinDispatchPixels);
   while (chunks.next(begin, end)) {

@@ -63,6 +63,21 @@ class TimedChunks {
   Clock::time_point start_;
 };
 
+// Seconds of work as a x items + b x probe cost, fitted by least squares to the pieces done so
+// far. A probe (one cheap sample of an item's work: the rays, or the BVH steps, of one camera
+// ray) ranks items by cost but does not see everything (more samples, shading, per-item
+// overhead); the constant part a carries that, without which the ETA over-weights the costly
+// items still to come.
+class CostFit {
+ public:
+  void add(double seconds, double items, double probe_cost);
+  // Estimated seconds of `items` items whose probe costs sum to `probe_cost`.
+  double cost(double items, double probe_cost) const;
+
+ private:
+  double nn_ = 0, nc_ = 0, cc_ = 0, tn_ = 0, tc_ = 0;
+};
+
 // Seconds as h:mm:ss.
 std::string format_hms(double seconds);
 
