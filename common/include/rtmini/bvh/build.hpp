@@ -7,6 +7,7 @@
 #include "rtmini/bvh/build_sah.hpp"
 #include "rtmini/bvh/finish.hpp"
 #include "rtmini/bvh/gpu_collapse.hpp"
+#include "rtmini/bvh/host_pages.hpp"
 #include "rtmini/bvh/wide.hpp"
 
 namespace rtmini::bvh {
@@ -20,12 +21,10 @@ void add_wide_nodes(Bvh<MemorySpace>& bvh, const std::vector<BvhNode>& binary, c
     if (bvh.num_prims == 0) return;
     Kokkos::Profiling::pushRegion("rtmini::bvh::build::collapse_wide");
     const WideBvh wide = collapse_to_wide(binary, tris, prim);
-    bvh.wide = Kokkos::View<WideNode*, MemorySpace>(
-        Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::wide"), wide.nodes.size());
+    bvh.wide = huge_page_view<WideNode, MemorySpace>("rtmini::bvh::wide", wide.nodes.size());
     std::copy(wide.nodes.begin(), wide.nodes.end(), bvh.wide.data());
-    bvh.leaves = Kokkos::View<TriangleLanes*, MemorySpace>(
-        Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::wide_leaves"),
-        wide.leaves.size());
+    bvh.leaves =
+        huge_page_view<TriangleLanes, MemorySpace>("rtmini::bvh::wide_leaves", wide.leaves.size());
     std::copy(wide.leaves.begin(), wide.leaves.end(), bvh.leaves.data());
     Kokkos::Profiling::popRegion();
   }
