@@ -63,6 +63,7 @@ std::string feature_names(unsigned f) {
   add(kSecondary, "secondary");
   add(kLights, "lights");
   add(kCameraSampling, "camera-sampling");
+  add(kMotion, "motion");
   return s.empty() ? "primary-only" : s;
 }
 
@@ -97,6 +98,9 @@ Renderer::Renderer(const HostScene& scene, const RenderSettings& s) {
   if (scene_.num_quads + scene_.num_mesh_lights + scene_.num_points > 0) features_ |= kLights;
   if (params_.lens || params_.motion) features_ |= kCameraSampling;
   if (s.general_kernel) features_ = kSecondary | kLights | kCameraSampling;
+  // Moving objects: the general kernel with motion (one more instantiation, not eight); the
+  // time sample comes with camera sampling.
+  if (scene_.motion.count > 0) features_ = kSecondary | kLights | kCameraSampling | kMotion;
 }
 
 template <unsigned kFeatures>
@@ -142,6 +146,9 @@ void Renderer::run(const TraceParams& params, bool aov, const std::vector<std::i
       break;
     case 6:
       launch<6>(params, aov, pixels, results);
+      break;
+    case kSecondary | kLights | kCameraSampling | kMotion:
+      launch<kSecondary | kLights | kCameraSampling | kMotion>(params, aov, pixels, results);
       break;
     default:
       launch<7>(params, aov, pixels, results);
