@@ -13,6 +13,18 @@ struct MovingScene : DeviceScene {
   MovingScene(const DeviceScene& d) : DeviceScene(d) {}  // NOLINT: implicit on purpose
 };
 
+// One object's tree: the 8-wide SIMD layout where it was built (host memory), else binary.
+template <bool kAnyHit, bool kStats>
+KOKKOS_INLINE_FUNCTION bool traverse_object(const ObjectTree<MemSpace>& tree, const Ray& ray,
+                                            Hit& hit, bvh::TraversalStats* stats) {
+  if constexpr (Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpace>::accessible) {
+    if (tree.motion.wide.extent(0) > 0)
+      return bvh::detail::traverse_wide<ObjectTree<MemSpace>, kAnyHit, kStats>(tree, ray, hit,
+                                                                               stats);
+  }
+  return bvh::detail::traverse<ObjectTree<MemSpace>, kAnyHit, kStats>(tree, ray, hit, stats);
+}
+
 // Closest hit of `ray` (at ray.time) among the moving objects, beyond nothing nearer than
 // `best` (updated; global triangle ids).
 template <bool kAnyHit>
@@ -22,19 +34,18 @@ KOKKOS_INLINE_FUNCTION bool trace_movers(const MovingScene& scene, const Ray& ra
   bool found = false;
   for (int m = 0; m < motion.count; ++m) {
     const MovingObject& o = motion.objects(m);
-    const RigidPose pose = pose_at(o, ray.time);
+    if (o.num_prims == 0) continue;
     Ray local = ray;
     local.tmax = best.t;
-    if (!may_hit_object(o, pose.offset, local)) continue;
-    local = pose.ray_to_object(local);
+    // The cull needs only the centre; the rotation (cos, sin) only objects that pass it.
+    if (!may_hit_object(o, o.pivot + o.velocity * ray.time, local)) continue;
+    local = pose_at(o, ray.time).ray_to_object(local);
     const ObjectTree<MemSpace> tree(motion, o);
     Hit h;
     h.t = local.tmax;
     bvh::TraversalStats st;
-    const bool hit =
-        c.stats
-            ? bvh::detail::traverse<ObjectTree<MemSpace>, kAnyHit, true>(tree, local, h, &st)
-            : bvh::detail::traverse<ObjectTree<MemSpace>, kAnyHit, false>(tree, local, h, nullptr);
+    const bool hit = c.stats ? traverse_object<kAnyHit, true>(tree, local, h, &st)
+                             : traverse_object<kAnyHit, false>(tree, local, h, nullptr);
     c.tests += st.tests;
     c.nodes += st.nodes;
     if (!hit) continue;

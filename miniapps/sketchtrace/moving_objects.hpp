@@ -25,12 +25,13 @@ namespace rtmini::sketch {
 // One moving object in the render frame: at time t its object-space point x is at
 // pivot + velocity t + R(axis, spin t) x. Its triangles are the global triangles
 // [first_tri, first_tri + num_prims) (stored in object space), its tree the nodes and
-// leaf triangles from node_base / tri_base of DeviceMotion's tables.
+// leaf triangles from node_base / tri_base (binary layout) and wide_base / leaf_base (8-wide
+// host layout) of DeviceMotion's tables.
 struct MovingObject {
   Vec3 pivot, velocity, axis;  // axis: unit
   Real spin = 0;               // radians per unit time
   Real radius = 0;             // bounds every object-space vertex: |x| <= radius
-  std::uint32_t node_base = 0, tri_base = 0;
+  std::uint32_t node_base = 0, tri_base = 0, wide_base = 0, leaf_base = 0;
   int num_prims = 0, first_tri = 0;
 };
 
@@ -86,16 +87,20 @@ KOKKOS_INLINE_FUNCTION bool may_hit_object(const MovingObject& m, const Vec3& ce
 template <class MemorySpace>
 struct DeviceMotion {
   Kokkos::View<MovingObject*, MemorySpace> objects;
-  Kokkos::View<bvh::BvhNode*, MemorySpace> nodes;   // every object's tree, one after another
-  Kokkos::View<Triangle*, MemorySpace> tris;        // their leaf triangles, in leaf order
-  Kokkos::View<int*, MemorySpace> prim;             // leaf slot -> object-local triangle
+  Kokkos::View<bvh::BvhNode*, MemorySpace> nodes;  // every object's tree, one after another
+  Kokkos::View<Triangle*, MemorySpace> tris;       // their leaf triangles, in leaf order
+  Kokkos::View<int*, MemorySpace> prim;            // leaf slot -> object-local triangle
+  // The same trees in the 8-wide SIMD layout (bvh.hpp), host memory only; the leaves' prim
+  // lanes hold global triangle ids.
+  Kokkos::View<bvh::WideNode*, MemorySpace> wide;
+  Kokkos::View<bvh::TriangleLanes*, MemorySpace> leaves;
   Kokkos::View<int*, MemorySpace> mover_of_object;  // mesh object -> moving object, -1 = still
   int count = 0;
 };
 
 // One object's tree seen through DeviceMotion's shared tables, in the shape
-// bvh::detail::traverse reads (num_prims, nodes(i), tris(i), prim(i)); prim reports the
-// global triangle id.
+// bvh::detail::traverse and traverse_wide read (num_prims, nodes(i), tris(i), prim(i),
+// wide(i), leaves(i)); prim reports the global triangle id.
 template <class MemorySpace>
 struct ObjectTree {
   const DeviceMotion<MemorySpace>& motion;
@@ -111,6 +116,12 @@ struct ObjectTree {
   }
   KOKKOS_INLINE_FUNCTION int prim(std::uint32_t i) const {
     return object.first_tri + motion.prim(object.tri_base + i);
+  }
+  KOKKOS_INLINE_FUNCTION const bvh::WideNode& wide(std::uint32_t i) const {
+    return motion.wide(object.wide_base + i);
+  }
+  KOKKOS_INLINE_FUNCTION const bvh::TriangleLanes& leaves(std::uint32_t i) const {
+    return motion.leaves(object.leaf_base + i);
   }
 };
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "rtmini/bvh/build_sah.hpp"
+#include "rtmini/bvh/build.hpp"
 #include "rtmini/io/error.hpp"
 
 namespace rtmini::sketch {
@@ -27,6 +27,11 @@ Kokkos::View<T*, MemSpaceT> upload(const char* label, const std::vector<T>& host
   for (std::size_t i = 0; i < host.size(); ++i) mirror(i) = host[i];
   Kokkos::deep_copy(view, mirror);
   return view;
+}
+
+template <class T, class View>
+void append(std::vector<T>& out, const View& v) {
+  out.insert(out.end(), v.data(), v.data() + v.extent(0));
 }
 
 }  // namespace
@@ -84,6 +89,8 @@ DeviceMotion<MemSpaceT> upload_motion(const HostScene& s, const TriangleList& tl
   std::vector<bvh::BvhNode> nodes;
   std::vector<Triangle> tris;
   std::vector<int> prim;
+  std::vector<bvh::WideNode> wide;
+  std::vector<bvh::TriangleLanes> leaves;
   double bound = coordinate_bound;
   std::size_t t = first_moving;
   for (std::size_t m = 0; m < s.movers.size(); ++m) {
@@ -108,13 +115,25 @@ DeviceMotion<MemSpaceT> upload_motion(const HostScene& s, const TriangleList& tl
     o.radius = Real(radius * (1 + 1e-3) + 1e-6);
     o.node_base = static_cast<std::uint32_t>(nodes.size());
     o.tri_base = static_cast<std::uint32_t>(tris.size());
+    o.wide_base = static_cast<std::uint32_t>(wide.size());
+    o.leaf_base = static_cast<std::uint32_t>(leaves.size());
     o.first_tri = static_cast<int>(first);
     o.num_prims = static_cast<int>(local.size());
     if (!local.empty()) {
-      const bvh::HostBvh tree = bvh::build_sah_host(local, 0.0);
-      nodes.insert(nodes.end(), tree.nodes.begin(), tree.nodes.end());
-      tris.insert(tris.end(), tree.tris.begin(), tree.tris.end());
-      prim.insert(prim.end(), tree.prim.begin(), tree.prim.end());
+      // Built in host memory by the still scene's SAH builder (no pre-splits: one reference
+      // per triangle), which also gives the 8-wide layout the host traverses.
+      const Kokkos::View<const Triangle*, Kokkos::HostSpace> view(local.data(), local.size());
+      const bvh::Bvh<Kokkos::HostSpace> tree = bvh::build<Kokkos::DefaultHostExecutionSpace>(
+          Kokkos::DefaultHostExecutionSpace(), view, bvh::BuildQuality::kSah,
+          bvh::QuantizedWide::kNever, 0.0);
+      append(nodes, tree.nodes);
+      append(tris, tree.tris);
+      append(prim, tree.prim);
+      append(wide, tree.wide);
+      const std::size_t leaf0 = leaves.size();
+      append(leaves, tree.leaves);
+      for (std::size_t l = leaf0; l < leaves.size(); ++l)
+        for (int& p : leaves[l].prim) p += static_cast<int>(first);
     }
     objects.push_back(o);
     // Everywhere the object reaches while rays sample times in [-max_abs_time, max_abs_time].
@@ -126,6 +145,11 @@ DeviceMotion<MemSpaceT> upload_motion(const HostScene& s, const TriangleList& tl
   out.nodes = upload("rtmini::sketch::moving_nodes", nodes);
   out.tris = upload("rtmini::sketch::moving_tris", tris);
   out.prim = upload("rtmini::sketch::moving_prim", prim);
+  // The wide layout only where the kernels can traverse it (traverse_object).
+  if (Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpaceT>::accessible) {
+    out.wide = upload("rtmini::sketch::moving_wide", wide);
+    out.leaves = upload("rtmini::sketch::moving_leaves", leaves);
+  }
   out.mover_of_object = upload("rtmini::sketch::mover_of_object", mover);
   out.count = static_cast<int>(objects.size());
   return out;
