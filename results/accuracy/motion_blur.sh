@@ -5,7 +5,8 @@
 #    own specialised kernel, and --general-kernel, which is the moving scene's kernel less the
 #    motion part), interleaved, REPEATS times each, 320x200, 16 spp, 1 thread.
 # 2. (with MAIN_SKETCHTRACE, a build of the commit this branch started from) the cost of the
-#    ray's time field on still scenes: two_spheres and spheres, main vs this build, interleaved.
+#    ray's time field on still scenes: two_spheres and spheres, main vs this build, interleaved
+#    in ABBA order (a fixed order read as a 10 % cost on the loaded machine; ABBA showed 1 %).
 # 3. error = noise vs spp: RMSE of 4..256 spp against a 2048-spp reference of another seed,
 #    moving and still, 160x100, 2 threads.
 # Writes raw_motion/*.log and motion_speed.csv / motion_static.csv / motion_noise.csv here.
@@ -20,17 +21,20 @@ repeats=${REPEATS:-5}
 mkdir -p "$raw"
 export OMP_PROC_BIND=false
 
-# The still variant: the scene without its motion keys, mesh paths made absolute.
+# The still variant: the scene without its motion keys, next to it here (mesh paths adjusted).
 still=$raw/still.toml
-sed -e "s#\"\.\./#\"$repo/inputs/#" -e '/^velocity/d' -e '/^spin_/d' \
+inputs_from_raw=$(realpath --relative-to="$raw" "$repo/inputs")
+sed -e "s#\"\.\./#\"$inputs_from_raw/#" -e '/^velocity/d' -e '/^spin_/d' \
   "$repo/inputs/moving_spheres/moving_spheres.toml" > "$still"
 moving=$repo/inputs/moving_spheres/moving_spheres.toml
 
 rate() { sed -n 's/.*render: \([0-9.]*\) s .*, \([0-9]*\) rays, \([0-9.]*\) Mrays\/s.*/\1,\2,\3/p' "$1"; }
 
 echo "variant,repeat,render_s,rays,mrays_per_s" > "$here/motion_speed.csv"
+# The order rotates from one repeat to the next, so a load change does not favour one variant.
+orders=("still still_general moving" "moving still still_general" "still_general moving still")
 for r in $(seq 1 "$repeats"); do
-  for v in still still_general moving; do
+  for v in ${orders[$((r % 3))]}; do
     case $v in
       still) args=("$still") ;;
       still_general) args=("$still" --general-kernel) ;;
@@ -45,7 +49,9 @@ if [[ -n $main_bin ]]; then
   echo "scene,binary,repeat,render_s,rays,mrays_per_s,verification" > "$here/motion_static.csv"
   for r in $(seq 1 "$repeats"); do
     for scene in two_spheres spheres; do
-      for b in main branch; do
+      pair="main branch"
+      ((r % 2)) || pair="branch main"  # ABBA: alternate which binary runs first
+      for b in $pair; do
         bin=$sketch
         [[ $b == main ]] && bin=$main_bin
         log=$raw/static_${scene}_${b}_$r.log
