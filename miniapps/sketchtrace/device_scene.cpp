@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "crease_normals.hpp"
+#include "moving_objects_host.hpp"
 
 namespace rtmini::sketch {
 namespace {
@@ -32,9 +33,19 @@ std::vector<std::array<int, 3>> corner_uv_ids(const Mesh& mesh) {
 
 DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality, double cos_crease) {
   DeviceScene d;
-  d.mesh = upload_mesh(scene.mesh, quality);
   const TriangleList tl = triangulate(scene.mesh);
   d.triangles = tl.vertices.size();
+  // Moving objects' faces come last (place_moving_objects_last): the still BVH stops there.
+  std::size_t still = tl.vertices.size();
+  if (!scene.movers.empty()) {
+    std::vector<char> moving(scene.mesh.objects.size(), 0);
+    for (const MoverDesc& m : scene.movers)
+      for (int o = m.first_object; o < m.end_object; ++o) moving[o] = 1;
+    still = 0;
+    while (still < tl.vertices.size() && !moving[scene.mesh.faces[tl.face[still]].object]) ++still;
+  }
+  d.mesh = upload_mesh(scene.mesh, quality, Kokkos::DefaultExecutionSpace(), Vec3d(0.0), still);
+  if (!scene.movers.empty()) d.motion = upload_motion(scene, tl, still, d.mesh.coordinate_bound);
 
   // Shading normals per triangle corner, split where faces meet at more than the crease angle.
   const CornerNormals corners = crease_split_normals(scene.mesh.positions, tl.vertices, cos_crease);
@@ -97,7 +108,9 @@ DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality, doub
   const std::size_t nt = d.triangles, nv = scene.mesh.positions.size();
   d.bytes = (nv + normals.size()) * sizeof(Vec3) + nt * (sizeof(Triangle) * 2 + 9 * sizeof(int)) +
             d.mesh.accel.nodes.extent(0) * sizeof(bvh::BvhNode) +
-            tris.size() * (sizeof(int) + sizeof(Real)) + d.maps.bytes;
+            tris.size() * (sizeof(int) + sizeof(Real)) + d.maps.bytes +
+            d.motion.nodes.extent(0) * sizeof(bvh::BvhNode) +
+            d.motion.tris.extent(0) * (sizeof(Triangle) + sizeof(int));
   d.texture_bytes = d.maps.bytes;
   return d;
 }

@@ -2,6 +2,7 @@
 // The scene as the render kernels see it: the shared DeviceMesh (triangles, BVH,
 // materials) plus sketchtrace's shading tables (vertex normals, analytic-sphere
 // objects) and light lists, all Views in the default memory space.
+#include "moving_objects.hpp"
 #include "render_scene.hpp"
 #include "rtmini/scene/device_mesh.hpp"
 #include "textures.hpp"
@@ -22,6 +23,7 @@ struct DeviceScene {
   Kokkos::View<Real*, MemSpace> emissive_cdf;  // cumulative area within each light, in (0, 1]
   Kokkos::View<SolidBall*, MemSpace> solid_balls;
   SurfaceMaps<MemSpace> maps;  // image maps; maps.any false (nothing allocated) without any
+  DeviceMotion<MemSpace> motion;  // moving objects (empty: a still scene)
   int num_quads = 0, num_points = 0, num_mesh_lights = 0, num_solid_balls = 0;
   bool any_secondary = false;  // some material reflects or transmits
   std::size_t triangles = 0;

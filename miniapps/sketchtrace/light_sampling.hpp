@@ -44,6 +44,29 @@ KOKKOS_INLINE_FUNCTION bool trace_occluded(const Accel& accel, const Ray& ray, T
   return bvh::any_hit(accel, ray);
 }
 
+// Whole-scene queries at the ray's instant. These trace the still BVH only; motion_trace.hpp
+// overloads them for scenes with moving objects (MovingScene, found by argument-dependent
+// lookup where the kernels instantiate), so a still scene runs exactly the code above.
+template <class Scene>
+KOKKOS_INLINE_FUNCTION Hit scene_closest(const Scene& scene, const Ray& ray, TraceCounter& c) {
+  return trace_closest(scene.mesh.accel, ray, c);
+}
+template <class Scene>
+KOKKOS_INLINE_FUNCTION bool scene_occluded(const Scene& scene, const Ray& ray, TraceCounter& c) {
+  return trace_occluded(scene.mesh.accel, ray, c);
+}
+// Whether a moving object blocks the segment (the shaft path's complement: shafts hold still
+// triangles only).
+template <class Scene>
+KOKKOS_INLINE_FUNCTION bool movers_occlude(const Scene&, const Ray&, TraceCounter&) {
+  return false;
+}
+template <class Scene>
+KOKKOS_INLINE_FUNCTION Surface scene_surface(const Scene& scene, const Ray& ray, const Hit& hit,
+                                             bool smooth) {
+  return surface_at(scene, ray, hit, smooth);
+}
+
 // How a shading point samples area lights: `samples` shadow rays per light using
 // strata [first, first + samples) of `strata` strata over the light, random pair
 // numbers from `pair_base`.
@@ -84,7 +107,7 @@ KOKKOS_FORCEINLINE_FUNCTION bool segment_blocked_by_ball(const Ray& r, const Sol
 // `org` is the shading point's shadow-ray origin, offset_ray_origin(p, ng, bound).
 template <class Scene>
 KOKKOS_FORCEINLINE_FUNCTION bool visible(const Scene& scene, const Vec3& org, const Vec3& q,
-                                         TraceCounter& c,
+                                         Real time, TraceCounter& c,
                                          const bvh::ShaftBlockers* blockers = nullptr) {
   Ray r;
   r.org = org;
@@ -94,9 +117,11 @@ KOKKOS_FORCEINLINE_FUNCTION bool visible(const Scene& scene, const Vec3& org, co
   r.dir = d / dist;
   r.tmin = Real(0);
   r.tmax = dist * kShadowRayReach;
+  r.time = time;
   if (blockers) {
     ++c.rays;
-    return !bvh::any_hit_blockers(scene.mesh.accel, *blockers, r, c.stats ? &c.tests : nullptr);
+    return !bvh::any_hit_blockers(scene.mesh.accel, *blockers, r, c.stats ? &c.tests : nullptr) &&
+           !movers_occlude(scene, r, c);
   }
   // A segment through a solid ball crosses its sphere's triangles: the traversal's answer.
   for (int b = 0; b < scene.num_solid_balls; ++b)
@@ -104,7 +129,7 @@ KOKKOS_FORCEINLINE_FUNCTION bool visible(const Scene& scene, const Vec3& org, co
       ++c.rays;
       return false;
     }
-  return !trace_occluded(scene.mesh.accel, r, c);
+  return !scene_occluded(scene, r, c);
 }
 
 // The blockers of the shaft from the shading point's shadow-ray origin to a quad light;
@@ -140,7 +165,7 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_irradiance(const Scene& scene, const Surface&
     const Real cos_s = dot(s.ns, wi);
     const Real cos_l = math::fabs(dot(nl, wi));
     if (cos_s <= Real(0) || dot(s.ng, wi) <= Real(0) || cos_l <= Real(0)) return;
-    if (!visible(scene, org, q, c, blockers)) return;
+    if (!visible(scene, org, q, s.time, c, blockers)) return;
     sum += le * (cos_s * cos_l * area / d2 * inv_samples);
   };
   for (int l = 0; l < scene.num_quads; ++l, ++light) {
@@ -212,7 +237,7 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_irradiance(const Scene& scene, const Surface&
     const Vec3 wi = w / math::sqrt(d2);
     const Real cos_s = dot(s.ns, wi);
     if (cos_s <= Real(0) || dot(s.ng, wi) <= Real(0)) continue;
-    if (!visible(scene, org, pl.position, c)) continue;
+    if (!visible(scene, org, pl.position, s.time, c)) continue;
     sum += pl.intensity * (cos_s / d2);
   }
   return sum;

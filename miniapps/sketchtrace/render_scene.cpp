@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "moving_objects_host.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/obj_reader.hpp"
 #include "rtmini/scene/camera.hpp"
@@ -113,7 +114,8 @@ HostScene build_scene(const std::string& input, const SceneDescription* desc,
                       RenderSettings& settings) {
   HostScene s;
   s.name = input;
-  s.mesh = desc ? load_scene_meshes(*desc) : read_mesh(input);
+  std::vector<int> first_object;  // of each [[meshes]] entry
+  s.mesh = desc ? load_scene_meshes(*desc, &first_object) : read_mesh(input);
   if (s.mesh.objects.empty()) s.mesh.objects.push_back("default");
   for (const Face& f : s.mesh.faces)
     while (f.object >= static_cast<int>(s.mesh.objects.size()))
@@ -135,10 +137,21 @@ HostScene build_scene(const std::string& input, const SceneDescription* desc,
   for (Vec3d& p : s.mesh.positions) p -= s.origin;
   const int level = settings.sphere_subdivisions;
   if (desc) {
+    const int mesh_objects = static_cast<int>(s.mesh.objects.size());
+    for (std::size_t i = 0; i < desc->meshes.size(); ++i) {
+      const MeshDesc& m = desc->meshes[i];
+      if (!m.motion.moves()) continue;
+      const int end = i + 1 < first_object.size() ? first_object[i + 1] : mesh_objects;
+      add_mover(s, first_object[i], end, objects_centre(s.mesh, first_object[i], end), m.motion,
+                m.line);
+    }
     for (std::size_t i = 0; i < desc->spheres.size(); ++i) {
       const SphereDesc& sp = desc->spheres[i];
-      add_sphere(s, sp.center - s.origin, sp.radius, level, sp.material,
-                 "sphere" + std::to_string(i));
+      const int obj = add_sphere(s, sp.center - s.origin, sp.radius, level, sp.material,
+                                 "sphere" + std::to_string(i));
+      if (!sp.motion.moves()) continue;
+      s.solid_balls.pop_back();  // a moving ball is not where the shadow shortcut would look
+      add_mover(s, obj, obj + 1, sp.center - s.origin, sp.motion, sp.line);
     }
     for (const LightDesc& l : desc->lights) {
       if (l.type == LightType::kQuad) {
@@ -173,6 +186,11 @@ HostScene build_scene(const std::string& input, const SceneDescription* desc,
   if (!settings.has_camera)
     settings.camera = frame_bounds(lo + s.origin, hi + s.origin, settings.camera.fov_deg);
   if (s.mesh.faces.empty()) throw InputError(input, 0, "the scene has no geometry");
+  if (!s.movers.empty()) {
+    s.max_abs_time =
+        std::max(std::fabs(settings.camera.shutter_open), std::fabs(settings.camera.shutter_close));
+    place_moving_objects_last(s, input);
+  }
   s.map_images = load_map_images(s.mesh.materials);
   return s;
 }

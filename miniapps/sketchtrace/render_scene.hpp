@@ -49,6 +49,16 @@ struct SolidBall {
   Real inner, outer;
 };
 
+// Mesh objects [first_object, end_object) moving together (moving_objects.hpp): at time t an
+// object-space point x (= its time-0 position - pivot) is at pivot + velocity t +
+// R(axis, spin_rad t) x. `line`: the scene-file entry, for errors.
+struct MoverDesc {
+  int first_object = 0, end_object = 0;
+  Vec3d pivot, velocity, axis;
+  double spin_rad = 0;  // per unit time
+  long line = 0;
+};
+
 struct HostScene {
   std::string name;
   Mesh mesh;
@@ -56,8 +66,12 @@ struct HostScene {
   std::vector<PointLight> points;
   std::vector<ObjectShading> objects;      // one per mesh object
   std::vector<char> object_is_quad_light;  // excluded from the mesh-light list
-  std::vector<SolidBall> solid_balls;      // one per generated sphere
+  std::vector<SolidBall> solid_balls;      // one per generated still sphere
   std::vector<MapImage> map_images;        // the materials' image maps, decoded once
+  // Moving objects: their faces come last in the mesh (in this order) and their vertices are
+  // in object space (place_moving_objects_last, moving_objects_host.hpp).
+  std::vector<MoverDesc> movers;
+  double max_abs_time = 0;  // the largest |shutter time|, to bound where movers can be
   // Everything above is in the render frame: world position = frame position + origin
   // (the bounding-box centre of the scene file's geometry and lights; geometry/offset.hpp).
   Vec3d origin{0.0};

@@ -64,6 +64,7 @@ std::string feature_names(unsigned f) {
   add(kLights, "lights");
   add(kCameraSampling, "camera-sampling");
   add(kTextures, "textures");
+  add(kMotion, "motion");
   return s.empty() ? "primary-only" : s;
 }
 
@@ -104,6 +105,10 @@ Renderer::Renderer(const HostScene& scene, const RenderSettings& s) {
   // Textured scenes get two instantiations only, with secondary rays and lights compiled in
   // (both are checked at run time too), so the untextured kernels stay as they were.
   if (scene_.maps.any) features_ |= kTextures | kSecondary | kLights;
+  // Moving objects: the general kernel with motion (one more instantiation, not eight; two
+  // with textures); the time sample comes with camera sampling.
+  if (scene_.motion.count > 0)
+    features_ = kSecondary | kLights | kCameraSampling | kMotion | (features_ & kTextures);
 }
 
 template <unsigned kFeatures>
@@ -155,6 +160,13 @@ void Renderer::run(const TraceParams& params, bool aov, const std::vector<std::i
       break;
     case kTextures | kSecondary | kLights:
       launch<kTextures | kSecondary | kLights>(params, aov, pixels, results);
+      break;
+    case kSecondary | kLights | kCameraSampling | kMotion:
+      launch<kSecondary | kLights | kCameraSampling | kMotion>(params, aov, pixels, results);
+      break;
+    case kSecondary | kLights | kCameraSampling | kMotion | kTextures:
+      launch<kSecondary | kLights | kCameraSampling | kMotion | kTextures>(params, aov, pixels,
+                                                                           results);
       break;
     default:
       launch<kTextures | kSecondary | kLights | kCameraSampling>(params, aov, pixels, results);

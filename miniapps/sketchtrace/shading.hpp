@@ -24,6 +24,7 @@ struct Surface {
   bool front = true;          // the ray hit the side the winding calls outside
   Real coordinate_bound = 0;  // the scene's, for offset_ray_origin
   Real self_shadow = 1;       // height-field self-shadowing of the direct light (parallax.hpp)
+  Real time = 0;              // the instant it was seen at (the ray's; shadow rays share it)
 };
 
 template <class Scene>
@@ -50,6 +51,7 @@ KOKKOS_INLINE_FUNCTION Surface surface_at(const Scene& scene, const Ray& ray, co
     ns = normalize(acc);
     if (!(dot(ns, ng) > Real(0))) ns = ng;
   }
+  s.time = ray.time;
   s.front = dot(ray.dir, ng) < Real(0);
   s.ng = s.front ? ng : -ng;
   s.ns = s.front ? ns : -ns;

@@ -32,10 +32,10 @@ template <class Scene>
 KOKKOS_INLINE_FUNCTION StencilHit stencil_hit(const Scene& scene, const DeviceCamera& cam, Real px,
                                               Real py, const StencilParams& sp, TraceCounter& c) {
   const Ray ray = cam.generate(px, py, Real(0.5), Real(0.5), Real(0), false, false);
-  const Hit h = trace_closest(scene.mesh.accel, ray, c);
+  const Hit h = scene_closest(scene, ray, c);
   StencilHit out;
   if (!h.valid()) return out;
-  const Surface s = surface_at(scene, ray, h, sp.smooth);
+  const Surface s = scene_surface(scene, ray, h, sp.smooth);
   out.object = s.object;
   out.depth = h.t;
   out.normal = s.ns;

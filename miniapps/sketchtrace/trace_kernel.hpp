@@ -8,6 +8,7 @@
 // `glossy_samples` glossy branches. Randomness: Rng(seed, pixel, sample) with a
 // fixed dimension layout (README), so an image never depends on rank/thread/chunk.
 #include "light_sampling.hpp"
+#include "motion_trace.hpp"
 #include "pixel_result.hpp"
 #include "rtmini/scene/camera.hpp"
 #include "surface_detail.hpp"
@@ -16,7 +17,19 @@ namespace rtmini::sketch {
 
 // Scene features a kernel instantiation may skip (checked at launch time).
 // kTextures: some material has image maps (surface_detail.hpp), looked up at ray-cone LODs.
-enum FeatureBits : unsigned { kSecondary = 1u, kLights = 2u, kCameraSampling = 4u, kTextures = 8u };
+// kMotion: the scene has moving objects (motion_trace.hpp); every path then sees one instant,
+// the camera sample's time.
+enum FeatureBits : unsigned {
+  kSecondary = 1u,
+  kLights = 2u,
+  kCameraSampling = 4u,
+  kTextures = 8u,
+  kMotion = 16u
+};
+
+// The scene type a kernel holds: only kMotion kernels trace moving objects.
+template <unsigned kFeatures>
+using KernelScene = std::conditional_t<(kFeatures & kMotion) != 0, MovingScene, DeviceScene>;
 
 struct TraceParams {
   int width = 1, height = 1;
@@ -48,7 +61,7 @@ KOKKOS_INLINE_FUNCTION std::uint32_t pixel_key(std::uint64_t seed, std::uint64_t
 
 template <unsigned kFeatures>
 struct RadianceEstimator {
-  DeviceScene scene;
+  KernelScene<kFeatures> scene;
   DeviceCamera camera;
   TraceParams p;
 
@@ -87,9 +100,9 @@ struct RadianceEstimator {
           below_one((Real(permute(i, p.spp, pixel_key(p.seed, pixel, 3))) + Real(t)) / Real(p.spp));
     }
     Ray ray = camera.generate(Real(x) + sx, Real(y) + sy, lu, lv, tu, p.lens, p.motion);
-    Hit hit = trace_closest(scene.mesh.accel, ray, c);
+    Hit hit = scene_closest(scene, ray, c);
     if (!hit.valid()) return p.background;
-    Surface s = surface_at(scene, ray, hit, p.smooth);
+    Surface s = scene_surface(scene, ray, hit, p.smooth);
     DeviceMaterial m = scene.mesh.materials(s.material);
     RayCone cone{Real(0), p.cone_spread};
     if (kFeatures & kTextures) {
@@ -119,6 +132,7 @@ struct RadianceEstimator {
       rng.uniform2(cp, u_pick, unused);
       rng.uniform2(cp + 1, u1, u2);
       Ray next;
+      next.time = ray.time;  // the whole path sees the camera sample's instant
       Vec3 weight;
       bool diffuse = false;
       if (!sample_continuation(m, s, ray.dir, p.indirect, u_pick, u1, u2, next, weight, diffuse))
@@ -127,12 +141,12 @@ struct RadianceEstimator {
       RayCone branch_cone = cone;
       if (kFeatures & kTextures) branch_cone.scatter(m.shininess, is_glossy(m.shininess), diffuse);
       for (int depth = 1; depth <= p.bounces; ++depth) {
-        const Hit h = trace_closest(scene.mesh.accel, next, c);
+        const Hit h = scene_closest(scene, next, c);
         if (!h.valid()) {
           radiance += throughput * p.background;
           break;
         }
-        Surface sd = surface_at(scene, next, h, p.smooth);
+        Surface sd = scene_surface(scene, next, h, p.smooth);
         DeviceMaterial md = scene.mesh.materials(sd.material);
         if (kFeatures & kTextures) {
           branch_cone.advance(h.t);

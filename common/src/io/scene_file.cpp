@@ -130,6 +130,16 @@ void read_material_fields(const TableReader& r, MaterialOverride& m) {
   if (m.d && (*m.d < 0.f || *m.d > 1.f)) r.fail("d", "must be in [0, 1]");
 }
 
+// velocity / spin_axis / spin_deg of a [[meshes]] or [[spheres]] entry.
+ObjectMotion read_motion(const TableReader& r) {
+  ObjectMotion m;
+  m.velocity = r.vec3("velocity", m.velocity);
+  m.spin_axis = r.vec3("spin_axis", m.spin_axis);
+  m.spin_deg = r.number("spin_deg", m.spin_deg);
+  if (length_squared(m.spin_axis) == 0.0) r.fail("spin_axis", "must not be zero");
+  return m;
+}
+
 CameraDesc read_camera(const TableReader& r) {
   r.known({"position", "look_at", "up", "fov_deg", "aperture", "focus_distance", "shutter_open",
            "shutter_close", "velocity"});
@@ -194,7 +204,8 @@ LightDesc read_light(const TableReader& r) {
 }
 
 MeshDesc read_mesh_desc(const TableReader& r, const std::set<std::string>& material_names) {
-  r.known({"file", "translate", "rotate_deg", "scale", "material"});
+  r.known({"file", "translate", "rotate_deg", "scale", "material", "velocity", "spin_axis",
+           "spin_deg"});
   r.require("file");
   MeshDesc m;
   m.line = r.line();
@@ -214,11 +225,12 @@ MeshDesc read_mesh_desc(const TableReader& r, const std::set<std::string>& mater
   m.material = r.string("material", "");
   if (!m.material.empty() && material_names.count(m.material) == 0)
     r.fail("material", "names no [[materials]] entry: '" + m.material + "'");
+  m.motion = read_motion(r);
   return m;
 }
 
 SphereDesc read_sphere(const TableReader& r) {
-  r.known({"center", "radius", "material"});
+  r.known({"center", "radius", "material", "velocity", "spin_axis", "spin_deg"});
   r.require("center");
   r.require("radius");
   SphereDesc s;
@@ -226,6 +238,7 @@ SphereDesc read_sphere(const TableReader& r) {
   s.center = r.vec3("center", {});
   s.radius = r.number("radius", 1.0);
   if (!(s.radius > 0.0)) r.fail("radius", "must be positive");
+  s.motion = read_motion(r);
   if (const toml::node* node = r.node("material")) {
     const TableReader mr(as_table(*node, r.file(), "'material' in [[spheres]]"), r.file(),
                          "[[spheres]].material");

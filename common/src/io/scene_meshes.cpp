@@ -32,7 +32,7 @@ struct Rotation {
 
 // Every [[meshes]] entry is appended to one Mesh: its vertex, object and material indices are
 // offset by what came before, so faces keep pointing at their own mesh's entries.
-Mesh load_scene_meshes(const SceneDescription& scene) {
+Mesh load_scene_meshes(const SceneDescription& scene, std::vector<int>* first_object) {
   Mesh out;
   std::map<std::string, const MaterialOverride*> overrides;
   for (const MaterialOverride& m : scene.materials) overrides[m.name] = &m;
@@ -45,6 +45,7 @@ Mesh load_scene_meshes(const SceneDescription& scene) {
     const int material_base = static_cast<int>(out.materials.size());
     const int texcoord_base = static_cast<int>(out.texcoords.size());
     out.texcoords.insert(out.texcoords.end(), mesh.texcoords.begin(), mesh.texcoords.end());
+    if (first_object) first_object->push_back(object_base);
     // Scale, rotate, then translate: size and orientation in the mesh's own frame, then place it.
     for (const Vec3d& p : mesh.positions)
       out.positions.push_back(rotation.apply(p * desc.scale) + desc.translate);

@@ -5,6 +5,8 @@
 #   restart NP [BALANCE] stop after 2 dispatches (exit 4) + --restart on other ranks == uninterrupted
 #   signal NP            SIGUSR1 mid-run -> checkpoint, exit 4; --time-limit likewise; restart == full
 #   balance NP           every --balance strategy on NP ranks gives the 1-rank static hash
+#   motion_balance       moving_spheres (object motion blur): 1 rank x 1 and 2 threads, 2, 3 and
+#                        4 ranks with every --balance strategy give one verification hash
 #   bad FILE             exit 2 and "file:line: reason" on stderr
 #   timings NP           --timings/--summary files have the documented layout
 #   style                --style sketch runs the hand-drawn passes
@@ -24,6 +26,7 @@ scene_args() {
     spheres) echo "--width 160 --height 100 --spp 4 --shadow-samples 4" ;;
     watchtower) echo "--width 160 --height 120 --spp 4 --shadow-samples 8" ;;
     dist_first) echo "--width 200 --height 160 --spp 8 --glossy-samples 4" ;;
+    moving_spheres) echo "--width 160 --height 100 --spp 8" ;;
     *) echo "unknown scene $1" >&2; exit 1 ;;
   esac
 }
@@ -75,6 +78,26 @@ case $mode in
       done
     fi
     echo "hash $ref identical for all thread and rank counts"
+    ;;
+  motion_balance)
+    # shellcheck disable=SC2046
+    set -- "$INPUTS/moving_spheres/moving_spheres.toml" --width 96 --height 60 --spp 4 --chunk-pixels 256
+    OMP_NUM_THREADS=1 launch 1 "$@" > "$work/t1.txt"
+    ref=$(hash_of "$work/t1.txt")
+    [[ -n $ref ]] || { echo "no hash in the 1-rank run" >&2; exit 1; }
+    grep -q "kernel features:.*motion" "$work/t1.txt" || { echo "the motion kernel did not run" >&2; exit 1; }
+    OMP_NUM_THREADS=2 launch 1 "$@" > "$work/t2.txt"
+    [[ $(hash_of "$work/t2.txt") == "$ref" ]] || { echo "2 threads differ" >&2; exit 1; }
+    if [[ -n ${MPIEXEC:-} ]]; then
+      for np in 2 3 4; do
+        for b in static metric chunks bargain queue steal; do
+          OMP_NUM_THREADS=1 launch "$np" "$@" --balance "$b" > "$work/np${np}_$b.txt"
+          [[ $(hash_of "$work/np${np}_$b.txt") == "$ref" ]] ||
+            { echo "--balance $b on $np ranks differs" >&2; exit 1; }
+        done
+      done
+    fi
+    echo "hash $ref identical for every thread count, rank count and balancer"
     ;;
   restart)
     np=$1
@@ -193,7 +216,7 @@ PYEOF
     [[ -s $work/sketch.png && -s $work/sketch.aov.exr ]]
     ;;
   make_reference)
-    for scene in two_spheres spheres watchtower dist_first; do
+    for scene in two_spheres spheres watchtower dist_first moving_spheres; do
       # shellcheck disable=SC2046
       "$SKETCH" "$INPUTS/$scene/$scene.toml" -o "$REF/$scene.exr" $(scene_args "$scene")
     done

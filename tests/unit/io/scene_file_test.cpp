@@ -156,6 +156,41 @@ TEST(SceneFile, LoadsTransformedMeshesWithOverrides) {
   EXPECT_FLOAT_EQ(chrome.reflective.y, 0.95f);
 }
 
+TEST(SceneFile, ReadsObjectMotionAndFirstObjects) {
+  test::TempDir dir;
+  write_scene(dir);
+  test::write_file(dir.file("moving.toml"), R"([[meshes]]
+file = "sub/tri.obj"
+
+[[meshes]]
+file = "sub/tri.obj"
+velocity = [1, 0, -2]
+spin_axis = [0, 0, 3]
+spin_deg = 45
+
+[[spheres]]
+center = [0, 0, 0]
+radius = 1
+velocity = [0, 2, 0]
+)");
+  const SceneDescription s = read_scene_file(dir.file("moving.toml"));
+  ASSERT_EQ(s.meshes.size(), 2u);
+  EXPECT_FALSE(s.meshes[0].motion.moves());
+  EXPECT_TRUE(s.meshes[1].motion.moves());
+  EXPECT_EQ(s.meshes[1].motion.velocity.z, -2.0);
+  EXPECT_EQ(s.meshes[1].motion.spin_axis.z, 3.0);
+  EXPECT_EQ(s.meshes[1].motion.spin_deg, 45.0);
+  ASSERT_EQ(s.spheres.size(), 1u);
+  EXPECT_TRUE(s.spheres[0].motion.moves());
+  EXPECT_EQ(s.spheres[0].motion.velocity.y, 2.0);
+  std::vector<int> first_object;
+  const Mesh m = load_scene_meshes(s, &first_object);
+  ASSERT_EQ(first_object.size(), 2u);
+  EXPECT_EQ(first_object[0], 0);
+  EXPECT_EQ(first_object[1], 1);
+  EXPECT_EQ(m.faces[1].object, 1);
+}
+
 TEST(SceneFile, MinimalSceneUsesDefaults) {
   test::TempDir dir;
   test::write_file(dir.file("empty.toml"), "# nothing\n");

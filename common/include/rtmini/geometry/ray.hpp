@@ -9,6 +9,9 @@ struct Ray {
   Vec3 dir;
   Real tmin = Real(0);
   Real tmax = Real(1e30);
+  // The instant the ray samples (scene time, between the camera's shutter_open and
+  // shutter_close): only moving objects read it (sketchtrace's motion.hpp).
+  Real time = Real(0);
 };
 
 // Closest-hit record. prim is the triangle index in the caller's original

@@ -12,6 +12,11 @@
 //               rotate_deg [3] (XYZ Euler: about x, then y, then z), scale (number or [3]),
 //               material (name of a [[materials]] entry, replaces all the mesh's materials)
 //   [[spheres]] center, radius (required), material = { kd, ks, ke, ns, ni, d }
+//   [[meshes]] and [[spheres]] may also move (object motion blur, sketchtrace): velocity [3]
+//               (units per time, as the camera's), spin_axis [3] and spin_deg (degrees per
+//               time about that axis through the object's centre: a sphere's centre, a mesh's
+//               placed bounding-box centre). The file gives each object at time 0; a ray at
+//               shutter time t sees it moved by velocity * t and turned by spin_deg * t.
 //   [settings]  passed through; each app checks its own keys with check_known_keys
 //
 // Unknown keys, wrong types, bad values and missing mesh files are InputErrors
@@ -62,12 +67,21 @@ struct MaterialOverride {
   long line = 0;
 };
 
+// Rigid motion of one object over time (see the layout above); zero = still.
+struct ObjectMotion {
+  Vec3d velocity{0.0, 0.0, 0.0};
+  Vec3d spin_axis{0.0, 1.0, 0.0};
+  double spin_deg = 0.0;  // per unit time
+  bool moves() const { return spin_deg != 0.0 || length_squared(velocity) > 0.0; }
+};
+
 struct MeshDesc {
   std::string file;  // resolved against the TOML file's folder
   Vec3d translate{0.0, 0.0, 0.0};
   Vec3d rotate_deg{0.0, 0.0, 0.0};
   Vec3d scale{1.0, 1.0, 1.0};
   std::string material;  // empty = keep the file's materials
+  ObjectMotion motion;
   long line = 0;
 };
 
@@ -75,6 +89,7 @@ struct SphereDesc {
   Vec3d center;
   double radius = 1.0;
   Material material;
+  ObjectMotion motion;
   long line = 0;
 };
 
@@ -105,6 +120,8 @@ void apply_material_override(const MaterialOverride& fields, Material& material)
 // and appends them into one Mesh: object ids stay distinct, material indices are
 // offset, [[materials]] overrides apply by name, a mesh `material` replaces its faces'
 // materials. Viewpoint colours of .bs inputs are dropped (scenes carry geometry only).
-Mesh load_scene_meshes(const SceneDescription& scene);
+// With first_object, also the id of each [[meshes]] entry's first object (its objects run
+// up to the next entry's first).
+Mesh load_scene_meshes(const SceneDescription& scene, std::vector<int>* first_object = nullptr);
 
 }  // namespace rtmini

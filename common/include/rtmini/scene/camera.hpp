@@ -26,7 +26,8 @@ struct DeviceCamera {
     Ray ray;
     ray.dir = normalize(forward + right * sx + up * sy);
     ray.org = position;
-    if (motion) ray.org = ray.org + velocity * (shutter_open + (shutter_close - shutter_open) * tu);
+    ray.time = shutter_open + (shutter_close - shutter_open) * tu;
+    if (motion) ray.org = ray.org + velocity * ray.time;
     if (lens && lens_radius > Real(0)) {
       // Focal-plane point of the pinhole ray, then aim from a point on the lens disk.
       const Real t_focus = focus_distance / dot(ray.dir, forward);

@@ -52,11 +52,12 @@ inline double device_mesh_bytes(std::size_t triangles, std::size_t vertices) {
   return nv * sizeof(Vec3) + nt * (sizeof(Triangle) + 6 * sizeof(int)) + bvh_bytes(triangles);
 }
 
+// bvh_triangles: only triangles [0, bvh_triangles) go into the BVH (sketchtrace keeps its
+// moving objects, placed last, in trees of their own); all of them by default.
 template <class ExecSpace = Kokkos::DefaultExecutionSpace>
-DeviceMesh<typename ExecSpace::memory_space> upload_mesh(const Mesh& mesh,
-                                                         bvh::BuildQuality quality,
-                                                         const ExecSpace& space = ExecSpace(),
-                                                         const Vec3d& origin = Vec3d(0.0)) {
+DeviceMesh<typename ExecSpace::memory_space> upload_mesh(
+    const Mesh& mesh, bvh::BuildQuality quality, const ExecSpace& space = ExecSpace(),
+    const Vec3d& origin = Vec3d(0.0), std::size_t bvh_triangles = ~std::size_t(0)) {
   using MS = typename ExecSpace::memory_space;
   DeviceMesh<MS> d;
   const TriangleList tl = triangulate(mesh);
@@ -97,7 +98,15 @@ DeviceMesh<typename ExecSpace::memory_space> upload_mesh(const Mesh& mesh,
   Kokkos::deep_copy(d.tri_material, hm);
   Kokkos::deep_copy(d.tri_object, ho);
   Kokkos::deep_copy(d.materials, hmat);
-  d.accel = bvh::build<ExecSpace, MS>(space, d.tris, quality);
+  if (bvh_triangles >= nt) {
+    d.accel = bvh::build<ExecSpace, MS>(space, d.tris, quality);
+  } else {
+    Kokkos::View<Triangle*, MS> prefix("rtmini::scene::bvh_tris", bvh_triangles);
+    Kokkos::deep_copy(space, prefix,
+                      Kokkos::subview(d.tris, std::make_pair(std::size_t(0), bvh_triangles)));
+    space.fence();
+    d.accel = bvh::build<ExecSpace, MS>(space, prefix, quality);
+  }
   return d;
 }
 
