@@ -5,12 +5,14 @@
 # pixel/light stratification. Two binaries render the bundled scenes
 # inputs/light_converge/{reflected_shadow,glass}.toml at 1..64 samples per pixel; each run's
 # RMSE against the reference (the AFTER binary at REFSPP pixel samples, another seed) and its
-# render time go to light_convergence.csv. A second reference from the BEFORE binary checks
-# that both estimate the same image (bias) up to the references' noise. A stratification
-# table renders reflected_shadow direct-only (--bounces 0) with spp x shadow samples = 16 in
-# every split, three seeds each. Raw logs and JSON summaries: OUT/raw_light/.
+# render time go to light_convergence.csv, three seeds per point. A second reference from the
+# BEFORE binary, and a third from AFTER, check that both estimate the same image (bias) up to
+# the references' noise. A stratification table renders inputs/light_converge/penumbra.toml
+# (direct light, no edges in view) with spp x shadow samples = 16 in every split, three seeds
+# each. Raw logs and JSON summaries: OUT/raw_light/. light_convergence_report.py turns the
+# CSV into light_convergence.md and .png.
 # Usage: results/accuracy/light_convergence.sh AFTER_SKETCHTRACE BEFORE_SKETCHTRACE [OUT_DIR]
-# Environment: REFSPP (default 512), OMP_NUM_THREADS (default 2).
+# Environment: REFSPP (default 1024), OMP_NUM_THREADS (default 2).
 set -euo pipefail
 after=$(realpath "${1:?usage: light_convergence.sh AFTER BEFORE [OUT_DIR]}")
 before=$(realpath "${2:?usage: light_convergence.sh AFTER BEFORE [OUT_DIR]}")
@@ -23,7 +25,7 @@ raw=$out/raw_light
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-2} OMP_PROC_BIND=false
-refspp=${REFSPP:-512}
+refspp=${REFSPP:-1024}
 csv=$out/light_convergence.csv
 echo "scene,binary,spp,shadow_samples,bounces,seed,rmse,render_s,rays" >"$csv"
 
@@ -56,26 +58,29 @@ for scene in reflected_shadow glass; do
     --reference "$work/${scene}_ref.exr"
   row "${scene}_ref_after2" "$scene" after_reference "$refspp" 4 default 9003
   for spp in 1 2 4 8 16 32 64; do
-    for bin in before after; do
-      b=$before
-      [ $bin = after ] && b=$after
-      run "${scene}_${bin}_$spp" "$b" "$scene" --spp "$spp" --seed 5 --reference "$work/${scene}_ref.exr"
-      row "${scene}_${bin}_$spp" "$scene" "$bin" "$spp" 4 default 5
+    for seed in 5 6 7; do
+      for bin in before after; do
+        b=$before
+        [ $bin = after ] && b=$after
+        run "${scene}_${bin}_${spp}_$seed" "$b" "$scene" --spp "$spp" --seed "$seed" \
+          --reference "$work/${scene}_ref.exr"
+        row "${scene}_${bin}_${spp}_$seed" "$scene" "$bin" "$spp" 4 default "$seed"
+      done
     done
   done
 done
 
 # Joint stratification: direct light only, 16 shadow rays per pixel split every way.
-run strat_ref "$after" reflected_shadow --bounces 0 --spp 256 --shadow-samples 16 --seed 9004
+run strat_ref "$after" penumbra --spp 256 --shadow-samples 64 --seed 9004
 for split in 16x1 8x2 4x4 2x8 1x16; do
   spp=${split%x*} sh=${split#*x}
   for seed in 1 2 3; do
     for bin in before after; do
       b=$before
       [ $bin = after ] && b=$after
-      run "strat_${bin}_${split}_$seed" "$b" reflected_shadow --bounces 0 --spp "$spp" \
-        --shadow-samples "$sh" --seed "$seed" --reference "$work/strat_ref.exr"
-      row "strat_${bin}_${split}_$seed" strat_reflected_shadow "$bin" "$spp" "$sh" 0 "$seed"
+      run "strat_${bin}_${split}_$seed" "$b" penumbra --spp "$spp" --shadow-samples "$sh" \
+        --seed "$seed" --reference "$work/strat_ref.exr"
+      row "strat_${bin}_${split}_$seed" penumbra "$bin" "$spp" "$sh" 0 "$seed"
     done
   done
 done
