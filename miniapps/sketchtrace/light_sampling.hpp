@@ -46,11 +46,11 @@ KOKKOS_INLINE_FUNCTION bool trace_occluded(const Accel& accel, const Ray& ray, T
 
 // How a shading point samples area lights: `samples` shadow rays per light, random pair
 // numbers from `pair_base`. Joint stratification: the `pixel_strata` pixel samples of a pixel
-// that share this plan split each of the `samples` strata of a light into `pixel_strata`
-// sub-strata, and this pixel sample takes sub-stratum (pixel_cell + j) mod pixel_strata of
-// stratum j; so each pixel sample stratifies the light on its own and the pixel's
-// pixel_strata x samples shadow rays fall one in each of as many strata (4 spp x 4 shadow
-// samples covers the light like 16 x 1).
+// that share this plan split each light into pixel_strata x samples strata, in `samples`
+// blocks of pixel_strata consecutive strata, and this pixel sample takes stratum
+// (pixel_cell + j) mod pixel_strata of block j. So the pixel's shadow rays fall one in each
+// stratum (4 spp x 4 shadow samples covers the light like 16 x 1) and each pixel sample's own
+// rays fall in different blocks (rows of the strata grid).
 struct ShadowPlan {
   int samples = 1;
   int pixel_strata = 1;
@@ -61,14 +61,13 @@ struct ShadowPlan {
 };
 
 // Sample j of a plan's light strata, jittered by (u1, u2): a point in [0,1)^2. `shape` is
-// strata_shape(plan.samples), `pixel_shape` strata_shape(plan.pixel_strata).
+// strata_shape(plan.samples * plan.pixel_strata). With one pixel sample (or one shadow sample)
+// this is stratum j (or pixel_cell) of the plan's strata, as before joint stratification.
 KOKKOS_FORCEINLINE_FUNCTION void light_stratum(const ShadowPlan& plan, int j, StrataShape shape,
-                                               StrataShape pixel_shape, std::uint32_t key, Real u1,
-                                               Real u2, Real& x, Real& y) {
-  Real fx, fy;
-  stratum_2d((plan.pixel_cell + j) % plan.pixel_strata, plan.pixel_strata, pixel_shape, key, u1, u2,
-             fx, fy);
-  stratum_2d(j, plan.samples, shape, key, fx, fy, x, y);
+                                               std::uint32_t key, Real u1, Real u2, Real& x,
+                                               Real& y) {
+  const int n = plan.pixel_strata;
+  stratum_2d(j * n + (plan.pixel_cell + j) % n, plan.samples * n, shape, key, u1, u2, x, y);
 }
 
 // Shaft culling pays off from this many shadow rays per light and shading point.
@@ -302,7 +301,7 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, c
     if (!visible(scene, org, q, c, blockers)) return;
     sum += le * (f * solid_angle * inv_samples);
   };
-  const StrataShape pixel_shape = strata_shape(plan.pixel_strata);
+  const StrataShape shape = strata_shape(samples * plan.pixel_strata);
   for (int l = 0; l < scene.num_quads; ++l, ++light) {
     const QuadLight ql = scene.quads(l);
     if (!plan.soft) {
@@ -315,7 +314,6 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, c
     blockers = samples >= kShaftMinSamples && quad_shaft_blockers(scene, org, ql, shaft, c)
                    ? &shaft
                    : nullptr;
-    const StrataShape shape = strata_shape(samples);
     const std::uint32_t key = plan.key ^ static_cast<std::uint32_t>(light);
     const std::uint32_t pair0 = plan.pair_base + static_cast<std::uint32_t>(light * samples);
     // Consecutive pairs share one Philox block (Rng::uniform2 draws the same numbers).
@@ -329,7 +327,7 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, c
       }
       const unsigned o = (pair & 1u) * 2u;
       Real x, y;
-      light_stratum(plan, j, shape, pixel_shape, key, Real(Rng::to_unit(block.v[o])),
+      light_stratum(plan, j, shape, key, Real(Rng::to_unit(block.v[o])),
                     Real(Rng::to_unit(block.v[o + 1])), x, y);
       if (by_solid_angle)
         solid_angle_sample(spherical_rect_point(rect, x, y), ql.emission, rect.solid_angle);
@@ -338,7 +336,6 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, c
     }
     blockers = nullptr;
   }
-  const StrataShape shape = strata_shape(samples);
   for (int l = 0; l < scene.num_mesh_lights; ++l, ++light) {
     const MeshLight ml = scene.mesh_lights(l);
     for (int j = 0; j < samples; ++j) {
@@ -346,8 +343,8 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, c
       rng.uniform2(plan.pair_base + static_cast<std::uint32_t>(light * samples + j), a, b);
       Real x = a, y = b;
       if (plan.soft)
-        light_stratum(plan, j, shape, pixel_shape, plan.key ^ static_cast<std::uint32_t>(light),
-                      Real(a), Real(b), x, y);
+        light_stratum(plan, j, shape, plan.key ^ static_cast<std::uint32_t>(light), Real(a),
+                      Real(b), x, y);
       // Pick a triangle by area with x (binary search of the CDF), reuse x's
       // position inside that triangle's CDF interval as the first barycentric number.
       int lo = ml.first, hi = ml.first + ml.count - 1;

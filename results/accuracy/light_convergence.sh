@@ -84,4 +84,16 @@ for split in 16x1 8x2 4x4 2x8 1x16; do
     done
   done
 done
+# Cost: 5 interleaved repeats of each binary at 32 spp (medians and spread in the report).
+for scene in reflected_shadow glass; do
+  for rep in 1 2 3 4 5; do
+    for bin in before after; do
+      b=$before
+      [ $bin = after ] && b=$after
+      run "time_${scene}_${bin}_$rep" "$b" "$scene" --spp 32 --seed 5 \
+        --reference "$work/${scene}_ref.exr"
+      row "time_${scene}_${bin}_$rep" "timing_$scene" "$bin" 32 4 default "$rep"
+    done
+  done
+done
 echo "wrote $csv"

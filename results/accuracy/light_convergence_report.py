@@ -82,5 +82,21 @@ for spp, sh in splits:
         g = groups[("penumbra", binary, spp, sh)]
         vals.append(math.sqrt(statistics.mean(float(r["rmse"]) ** 2 for r in g)))
     out.append(f"| {spp} x {sh} | {vals[0]:.5f} | {vals[1]:.5f} |")
+out.append("\n### Cost: render time at 32 spp, 5 interleaved repeats\n")
+out.append("| scene | before s (median, min-max) | after s (median, min-max) | after / before | rays after / before |")
+out.append("|---|---|---|---:|---:|")
+for scene in ["reflected_shadow", "glass"]:
+    cells, med, rays = [], {}, {}
+    for binary in ["before", "after"]:
+        g = groups.get((f"timing_{scene}", binary, 32, 4), [])
+        if not g:
+            break
+        t = [float(r["render_s"]) for r in g]
+        med[binary] = statistics.median(t)
+        rays[binary] = statistics.mean(float(r["rays"]) for r in g)
+        cells.append(f"{med[binary]:.3f} ({min(t):.3f}-{max(t):.3f})")
+    if len(cells) == 2:
+        out.append(f"| {scene} | {cells[0]} | {cells[1]} | {med['after'] / med['before']:.2f} | "
+                   f"{rays['after'] / rays['before']:.3f} |")
 open(prefix + ".md", "w").write("\n".join(out) + "\n")
 print("\n".join(out))
