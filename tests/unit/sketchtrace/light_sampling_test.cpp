@@ -160,7 +160,7 @@ TEST(SketchLightSampling, GlossyReflectionOfAreaLightMatchesQuadrature) {
   RenderSettings s;
   s.width = 32;
   s.height = 24;
-  s.spp = 16;
+  s.spp = 64;
   s.shadow_samples = 16;
   s.bounces = 1;
   s.camera.position = Vec3d(0.0, 1.2, 2.5);
