@@ -72,10 +72,13 @@ DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality, doub
     by_object[f.object].push_back(static_cast<int>(t));
   }
   std::vector<MeshLight> lights;
+  std::vector<int> light_of_object(scene.object_is_quad_light.size(), -1);
+  int quad = 0;
+  for (std::size_t o = 0; o < light_of_object.size(); ++o)
+    if (scene.object_is_quad_light[o]) light_of_object[o] = quad++;
   std::vector<int> tris;
   std::vector<Real> cdf;
   for (const auto& [object, ids] : by_object) {
-    (void)object;
     std::vector<double> areas;
     double total = 0;
     for (int t : ids) {
@@ -86,6 +89,7 @@ DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality, doub
       total += areas.back();
     }
     if (!(total > 0)) continue;
+    light_of_object[object] = static_cast<int>(scene.quads.size() + lights.size());
     MeshLight l{static_cast<int>(tris.size()), static_cast<int>(ids.size()), Real(total)};
     double run = 0;
     for (std::size_t i = 0; i < ids.size(); ++i) {
@@ -99,6 +103,7 @@ DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality, doub
   d.emissive_tris = to_device("rtmini::sketch::emissive_tris", tris);
   d.emissive_cdf = to_device("rtmini::sketch::emissive_cdf", cdf);
   d.solid_balls = to_device("rtmini::sketch::solid_balls", scene.solid_balls);
+  d.light_of_object = to_device("rtmini::sketch::light_of_object", light_of_object);
   d.num_solid_balls = static_cast<int>(scene.solid_balls.size());
   d.num_quads = static_cast<int>(scene.quads.size());
   d.num_points = static_cast<int>(scene.points.size());

@@ -22,8 +22,11 @@ struct DeviceScene {
   Kokkos::View<int*, MemSpace> emissive_tris;  // triangle ids grouped by light
   Kokkos::View<Real*, MemSpace> emissive_cdf;  // cumulative area within each light, in (0, 1]
   Kokkos::View<SolidBall*, MemSpace> solid_balls;
-  SurfaceMaps<MemSpace> maps;  // image maps; maps.any false (nothing allocated) without any
+  SurfaceMaps<MemSpace> maps;     // image maps; maps.any false (nothing allocated) without any
   DeviceMotion<MemSpace> motion;  // moving objects (empty: a still scene)
+  // Per mesh object: the light that samples its emission (quad index, num_quads + mesh-light
+  // index) or -1; a BSDF-sampled ray that hits emission weighs it against that light's sampling.
+  Kokkos::View<int*, MemSpace> light_of_object;
   int num_quads = 0, num_points = 0, num_mesh_lights = 0, num_solid_balls = 0;
   bool any_secondary = false;  // some material reflects or transmits
   std::size_t triangles = 0;

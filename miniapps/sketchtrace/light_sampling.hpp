@@ -67,17 +67,31 @@ KOKKOS_INLINE_FUNCTION Surface scene_surface(const Scene& scene, const Ray& ray,
   return surface_at(scene, ray, hit, smooth);
 }
 
-// How a shading point samples area lights: `samples` shadow rays per light using
-// strata [first, first + samples) of `strata` strata over the light, random pair
-// numbers from `pair_base`.
+// How a shading point samples area lights: `samples` shadow rays per light, random pair
+// numbers from `pair_base`. Joint stratification: the `pixel_strata` pixel samples of a pixel
+// that share this plan split each light into pixel_strata x samples strata, in `samples`
+// blocks of pixel_strata consecutive strata, and this pixel sample takes stratum
+// (pixel_cell + j) mod pixel_strata of block j. So the pixel's shadow rays fall one in each
+// stratum (4 spp x 4 shadow samples covers the light like 16 x 1) and each pixel sample's own
+// rays fall in different blocks (rows of the strata grid).
 struct ShadowPlan {
   int samples = 1;
-  int first = 0;
-  int strata = 1;
+  int pixel_strata = 1;
+  int pixel_cell = 0;
   std::uint32_t pair_base = 0;
   std::uint32_t key = 0;  // per-pixel stratum permutation key
   bool soft = true;
 };
+
+// Sample j of a plan's light strata, jittered by (u1, u2): a point in [0,1)^2. `shape` is
+// strata_shape(plan.samples * plan.pixel_strata). With one pixel sample (or one shadow sample)
+// this is stratum j (or pixel_cell) of the plan's strata, as before joint stratification.
+KOKKOS_FORCEINLINE_FUNCTION void light_stratum(const ShadowPlan& plan, int j, StrataShape shape,
+                                               std::uint32_t key, Real u1, Real u2, Real& x,
+                                               Real& y) {
+  const int n = plan.pixel_strata;
+  stratum_2d(j * n + (plan.pixel_cell + j) % n, plan.samples * n, shape, key, u1, u2, x, y);
+}
 
 // Shaft culling pays off from this many shadow rays per light and shading point.
 inline constexpr int kShaftMinSamples = 8;
@@ -146,39 +160,185 @@ KOKKOS_INLINE_FUNCTION bool quad_shaft_blockers(const Scene& scene, const Vec3& 
   return ok;
 }
 
-// Irradiance-like sum over lights of L_e cos_s cos_l A / r^2 (area lights, two-sided)
-// and I cos_s / r^2 (point lights); the caller multiplies by Kd / pi.
-template <class Scene>
-KOKKOS_INLINE_FUNCTION Vec3 direct_irradiance(const Scene& scene, const Surface& s, const Rng& rng,
-                                              const ShadowPlan& plan, TraceCounter& c) {
+// A quad light's rectangle as seen from a point, for sampling it by solid angle (Urena,
+// Fajardo & King 2013, "An area-preserving parametrization for spherical rectangles"):
+// frame x, y along the edges and z away from the point's side, the rectangle's extent
+// [x0, x1] x [y0, y1] at depth z0 < 0 in that frame, and the solid angle it subtends.
+struct SphericalRect {
+  Vec3 o, x, y, z;
+  Real x0 = 0, x1 = 0, y0 = 0, y1 = 0, z0 = 0;
+  Real b0 = 0, b1 = 0, k = 0;
+  Real solid_angle = 0;
+};
+
+// Below this solid angle (steradians) a quad light is sampled by area: the angle sum
+// g0 + g1 + g2 + g3 - 2 pi loses float digits as it shrinks, and area sampling is already
+// nearly exact there (cosines and distance hardly vary over the light).
+inline constexpr Real kMinSolidAngle = Real(1e-2);
+// Edges whose directions' cosine exceeds this are not a rectangle: area sampling.
+inline constexpr Real kRectangleSkew = Real(1e-4);
+
+// Whether the quad light seen from `o` is sampled by solid angle (then `r` is filled).
+KOKKOS_INLINE_FUNCTION bool spherical_rect(const QuadLight& ql, const Vec3& o, SphericalRect& r) {
+  const Real eu = length(ql.u), ev = length(ql.v);
+  if (!(eu > Real(0) && ev > Real(0))) return false;
+  r.x = ql.u / eu;
+  r.y = ql.v / ev;
+  if (math::fabs(dot(r.x, r.y)) > kRectangleSkew) return false;
+  r.z = cross(r.x, r.y);
+  const Vec3 d = ql.corner - o;
+  r.z0 = dot(d, r.z);
+  if (r.z0 > Real(0)) {
+    r.z = -r.z;
+    r.z0 = -r.z0;
+  }
+  r.o = o;
+  r.x0 = dot(d, r.x);
+  r.y0 = dot(d, r.y);
+  r.x1 = r.x0 + eu;
+  r.y1 = r.y0 + ev;
+  // Inner normals of the four planes through o and the rectangle's edges, and the angles
+  // between them; the solid angle is their sum less 2 pi (Girard).
+  const Vec3 n0 = normalize(Vec3(Real(0), r.z0, -r.y0));
+  const Vec3 n1 = normalize(Vec3(-r.z0, Real(0), r.x1));
+  const Vec3 n2 = normalize(Vec3(Real(0), -r.z0, r.y1));
+  const Vec3 n3 = normalize(Vec3(r.z0, Real(0), -r.x0));
+  const auto angle = [](const Vec3& a, const Vec3& b) {
+    return math::acos(math::clamp(-dot(a, b), Real(-1), Real(1)));
+  };
+  const Real g0 = angle(n0, n1), g1 = angle(n1, n2), g2 = angle(n2, n3), g3 = angle(n3, n0);
+  r.b0 = n0.z;
+  r.b1 = n2.z;
+  r.k = Real(2 * math::kPi) - g2 - g3;
+  r.solid_angle = g0 + g1 - r.k;
+  return r.solid_angle > kMinSolidAngle;
+}
+
+// The point of the rectangle at (u, v) in [0,1)^2 under the area-preserving map from the
+// unit square to its spherical rectangle: uniform (u, v) give directions of pdf 1/solid_angle.
+KOKKOS_INLINE_FUNCTION Vec3 spherical_rect_point(const SphericalRect& r, Real u, Real v) {
+  // u picks the x of the point through the sub-rectangle of solid angle u * solid_angle.
+  const Real au = u * r.solid_angle + r.k;
+  const Real fu = (math::cos(au) * r.b0 - r.b1) / math::sin(au);
+  const Real cu = math::clamp(math::copysign(Real(1), fu) / math::sqrt(fu * fu + r.b0 * r.b0),
+                              Real(-1), Real(1));
+  const Real sin_u = math::sqrt(math::fmax(Real(1) - cu * cu, Real(1e-12)));
+  const Real xu = math::clamp(-(cu * r.z0) / sin_u, r.x0, r.x1);
+  // v picks y uniformly in the projected height h = y / |(xu, y, z0)|.
+  const Real dd = math::sqrt(xu * xu + r.z0 * r.z0);
+  const Real h0 = r.y0 / math::sqrt(dd * dd + r.y0 * r.y0);
+  const Real h1 = r.y1 / math::sqrt(dd * dd + r.y1 * r.y1);
+  const Real hv = h0 + v * (h1 - h0);
+  const Real hv2 = hv * hv;
+  const Real yv = hv2 < Real(1) - Real(1e-6)
+                      ? math::clamp(hv * dd / math::sqrt(Real(1) - hv2), r.y0, r.y1)
+                      : r.y1;
+  return r.o + r.x * xu + r.y * yv + r.z * r.z0;
+}
+
+// Solid-angle pdf with which a shading point at p samples quad light `ql` towards q on it
+// (the light's unit normal nl; q - p of squared length d2): 1/solid_angle, or by area.
+KOKKOS_INLINE_FUNCTION Real quad_light_pdf(const QuadLight& ql, const Vec3& p, const Vec3& wi,
+                                           Real d2) {
+  SphericalRect r;
+  if (spherical_rect(ql, p, r)) return Real(1) / r.solid_angle;
+  return d2 / (math::fabs(dot(ql.normal, wi)) * ql.area);
+}
+
+// Solid-angle pdf with which a shading point samples mesh light `ml` (area sampling) towards
+// a point of normal nl at squared distance d2 in direction wi.
+KOKKOS_INLINE_FUNCTION Real mesh_light_pdf(const MeshLight& ml, const Vec3& nl, const Vec3& wi,
+                                           Real d2) {
+  return d2 / (math::fabs(dot(nl, wi)) * ml.area);
+}
+
+// Power heuristic (Veach 1997, beta = 2) for the strategy of pdf `a` against one of pdf `b`,
+// each scaled by its sample count; written as 1 / (1 + (b/a)^2) so that an infinite or zero
+// pdf gives 0 or 1 instead of NaN.
+KOKKOS_INLINE_FUNCTION Real power_heuristic(Real a, Real b) {
+  const Real r = b / a;
+  return Real(1) / (Real(1) + r * r);
+}
+
+// How a Lambertian shading point responds to light from wi: cos_s (the caller multiplies by
+// Kd / pi); zero below the shading or the geometric normal. Shadow rays leave on ng's side.
+struct LambertResponse {
+  Vec3 ns, ng;
+  KOKKOS_INLINE_FUNCTION Vec3 side() const { return ng; }
+  KOKKOS_INLINE_FUNCTION Real operator()(const Vec3& wi, Real /*light_pdf*/) const {
+    const Real cos_s = dot(ns, wi);
+    if (cos_s <= Real(0) || dot(ng, wi) <= Real(0)) return Real(0);
+    return cos_s;
+  }
+  KOKKOS_INLINE_FUNCTION Real delta(const Vec3& wi) const { return (*this)(wi, Real(0)); }
+};
+
+// How a glossy Phong lobe (around `axis`, exponent n) responds to light from wi: the lobe's
+// pdf (the lobe's weight times it is the BSDF times cos) times the power-heuristic weight of
+// light sampling (`light_count` samples) against sampling the lobe (`lobe_count` samples);
+// zero on the wrong side of the surface (`side`: ng for reflection, -ng for transmission).
+struct GlossyResponse {
+  Vec3 axis, normal;
+  Real shininess;
+  Real light_count, lobe_count;
+  KOKKOS_INLINE_FUNCTION Vec3 side() const { return normal; }
+  KOKKOS_INLINE_FUNCTION Real lobe(const Vec3& wi) const {
+    return dot(normal, wi) > Real(0) ? phong_pdf(axis, shininess, wi) : Real(0);
+  }
+  KOKKOS_INLINE_FUNCTION Real operator()(const Vec3& wi, Real light_pdf) const {
+    const Real q = lobe(wi);
+    return q > Real(0) ? q * power_heuristic(light_count * light_pdf, lobe_count * q) : Real(0);
+  }
+  KOKKOS_INLINE_FUNCTION Real delta(const Vec3& wi) const { return lobe(wi); }
+};
+
+// Sums over lights of L_e R(wi) / pdf(wi) (area lights, two-sided; pdf by solid angle, quads
+// by spherical rectangle or area, mesh lights by area) and I R(wi) / r^2 (point lights), with
+// R the shading point's `response` (LambertResponse, or a glossy lobe times its MIS weight).
+template <class Scene, class Response>
+KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, const Rng& rng,
+                                         const ShadowPlan& plan, const Response& response,
+                                         TraceCounter& c) {
   Vec3 sum(Real(0));
   const int samples = plan.soft ? plan.samples : 1;
   const Real inv_samples = Real(1) / Real(samples);
   int light = 0;
-  const Vec3 org = offset_ray_origin(s.p, s.ng, s.coordinate_bound);
+  const Vec3 org = offset_ray_origin(s.p, response.side(), s.coordinate_bound);
   const bvh::ShaftBlockers* blockers = nullptr;
   auto area_sample = [&](const Vec3& q, const Vec3& nl, const Vec3& le, Real area) {
     const Vec3 w = q - s.p;
     const Real d2 = dot(w, w);
     if (!(d2 > Real(0))) return;
     const Vec3 wi = w / math::sqrt(d2);
-    const Real cos_s = dot(s.ns, wi);
     const Real cos_l = math::fabs(dot(nl, wi));
-    if (cos_s <= Real(0) || dot(s.ng, wi) <= Real(0) || cos_l <= Real(0)) return;
+    const Real f = response(wi, d2 / (cos_l * area));
+    if (!(f > Real(0)) || cos_l <= Real(0)) return;
     if (!visible(scene, org, q, s.time, c, blockers)) return;
-    sum += le * (cos_s * cos_l * area / d2 * inv_samples);
+    sum += le * (f * cos_l * area / d2 * inv_samples);
   };
+  auto solid_angle_sample = [&](const Vec3& q, const Vec3& le, Real solid_angle) {
+    const Vec3 w = q - s.p;
+    const Real d2 = dot(w, w);
+    if (!(d2 > Real(0))) return;
+    const Vec3 wi = w / math::sqrt(d2);
+    const Real f = response(wi, Real(1) / solid_angle);
+    if (!(f > Real(0))) return;
+    if (!visible(scene, org, q, s.time, c, blockers)) return;
+    sum += le * (f * solid_angle * inv_samples);
+  };
+  const StrataShape shape = strata_shape(samples * plan.pixel_strata);
   for (int l = 0; l < scene.num_quads; ++l, ++light) {
     const QuadLight ql = scene.quads(l);
     if (!plan.soft) {
       area_sample(ql.corner + ql.u * Real(0.5) + ql.v * Real(0.5), ql.normal, ql.emission, ql.area);
       continue;
     }
+    SphericalRect rect;
+    const bool by_solid_angle = spherical_rect(ql, s.p, rect);
     bvh::ShaftBlockers shaft;
     blockers = samples >= kShaftMinSamples && quad_shaft_blockers(scene, org, ql, shaft, c)
                    ? &shaft
                    : nullptr;
-    const StrataShape shape = strata_shape(plan.strata);
     const std::uint32_t key = plan.key ^ static_cast<std::uint32_t>(light);
     const std::uint32_t pair0 = plan.pair_base + static_cast<std::uint32_t>(light * samples);
     // Consecutive pairs share one Philox block (Rng::uniform2 draws the same numbers).
@@ -192,9 +352,12 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_irradiance(const Scene& scene, const Surface&
       }
       const unsigned o = (pair & 1u) * 2u;
       Real x, y;
-      stratum_2d(plan.first + j, plan.strata, shape, key, Real(Rng::to_unit(block.v[o])),
-                 Real(Rng::to_unit(block.v[o + 1])), x, y);
-      area_sample(ql.corner + ql.u * x + ql.v * y, ql.normal, ql.emission, ql.area);
+      light_stratum(plan, j, shape, key, Real(Rng::to_unit(block.v[o])),
+                    Real(Rng::to_unit(block.v[o + 1])), x, y);
+      if (by_solid_angle)
+        solid_angle_sample(spherical_rect_point(rect, x, y), ql.emission, rect.solid_angle);
+      else
+        area_sample(ql.corner + ql.u * x + ql.v * y, ql.normal, ql.emission, ql.area);
     }
     blockers = nullptr;
   }
@@ -205,8 +368,8 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_irradiance(const Scene& scene, const Surface&
       rng.uniform2(plan.pair_base + static_cast<std::uint32_t>(light * samples + j), a, b);
       Real x = a, y = b;
       if (plan.soft)
-        stratum_2d(plan.first + j, plan.strata, plan.key ^ static_cast<std::uint32_t>(light),
-                   Real(a), Real(b), x, y);
+        light_stratum(plan, j, shape, plan.key ^ static_cast<std::uint32_t>(light), Real(a),
+                      Real(b), x, y);
       // Pick a triangle by area with x (binary search of the CDF), reuse x's
       // position inside that triangle's CDF interval as the first barycentric number.
       int lo = ml.first, hi = ml.first + ml.count - 1;
@@ -235,12 +398,20 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_irradiance(const Scene& scene, const Surface&
     const Real d2 = dot(w, w);
     if (!(d2 > Real(0))) continue;
     const Vec3 wi = w / math::sqrt(d2);
-    const Real cos_s = dot(s.ns, wi);
-    if (cos_s <= Real(0) || dot(s.ng, wi) <= Real(0)) continue;
+    const Real f = response.delta(wi);
+    if (!(f > Real(0))) continue;
     if (!visible(scene, org, pl.position, s.time, c)) continue;
-    sum += pl.intensity * (cos_s / d2);
+    sum += pl.intensity * (f / d2);
   }
   return sum;
+}
+
+// Irradiance-like sum over lights of L_e cos_s / pdf (area lights) and I cos_s / r^2 (point
+// lights); the caller multiplies by Kd / pi.
+template <class Scene>
+KOKKOS_INLINE_FUNCTION Vec3 direct_irradiance(const Scene& scene, const Surface& s, const Rng& rng,
+                                              const ShadowPlan& plan, TraceCounter& c) {
+  return direct_light(scene, s, rng, plan, LambertResponse{s.ns, s.ng}, c);
 }
 
 }  // namespace rtmini::sketch

@@ -70,6 +70,13 @@ KOKKOS_INLINE_FUNCTION Vec3 phong_lobe(const Vec3& axis, Real n, Real u1, Real u
   return Frame(axis).to_world(Vec3(sin_t * math::cos(phi), sin_t * math::sin(phi), cos_t));
 }
 
+// Solid-angle pdf of phong_lobe's direction d: (n + 1) / (2 pi) cos^n(theta), 0 behind the axis.
+KOKKOS_INLINE_FUNCTION Real phong_pdf(const Vec3& axis, Real n, const Vec3& d) {
+  const Real cos_t = dot(axis, d);
+  if (!(cos_t > Real(0))) return Real(0);
+  return (n + Real(1)) * Real(1 / (2 * math::kPi)) * math::pow(cos_t, n);
+}
+
 // Exact Fresnel reflectance for unpolarised light; eta = n_incident / n_transmitted.
 KOKKOS_INLINE_FUNCTION Real fresnel_dielectric(Real cos_i, Real cos_t, Real eta) {
   const Real rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
@@ -77,16 +84,20 @@ KOKKOS_INLINE_FUNCTION Real fresnel_dielectric(Real cos_i, Real cos_t, Real eta)
   return Real(0.5) * (rs * rs + rp * rp);
 }
 
-// One continuation ray chosen among reflection, transmission and (when `indirect`)
-// diffuse interreflection, with probability proportional to each weight's largest
-// component; `weight` is the weight divided by that probability. False: absorbed.
-KOKKOS_INLINE_FUNCTION bool sample_continuation(const DeviceMaterial& m, const Surface& s,
-                                                const Vec3& dir, bool indirect, Real u_pick,
-                                                Real u1, Real u2, Ray& next, Vec3& weight,
-                                                bool& diffuse) {
+// The specular part of a material hit from direction `dir`: reflection weight (Ks plus the
+// Fresnel-reflected share of the transparency) around the mirror direction, transmission
+// weight around the refracted one (zero under total internal reflection).
+struct SpecularLobes {
+  Vec3 w_r, w_t;
+  Vec3 reflected, refracted;
+};
+
+KOKKOS_INLINE_FUNCTION SpecularLobes specular_lobes(const DeviceMaterial& m, const Surface& s,
+                                                    const Vec3& dir) {
   const Real transparency = Real(1) - m.opacity;
   Real fresnel = Real(0);
-  Vec3 refracted(Real(0));
+  SpecularLobes l;
+  l.refracted = Vec3(Real(0));
   bool can_refract = false;
   if (transparency > Real(0)) {
     const Real eta = s.front ? Real(1) / m.ior : m.ior;
@@ -97,39 +108,59 @@ KOKKOS_INLINE_FUNCTION bool sample_continuation(const DeviceMaterial& m, const S
     } else {
       const Real cos_t = math::sqrt(Real(1) - sin2_t);
       fresnel = fresnel_dielectric(cos_i, cos_t, eta);
-      refracted = normalize(dir * eta + s.ns * (eta * cos_i - cos_t));
+      l.refracted = normalize(dir * eta + s.ns * (eta * cos_i - cos_t));
       can_refract = true;
     }
   }
-  const Vec3 w_r = m.reflective + Vec3(transparency * fresnel);
-  const Vec3 w_t = can_refract ? Vec3(transparency * (Real(1) - fresnel)) : Vec3(Real(0));
+  l.reflected = reflect(dir, s.ns);
+  l.w_r = m.reflective + Vec3(transparency * fresnel);
+  l.w_t = can_refract ? Vec3(transparency * (Real(1) - fresnel)) : Vec3(Real(0));
+  return l;
+}
+
+// How a continuation ray was chosen: a perfect mirror or refraction (a delta direction no
+// light sample can find), a glossy Phong lobe, or diffuse interreflection.
+enum class Scatter { kSpecular, kGlossy, kDiffuse };
+
+// One continuation ray chosen among reflection, transmission and (when `indirect`)
+// diffuse interreflection, with probability proportional to each weight's largest
+// component; `weight` is the weight divided by that probability. For a glossy lobe,
+// `lobe_pdf` is the solid-angle pdf of the direction within its lobe (for MIS against
+// light sampling). False: absorbed.
+KOKKOS_INLINE_FUNCTION bool sample_continuation(const DeviceMaterial& m, const Surface& s,
+                                                const Vec3& dir, bool indirect, Real u_pick,
+                                                Real u1, Real u2, Ray& next, Vec3& weight,
+                                                Scatter& kind, Real& lobe_pdf) {
+  const SpecularLobes lobes = specular_lobes(m, s, dir);
   const Vec3 w_d = indirect ? m.diffuse * m.opacity : Vec3(Real(0));
-  const Real p_r = max_component(w_r), p_t = max_component(w_t), p_d = max_component(w_d);
+  const Real p_r = max_component(lobes.w_r), p_t = max_component(lobes.w_t),
+             p_d = max_component(w_d);
   const Real total = p_r + p_t + p_d;
   if (!(total > Real(0))) return false;
   const Real pick = u_pick * total;
-  diffuse = false;
-  if (pick < p_r) {
-    Vec3 d = reflect(dir, s.ns);
-    if (is_glossy(m.shininess)) d = phong_lobe(d, m.shininess, u1, u2);
-    if (dot(d, s.ng) <= Real(0)) return false;
-    next.org = offset_ray_origin(s.p, s.ng, s.coordinate_bound);
+  const bool glossy = is_glossy(m.shininess);
+  kind = glossy ? Scatter::kGlossy : Scatter::kSpecular;
+  lobe_pdf = Real(0);
+  if (pick < p_r || pick < p_r + p_t) {
+    const bool reflection = pick < p_r;
+    const Vec3 axis = reflection ? lobes.reflected : lobes.refracted;
+    const Vec3 side = reflection ? s.ng : -s.ng;
+    Vec3 d = axis;
+    if (glossy) {
+      d = phong_lobe(axis, m.shininess, u1, u2);
+      lobe_pdf = phong_pdf(axis, m.shininess, d);
+    }
+    if (dot(d, side) <= Real(0)) return false;
+    next.org = offset_ray_origin(s.p, side, s.coordinate_bound);
     next.dir = d;
-    weight = w_r * (total / p_r);
-  } else if (pick < p_r + p_t) {
-    Vec3 d = refracted;
-    if (is_glossy(m.shininess)) d = phong_lobe(d, m.shininess, u1, u2);
-    if (dot(d, s.ng) >= Real(0)) return false;
-    next.org = offset_ray_origin(s.p, -s.ng, s.coordinate_bound);
-    next.dir = d;
-    weight = w_t * (total / p_t);
+    weight = reflection ? lobes.w_r * (total / p_r) : lobes.w_t * (total / p_t);
   } else {
     const Vec3 d = Frame(s.ns).to_world(cosine_hemisphere(u1, u2));
     if (dot(d, s.ng) <= Real(0)) return false;
     next.org = offset_ray_origin(s.p, s.ng, s.coordinate_bound);
     next.dir = d;
     weight = w_d * (total / p_d);
-    diffuse = true;
+    kind = Scatter::kDiffuse;
   }
   next.tmin = Real(0);
   next.tmax = Real(1e30);

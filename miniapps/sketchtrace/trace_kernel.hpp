@@ -1,12 +1,16 @@
 #pragma once
 // The per-pixel radiance kernel: stratified jittered pixel samples through a thin
 // lens and a moving camera, then an iterative path (no recursion) of at most
-// `bounces` secondary rays carrying a throughput weight. Local shading is Lambert
-// diffuse lit by shadow-ray light sampling plus ambient; emission is counted where
-// seen directly or after a specular/glossy continuation (after a diffuse one the
-// light sampling already counted it). The first hit may fan out into
-// `glossy_samples` glossy branches. Randomness: Rng(seed, pixel, sample) with a
-// fixed dimension layout (README), so an image never depends on rank/thread/chunk.
+// `bounces` secondary rays carrying a throughput weight. Every vertex samples the lights
+// (next-event estimation) for its Lambert part and, for a glossy Phong lobe, through that
+// lobe; emission a continuation finds counts in full after a perfect mirror or refraction
+// (no light sample can find it), not at all after a diffuse bounce (light sampling alone
+// counts it), and after a glossy one with the power-heuristic weight against light
+// sampling (Veach 1997; light_sampling.hpp). The first hit and the vertices seen through
+// mirrors and clear glass from it take all `shadow_samples`, jointly stratified with the
+// pixel samples; later vertices one. The first hit may fan out into `glossy_samples`
+// glossy branches. Randomness: Rng(seed, pixel, sample) with a fixed dimension layout
+// (README), so an image never depends on rank/thread/chunk.
 #include "light_sampling.hpp"
 #include "motion_trace.hpp"
 #include "pixel_result.hpp"
@@ -49,9 +53,12 @@ struct TraceParams {
 };
 
 // Random-number layout per (pixel, sample): pairs 0-1 pixel jitter and lens, pair 2
-// time; continuation pairs from kContinuationPair; shadow pairs from kShadowPair.
+// time; continuation pairs from kContinuationPair; per path vertex (slot) a set of lights x
+// shadow_samples pairs for Lambert shading from kShadowPair, two for the glossy lobes
+// (reflection, transmission) from kGlossyShadowPair.
 inline constexpr std::uint32_t kContinuationPair = 4;
 inline constexpr std::uint32_t kShadowPair = 1u << 24;
+inline constexpr std::uint32_t kGlossyShadowPair = 1u << 30;
 
 KOKKOS_INLINE_FUNCTION std::uint32_t pixel_key(std::uint64_t seed, std::uint64_t pixel,
                                                std::uint32_t tag) {
@@ -65,20 +72,100 @@ struct RadianceEstimator {
   DeviceCamera camera;
   TraceParams p;
 
-  // Lambert + ambient + emission at one surface; `emission` false after a diffuse bounce.
-  KOKKOS_INLINE_FUNCTION Vec3 shade_local(const Surface& s, const DeviceMaterial& m, const Rng& rng,
-                                          const ShadowPlan& plan, bool emission,
-                                          TraceCounter& c) const {
-    Vec3 l = emission ? m.emissive : Vec3(Real(0));
-    const Vec3 kd = m.diffuse * m.opacity;
-    if (max_component(kd) <= Real(0)) return l;
-    Vec3 e = p.ambient;
-    if (kFeatures & kLights) {
-      Vec3 direct = direct_irradiance(scene, s, rng, plan, c) * Real(1.0 / math::kPi);
-      if (kFeatures & kTextures) direct *= s.self_shadow;
-      e += direct;
+  // Shadow-ray plan of path vertex `slot` (first hit 0) of pixel sample i: `full` (the first
+  // hit and what mirrors and clear glass show of it) takes every shadow sample, jointly
+  // stratified with the other pixel samples through a per-pixel permutation (Cook et al.
+  // 1984; an unpermuted split would correlate light strata with sub-pixel position and bias
+  // the estimate); other vertices take one.
+  KOKKOS_INLINE_FUNCTION ShadowPlan vertex_plan(std::uint64_t pixel, int i, std::uint32_t slot,
+                                                bool full) const {
+    const int lights = scene.num_quads + scene.num_mesh_lights;
+    ShadowPlan plan;
+    plan.samples = full ? p.shadow_samples : 1;
+    plan.pixel_strata = full ? p.spp : 1;
+    plan.pixel_cell = full ? permute(i, p.spp, pixel_key(p.seed, pixel, 6)) : 0;
+    plan.pair_base = kShadowPair + slot * shadow_set_pairs(lights);
+    plan.key = pixel_key(p.seed, pixel, 4);
+    plan.soft = p.soft_shadows;
+    return plan;
+  }
+
+  KOKKOS_INLINE_FUNCTION std::uint32_t shadow_set_pairs(int lights) const {
+    return static_cast<std::uint32_t>(lights * (p.shadow_samples > 1 ? p.shadow_samples : 1));
+  }
+
+  // Light a glossy lobe reflects or transmits towards the viewer, sampled from the lights
+  // and weighted against the lobe's own sampling (`lobe_samples` continuation rays).
+  KOKKOS_INLINE_FUNCTION Vec3 glossy_direct(const Surface& s, const DeviceMaterial& m,
+                                            const Vec3& dir, const Rng& rng, ShadowPlan plan,
+                                            std::uint32_t slot, int lobe_samples,
+                                            TraceCounter& c) const {
+    Vec3 l(Real(0));
+    if (!is_glossy(m.shininess) || !p.soft_shadows || p.bounces == 0) return l;
+    const SpecularLobes lobes = specular_lobes(m, s, dir);
+    const int lights = scene.num_quads + scene.num_mesh_lights;
+    GlossyResponse r{lobes.reflected, s.ng, m.shininess, Real(plan.samples), Real(lobe_samples)};
+    const std::uint32_t set = shadow_set_pairs(lights);
+    if (max_component(lobes.w_r) > Real(0)) {
+      plan.pair_base = kGlossyShadowPair + 2u * slot * set;
+      l += lobes.w_r * direct_light(scene, s, rng, plan, r, c);
     }
-    return l + kd * e;
+    if (max_component(lobes.w_t) > Real(0)) {
+      plan.pair_base = kGlossyShadowPair + (2u * slot + 1u) * set;
+      r.axis = lobes.refracted;
+      r.normal = -s.ng;
+      l += lobes.w_t * direct_light(scene, s, rng, plan, r, c);
+    }
+    return l;
+  }
+
+  // Light a vertex sends back along -dir, less its emission: Lambert (ambient plus sampled
+  // lights) and the glossy lobes' sampled lights.
+  KOKKOS_INLINE_FUNCTION Vec3 shade_direct(const Surface& s, const DeviceMaterial& m,
+                                           const Vec3& dir, const Rng& rng, const ShadowPlan& plan,
+                                           std::uint32_t slot, int lobe_samples,
+                                           TraceCounter& c) const {
+    Vec3 l(Real(0));
+    const Vec3 kd = m.diffuse * m.opacity;
+    if (max_component(kd) > Real(0)) {
+      Vec3 e = p.ambient;
+      if (kFeatures & kLights) {
+        Vec3 direct = direct_irradiance(scene, s, rng, plan, c) * Real(1.0 / math::kPi);
+        if (kFeatures & kTextures) direct *= s.self_shadow;  // parallax self-shadowing
+        e += direct;
+      }
+      l = kd * e;
+    }
+    if ((kFeatures & kLights) && (kFeatures & kSecondary))
+      l += glossy_direct(s, m, dir, rng, plan, slot, lobe_samples, c);
+    return l;
+  }
+
+  // Where a continuation ray left from and how it was drawn, for weighting emission it finds.
+  struct Continuation {
+    Vec3 from;
+    Scatter kind = Scatter::kSpecular;
+    Real lobe_pdf = 0, lobe_samples = 1, light_samples = 1;
+  };
+
+  // The weight of emission that continuation `k` finds at `sd` along unit direction wi:
+  // 1 after a perfect mirror or refraction, 0 after a diffuse bounce (light sampling counted
+  // it), after a glossy lobe the power heuristic of the lobe's pdf against the pdf with which
+  // light sampling at k.from picks that point of that light.
+  KOKKOS_INLINE_FUNCTION Real emission_weight(const Continuation& k, const Surface& sd,
+                                              const Vec3& wi) const {
+    if (k.kind == Scatter::kSpecular) return Real(1);
+    if (k.kind == Scatter::kDiffuse) return Real(0);
+    if (!(kFeatures & kLights) || !p.soft_shadows) return Real(1);
+    const int light = scene.light_of_object(sd.object);
+    if (light < 0) return Real(1);
+    const Vec3 w = sd.p - k.from;
+    const Real d2 = dot(w, w);
+    const Real light_pdf =
+        light < scene.num_quads
+            ? quad_light_pdf(scene.quads(light), k.from, wi, d2)
+            : mesh_light_pdf(scene.mesh_lights(light - scene.num_quads), sd.ng, wi, d2);
+    return power_heuristic(k.lobe_samples * k.lobe_pdf, k.light_samples * light_pdf);
   }
 
   KOKKOS_INLINE_FUNCTION Vec3 sample(std::uint64_t pixel, int x, int y, int i,
@@ -109,23 +196,13 @@ struct RadianceEstimator {
       cone.advance(hit.t);
       apply_surface_maps(scene, ray, hit, cone, s, m);
     }
-    // S > 1: each pixel sample stratifies every light on its own. S = 1: the pixel
-    // samples share the light's strata through a per-pixel random permutation (Cook
-    // et al. 1984); an unpermuted split would correlate light strata with sub-pixel
-    // position and bias the estimate.
-    ShadowPlan first_plan;
-    first_plan.samples = p.shadow_samples;
-    first_plan.first = p.shadow_samples > 1 ? 0 : permute(i, p.spp, pixel_key(p.seed, pixel, 6));
-    first_plan.strata = p.shadow_samples > 1 ? p.shadow_samples : p.spp;
-    first_plan.pair_base = kShadowPair;
-    first_plan.key = pixel_key(p.seed, pixel, 4);
-    first_plan.soft = p.soft_shadows;
-    Vec3 radiance = shade_local(s, m, rng, first_plan, true, c);
+    const int branches =
+        (kFeatures & kSecondary) && p.bounces > 0 && is_glossy(m.shininess) ? p.glossy_samples : 1;
+    const ShadowPlan first_plan = vertex_plan(pixel, i, 0, true);
+    Vec3 radiance = m.emissive + shade_direct(s, m, ray.dir, rng, first_plan, 0, branches, c);
     if (!(kFeatures & kSecondary) || p.bounces == 0) return radiance;
 
-    const int branches = is_glossy(m.shininess) ? p.glossy_samples : 1;
     const Real branch_weight = Real(1) / Real(branches);
-    const int lights = scene.num_quads + scene.num_mesh_lights;
     for (int b = 0; b < branches; ++b) {
       float u_pick, unused, u1, u2;
       const std::uint32_t cp = kContinuationPair + 2u * static_cast<std::uint32_t>(b);
@@ -134,12 +211,18 @@ struct RadianceEstimator {
       Ray next;
       next.time = ray.time;  // the whole path sees the camera sample's instant
       Vec3 weight;
-      bool diffuse = false;
-      if (!sample_continuation(m, s, ray.dir, p.indirect, u_pick, u1, u2, next, weight, diffuse))
+      Continuation k;
+      k.from = s.p;
+      k.lobe_samples = Real(branches);
+      k.light_samples = Real(first_plan.samples);
+      if (!sample_continuation(m, s, ray.dir, p.indirect, u_pick, u1, u2, next, weight, k.kind,
+                               k.lobe_pdf))
         continue;
       Vec3 throughput = weight * branch_weight;
       RayCone branch_cone = cone;
-      if (kFeatures & kTextures) branch_cone.scatter(m.shininess, is_glossy(m.shininess), diffuse);
+      if (kFeatures & kTextures)
+        branch_cone.scatter(m.shininess, is_glossy(m.shininess), k.kind == Scatter::kDiffuse);
+      bool through_specular = k.kind == Scatter::kSpecular;
       for (int depth = 1; depth <= p.bounces; ++depth) {
         const Hit h = scene_closest(scene, next, c);
         if (!h.valid()) {
@@ -154,15 +237,11 @@ struct RadianceEstimator {
         }
         // Vertex slot for random numbers: first hit = 0, then per branch and depth.
         const std::uint32_t slot = 1u + static_cast<std::uint32_t>(b * p.bounces + depth - 1);
-        ShadowPlan plan;
-        plan.samples = 1;
-        plan.first = 0;
-        plan.strata = 1;
-        plan.pair_base =
-            kShadowPair + slot * static_cast<std::uint32_t>(
-                                     lights * (p.shadow_samples > 1 ? p.shadow_samples : 1));
-        plan.soft = p.soft_shadows;
-        radiance += throughput * shade_local(sd, md, rng, plan, !diffuse, c);
+        const ShadowPlan plan = vertex_plan(pixel, i, slot, through_specular);
+        const Real emission =
+            max_component(md.emissive) > Real(0) ? emission_weight(k, sd, next.dir) : Real(0);
+        radiance += throughput * (md.emissive * emission +
+                                  shade_direct(sd, md, next.dir, rng, plan, slot, 1, c));
         if (depth == p.bounces) break;
         const std::uint32_t cq = kContinuationPair +
                                  2u * static_cast<std::uint32_t>(p.glossy_samples) +
@@ -170,11 +249,16 @@ struct RadianceEstimator {
         rng.uniform2(cq, u_pick, unused);
         rng.uniform2(cq + 1, u1, u2);
         const Vec3 dir = next.dir;
-        if (!sample_continuation(md, sd, dir, p.indirect, u_pick, u1, u2, next, weight, diffuse))
+        k.from = sd.p;
+        k.lobe_samples = Real(1);
+        k.light_samples = Real(plan.samples);
+        if (!sample_continuation(md, sd, dir, p.indirect, u_pick, u1, u2, next, weight, k.kind,
+                                 k.lobe_pdf))
           break;
+        through_specular = through_specular && k.kind == Scatter::kSpecular;
         throughput *= weight;
         if (kFeatures & kTextures)
-          branch_cone.scatter(md.shininess, is_glossy(md.shininess), diffuse);
+          branch_cone.scatter(md.shininess, is_glossy(md.shininess), k.kind == Scatter::kDiffuse);
       }
     }
     return radiance;

@@ -152,8 +152,10 @@ TEST(SketchAnalytic, WhiteFurnaceInsideSmoothedCubeKeepsFlatWalls) {
   EXPECT_NEAR(lum[lum.size() / 2], expected, 0.004 * expected);
 }
 
-// RMSE against a high-spp reference falls as spp^-1/2 where the error is
-// dominated by unstratified dimensions (diffuse interreflection).
+// RMSE against a high-spp reference falls at least as spp^-1/2 (the Monte-Carlo rate of the
+// unstratified dimensions, diffuse interreflection) and at most as spp^-1 (stratified smooth
+// integrands). Since the glossy sphere's lobe samples the light too, through the first hit's
+// jointly stratified shadow strata (issue 24), the slope here reads -0.67 (before: -0.55).
 TEST(SketchAnalytic, ErrorFallsAsInverseSquareRootOfSpp) {
   HostScene scene;
   add_floor(scene, 6.0, 0.7f);
@@ -205,7 +207,8 @@ TEST(SketchAnalytic, ErrorFallsAsInverseSquareRootOfSpp) {
   }
   const double slope = sxy / sxx;
   std::printf("log-log slope of RMSE vs spp: %.3f\n", slope);
-  EXPECT_NEAR(slope, -0.5, 0.1);
+  EXPECT_LT(slope, -0.4);
+  EXPECT_GT(slope, -1.0);
 }
 
 }  // namespace
