@@ -12,6 +12,7 @@
 #include "io_test_util.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/obj_reader.hpp"
+#include "rtmini/io/scene_file.hpp"
 
 namespace rtmini {
 namespace {
@@ -138,6 +139,30 @@ TEST(GltfReader, AMeshUsedByTwoNodesIsStoredOnce) {
   const Mesh flat = read_mesh(path);
   EXPECT_EQ(flat.faces.size(), 2u);
   expect_near(flat.positions[4], {6, 0, 0});
+}
+
+// A TOML [[meshes]] entry naming a glTF (sketchtrace's scenes): the file's node transforms
+// first, then the entry's own; the glTF's materials stay, named, for [[materials]] overrides.
+TEST(GltfReader, TomlMeshEntryPlacesTheFlattenedGltf) {
+  RTMINI_REQUIRE_GLTF();
+  GltfFile f;
+  const int pos = f.add_positions(kTriangle);
+  json meshes =
+      json::array({{{"primitives", {{{"attributes", {{"POSITION", pos}}}, {"material", 0}}}}}});
+  f.write({{"scenes", {{{"nodes", {0}}}}},
+           {"nodes", {{{"mesh", 0}, {"translation", {0, 0, 1}}}}},
+           {"meshes", meshes},
+           {"materials", {{{"name", "paint"}}}}});
+  const std::string toml = f.dir().file("scene.toml");
+  test::write_file(toml,
+                   "[[materials]]\nname = \"paint\"\nkd = [0.1, 0.2, 0.3]\n"
+                   "[[meshes]]\nfile = \"model.gltf\"\ntranslate = [10, 0, 0]\nscale = 2\n");
+  const Mesh m = load_scene_meshes(read_scene_file(toml));
+  ASSERT_EQ(m.positions.size(), 3u);
+  expect_near(m.positions[0], {10, 0, 2});  // 2 * (p + (0,0,1)) + (10,0,0)
+  expect_near(m.positions[1], {12, 0, 2});
+  ASSERT_EQ(m.materials.size(), 1u);
+  EXPECT_EQ(m.materials[0].diffuse.y, 0.2f);
 }
 
 TEST(GltfReader, MeshesOverTheSameAccessorsShareGeometry) {
