@@ -122,6 +122,41 @@ MapLayout make_sparse_layout(const BakeSceneHost& scene, const MapLayout& full,
   return l;
 }
 
+void mark_dense(MapLayout& layout) {
+  layout.mask_at.assign(layout.offset.size() - 1, -1);
+  layout.sparse.start = layout.device;
+  layout.sparse.mask_at = upload("rtmini::bake::map_mask_at", layout.mask_at);
+}
+
+std::vector<Vec3f> fetch_vertex_colors(const Communicator& comm, const std::vector<int>& owner,
+                                       const std::vector<std::int64_t>& wanted,
+                                       const std::vector<Vec3f>& own) {
+  // Requests grouped by owner; slot[k]: where wanted[k] sits in that grouping.
+  std::vector<int> ask(comm.size(), 0);
+  for (const std::int64_t v : wanted) ++ask[owner[v]];
+  std::vector<std::int64_t> asked(wanted.size());
+  std::vector<std::size_t> slot(wanted.size());
+  {
+    std::vector<int> pos = displacements(ask);
+    for (std::size_t k = 0; k < wanted.size(); ++k) {
+      slot[k] = static_cast<std::size_t>(pos[owner[wanted[k]]]++);
+      asked[slot[k]] = wanted[k];
+    }
+  }
+  const std::vector<int> told = exchange_counts(comm, ask);
+  std::int64_t requests = 0;
+  for (const int n : told) requests += n;
+  std::vector<std::int64_t> vertices(static_cast<std::size_t>(requests));
+  alltoallv(comm, asked.data(), ask, vertices.data(), told);
+  std::vector<Vec3f> answers(vertices.size());
+  for (std::size_t k = 0; k < vertices.size(); ++k) answers[k] = own[vertices[k]];
+  std::vector<Vec3f> grouped(wanted.size());
+  alltoallv(comm, answers.data(), told, grouped.data(), ask);
+  std::vector<Vec3f> out(wanted.size());
+  for (std::size_t k = 0; k < wanted.size(); ++k) out[k] = grouped[slot[k]];
+  return out;
+}
+
 MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
                          const MapLayout& layout, const std::vector<int>& owner,
                          const std::vector<std::int64_t>& halo) {

@@ -50,6 +50,16 @@ MapLayout make_sparse_layout(const BakeSceneHost& scene, const MapLayout& full,
                              const std::vector<char>& read, const std::vector<int>& owner,
                              int rank);
 
+// Marks every vertex of `layout` dense in its SparseColors, for readers that take the colour
+// counts from the scene rather than from the layout (a layout that leaves remote vertices out).
+void mark_dense(MapLayout& layout);
+
+// One colour per vertex from the vertices' owners (collective): `wanted` lists vertex ids,
+// ascending; `own` holds this rank's colours by vertex id. Returns the colours of `wanted`.
+std::vector<Vec3f> fetch_vertex_colors(const Communicator& comm, const std::vector<int>& owner,
+                                       const std::vector<std::int64_t>& wanted,
+                                       const std::vector<Vec3f>& own);
+
 class MapExchange {
  public:
   // Plans the exchange (collective): `halo` lists, ascending, the colours (global entry
