@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <tuple>
 
@@ -35,6 +36,15 @@ Vec3d apply_affine(const Affine3x4& a, const Vec3d& p) {
 }
 
 Mesh flatten_gltf(const GltfScene& scene) {
+  // Face indices are int: a file whose instances repeat a mesh past that many vertices is
+  // refused rather than wrapped (bake --mode ao keeps such scenes instanced instead).
+  std::size_t total = 0;
+  for (const GltfInstance& inst : scene.instances)
+    total += scene.meshes[inst.mesh].positions.size();
+  if (total > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw InputError(scene.path, 0,
+                     "its instances have " + std::to_string(total) +
+                         " vertices, too many to flatten into one mesh");
   Mesh out;
   if (!scene.meshes.empty()) out.materials = scene.meshes.front().materials;
   for (const GltfInstance& inst : scene.instances) {
@@ -164,10 +174,12 @@ class AccessorView {
     element_size_ = static_cast<std::uint64_t>(component) * static_cast<std::uint64_t>(components);
     stride_ = view.byteStride != 0 ? view.byteStride : element_size_;
     if (stride_ < element_size_) fail("has a byteStride smaller than its element");
-    const std::uint64_t view_end = std::uint64_t(view.byteOffset) + view.byteLength;
-    if (view_end > data.size()) fail("has a bufferView past the end of its buffer");
-    // count <= byteLength bounds the product below, so it cannot overflow.
-    if (count_ > view.byteLength) fail("has more elements than its bufferView has bytes");
+    if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset)
+      fail("has a bufferView past the end of its buffer");
+    // Offset, stride and count each at most the view's length (itself at most the buffer's, in
+    // memory), so the product below cannot overflow.
+    if (a.byteOffset > view.byteLength || stride_ > view.byteLength || count_ > view.byteLength)
+      fail("reads past the end of its bufferView");
     if (count_ > 0 && a.byteOffset + stride_ * (count_ - 1) + element_size_ > view.byteLength)
       fail("reads past the end of its bufferView");
     base_ = data.data() + view.byteOffset + a.byteOffset;
