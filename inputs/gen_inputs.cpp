@@ -2,20 +2,26 @@
 // "cornell_big_raw" cases, the furnace box of the correctness tests, the bundled Cornell box
 // (inputs/meshes) converted to .bs, and two bunny bake scenes built around
 // inputs/meshes/stanford-bunny.obj; and the sliver fan that measures the SAH build's pre-splitting
-// (results/bvh/slivers.md); and the image maps of the textured cube (inputs/textured_cube).
+// (results/bvh/slivers.md); the image maps of the textured cube (inputs/textured_cube); and the
+// glTF instance scene of bake --mode ao (inputs/ao/spot_three.gltf) from a TOML instance scene.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 
+#include "affine.hpp"
+#include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/bakeshop.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/image.hpp"
 #include "rtmini/io/obj_reader.hpp"
+#include "rtmini/io/scene_file.hpp"
 #include "rtmini/io/srgb.hpp"
 #include "rtmini/report/app_main.hpp"
 #include "rtmini/report/common_options.hpp"
@@ -269,6 +275,97 @@ std::uint64_t mesh_hash(const Mesh& m) {
   return h;
 }
 
+template <class T>
+void put_bytes(std::string& buf, const T& v) {
+  char bytes[sizeof(T)];
+  std::memcpy(bytes, &v, sizeof(T));
+  buf.append(bytes, sizeof(T));
+}
+
+// The glTF counterpart of a TOML instance scene: the mesh of the first [[meshes]] entry stored
+// once (float positions, uint32 triangle indices in scene/mesh.hpp's triangulation order) and
+// one node per entry naming that file, whose matrix is the entry's transform as bake --mode ao
+// builds it (make_trs), under one root node without a transform. Positions of an OBJ are floats
+// already, and the matrices are written with 17 digits, so a reader gets the TOML scene's
+// geometry and transforms bit for bit. Writes `out` (.gltf) and the .bin beside it; returns the
+// mesh for the report.
+Mesh write_gltf_instances(const std::string& toml, const std::string& out) {
+  const SceneDescription scene = read_scene_file(toml);
+  if (scene.meshes.empty()) throw InputError(toml, 0, "has no [[meshes]]");
+  const std::string file = scene.meshes.front().file;
+  const Mesh mesh = read_mesh(file);
+  const TriangleList tris = triangulate(mesh);
+  std::string bin;
+  float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
+  for (const Vec3d& p : mesh.positions) {
+    const float f[3] = {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
+    for (int k = 0; k < 3; ++k) {
+      put_bytes(bin, f[k]);
+      lo[k] = std::min(lo[k], f[k]);
+      hi[k] = std::max(hi[k], f[k]);
+    }
+  }
+  const std::size_t index_offset = bin.size();
+  for (const auto& t : tris.vertices)
+    for (int k = 0; k < 3; ++k) put_bytes(bin, static_cast<std::uint32_t>(t[k]));
+
+  nlohmann::json nodes = nlohmann::json::array(), children = nlohmann::json::array();
+  nodes.push_back({{"name", "instances"}});
+  for (const MeshDesc& md : scene.meshes) {
+    if (md.file != file) continue;
+    const ao::AffineD x = ao::make_trs(md.translate, md.rotate_deg, md.scale);
+    nlohmann::json matrix = nlohmann::json::array();  // column-major 4x4
+    for (int c = 0; c < 4; ++c) {
+      for (int r = 0; r < 3; ++r) matrix.push_back(x.m[r][c]);
+      matrix.push_back(c == 3 ? 1.0 : 0.0);
+    }
+    children.push_back(nodes.size());
+    nodes.push_back({{"name", "instance " + std::to_string(children.size() - 1) + " (" +
+                                  scene.path.substr(scene.path.find_last_of('/') + 1) + " line " +
+                                  std::to_string(md.line) + ")"},
+                     {"mesh", 0},
+                     {"matrix", matrix}});
+  }
+  nodes[0]["children"] = children;
+  const std::size_t slash = out.find_last_of('/');
+  const std::string stem = out.substr(slash == std::string::npos ? 0 : slash + 1);
+  const std::string bin_name = stem.substr(0, stem.rfind('.')) + ".bin";
+  const std::string name = file.substr(file.find_last_of('/') + 1);
+  const nlohmann::json doc = {
+      {"asset", {{"version", "2.0"}, {"generator", "rtmini-gen-inputs gltf_instances"}}},
+      {"scene", 0},
+      {"scenes", {{{"nodes", {0}}}}},
+      {"nodes", nodes},
+      {"meshes",
+       {{{"name", name},
+         {"primitives",
+          {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", 0}, {"mode", 4}}}}}}},
+      {"materials",
+       {{{"name", "default"},
+         {"pbrMetallicRoughness", {{"baseColorFactor", {0.8, 0.8, 0.8, 1.0}}}}}}},
+      {"accessors",
+       {{{"bufferView", 0},
+         {"componentType", 5126},
+         {"count", mesh.positions.size()},
+         {"type", "VEC3"},
+         {"min", {lo[0], lo[1], lo[2]}},
+         {"max", {hi[0], hi[1], hi[2]}}},
+        {{"bufferView", 1},
+         {"componentType", 5125},
+         {"count", tris.vertices.size() * 3},
+         {"type", "SCALAR"}}}},
+      {"bufferViews",
+       {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", index_offset}, {"target", 34962}},
+        {{"buffer", 0},
+         {"byteOffset", index_offset},
+         {"byteLength", bin.size() - index_offset},
+         {"target", 34963}}}},
+      {"buffers", {{{"uri", bin_name}, {"byteLength", bin.size()}}}}};
+  write_text_atomic(out.substr(0, out.size() - stem.size()) + bin_name, bin);
+  write_text_atomic(out, doc.dump(1) + "\n");
+  return mesh;
+}
+
 int gen_inputs(Communicator& comm, int argc, char** argv) {
   CLI::App app{"rtmini-gen-inputs: regenerate the bake inputs (see inputs/README.md)",
                "rtmini-gen-inputs"};
@@ -285,12 +382,17 @@ int gen_inputs(Communicator& comm, int argc, char** argv) {
   auto* bunny_room = app.add_subcommand("bunny_room", "the bunny on a floor, the paper's fig. 4.g");
   auto* fan = app.add_subcommand("sliver_fan", "a flat fan of slivers sharing one apex (BVH test)");
   auto* maps = app.add_subcommand("texture_maps", "the textured cube's PNG maps (-o: a folder)");
+  auto* gltf = app.add_subcommand(
+      "gltf_instances", "a TOML instance scene's first mesh and its instances as glTF nodes");
   int fan_count = 100000;
   double fan_angle = 1.0;
-  for (auto* sub : {cube, big, furnace, cornell, bunny, bunny_room, fan, maps}) {
+  for (auto* sub : {cube, big, furnace, cornell, bunny, bunny_room, fan, maps, gltf}) {
     add_common_options(*sub, common);
-    sub->add_option("-o,--output", out, "output .bs")->required();
+    sub->add_option("-o,--output", out,
+                    sub == gltf ? "output .gltf (and .bin beside it)" : "output .bs")
+        ->required();
   }
+  gltf->add_option("--scene", scene, "TOML scene with [[meshes]] instances")->required();
   furnace->add_option("--rho", rho, "mirror reflectance");
   furnace->add_option("--emission", emission, "emission of every face");
   furnace->add_option("--cells", cells, "grid cells per face edge (0: 8 shared corners)");
@@ -335,7 +437,11 @@ int gen_inputs(Communicator& comm, int argc, char** argv) {
   }
   report.timer.stop();
   report.timer.start("write");
-  if (comm.is_root()) write_bakeshop(out, m);
+  if (*gltf) {
+    if (comm.is_root()) m = write_gltf_instances(scene, out);
+  } else if (comm.is_root()) {
+    write_bakeshop(out, m);
+  }
   report.timer.stop();
   if (comm.is_root())
     std::cout << out << ": " << m.positions.size() << " vertices, " << m.faces.size() << " faces, "

@@ -16,7 +16,7 @@ packages=(
   openmpi-bin libopenmpi-dev libhdf5-openmpi-dev hdf5-tools libxxhash-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libcli11-dev libtomlplusplus-dev libtinyobjloader-dev nlohmann-json3-dev
-  librandom123-dev libeigen3-dev libpng-dev libopenexr-dev
+  librandom123-dev libeigen3-dev libpng-dev libopenexr-dev libtinygltf-dev
   libembree-dev
   python3 python3-numpy python3-matplotlib python3-h5py python3-pytest
   shellcheck clang-format clang clang-tidy libfuzzer-14-dev

@@ -21,7 +21,7 @@ bool on_off(const std::string& flag, const std::string& text) {
 
 void CliOverrides::add_to(CLI::App& app, RunOptions& run) {
   app_ = &app;
-  app.add_option("input", run.input, "Scene (.toml) or mesh (.obj, .bs)")->required();
+  app.add_option("input", run.input, "Scene (.toml) or mesh (.obj, .bs, .gltf, .glb)")->required();
   app.add_option("-o,--output", run.output,
                  "Image: .ppm, .png (8-bit sRGB) or .exr (linear + AOVs)");
   app.add_option("--width", width_, "Image width in pixels");

@@ -6,7 +6,7 @@
 set -euo pipefail
 out=$1
 rm -rf "$out"
-for t in obj bs bsb scene_toml ao_scene ao_options bake_checkpoint sketch_checkpoint cost_map ppm png; do
+for t in obj bs bsb scene_toml ao_scene ao_options bake_checkpoint sketch_checkpoint cost_map ppm png gltf; do
   mkdir -p "$out/$t"
 done
 inputs=$SOURCE/inputs
@@ -34,6 +34,10 @@ for f in "$inputs"/*/*.obj "$bad"/*.obj; do
   fi
 done
 for f in "$inputs"/*/*.bs "$bad"/*.bs; do seed bs "$f"; done
+# glTF: the malformed test file (data: URI buffer), a valid variant of it (one vertex), and
+# below, the .glb bake --mode ao writes.
+seed gltf "$SOURCE/tests/regression/ao/bad_gltf.gltf"
+sed 's/"count": 3/"count": 1/' "$SOURCE/tests/regression/ao/bad_gltf.gltf" >"$out/gltf/one_vertex.gltf"
 for f in "$bad"/ppm_*.ppm; do seed ppm "$f"; done
 for f in "$bad"/png_*.png; do seed png "$f"; done
 # HDF5 files that once showed a problem (tests/data/bad/h5_*.h5) go to every HDF5 reader.
@@ -72,6 +76,7 @@ tiny=(--width 8 --height 6 --spp 1 --shadow-samples 1)
   export OMP_NUM_THREADS=1 OMP_PROC_BIND=false
   "$BAKE" "$cube" --viewpoints 4 -o cube.bsb >/dev/null
   "$BAKE" "$inputs/cornell/cornell_box.bs" --viewpoints 2 -o cornell.bsb >/dev/null
+  "$BAKE" --mode ao "$cube" --rays 4 -o cube.glb >/dev/null
   rc=0
   "$BAKE" "$cube" --viewpoints 4 --iterations 3 --checkpoint bake.h5 --stop-after-iteration 1 \
     >/dev/null 2>&1 || rc=$?
@@ -89,5 +94,6 @@ cp "$work/sketch.h5" "$out/sketch_checkpoint/"
 cp "$work/cost.h5" "$out/cost_map/"
 cp "$work/rgb.png" "$out/png/"
 cp "$work/rgb.ppm" "$out/ppm/"
+cp "$work/cube.glb" "$out/gltf/"
 rm -rf "$work"
 for t in "$out"/*/; do echo "seeds: $(basename "$t") $(find "$t" -type f | wc -l)"; done

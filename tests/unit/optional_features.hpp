@@ -23,3 +23,11 @@
 #define RTMINI_REQUIRE_HDF5() \
   GTEST_SKIP() << "built without HDF5 (RTMINI_ENABLE_HDF5=OFF or HDF5 not found)"
 #endif
+
+#ifdef RTMINI_HAVE_GLTF
+#define RTMINI_REQUIRE_GLTF() static_cast<void>(0)
+#else
+#define RTMINI_REQUIRE_GLTF()                                                                  \
+  GTEST_SKIP() << "built without glTF support (RTMINI_ENABLE_GLTF=OFF or libtinygltf-dev not " \
+                  "found)"
+#endif

@@ -15,6 +15,7 @@
 
 #include "rtmini/io/bakeshop.hpp"
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/gltf_reader.hpp"
 #include "rtmini/io/image.hpp"
 #include "rtmini/io/path.hpp"
 #include "rtmini/io/text_fields.hpp"
@@ -301,7 +302,10 @@ Mesh read_obj(const std::string& path) {
   return mesh;
 }
 
+bool is_gltf_extension(const std::string& ext) { return ext == ".gltf" || ext == ".glb"; }
+
 std::vector<std::string> mesh_files(const std::string& path) {
+  if (is_gltf_extension(lower_extension(path))) return gltf_files(path);
   std::vector<std::string> files{path};
   if (lower_extension(path) != ".obj") return files;
   ObjPrescan prescan(path);
@@ -319,7 +323,9 @@ Mesh read_mesh(const std::string& path) {
   const std::string ext = lower_extension(path);
   if (ext == ".obj") return read_obj(path);
   if (ext == ".bs") return read_bakeshop(path);
-  throw InputError(path, 0, "unknown mesh format '" + ext + "' (expected .obj or .bs)");
+  if (is_gltf_extension(ext)) return flatten_gltf(read_gltf(path));
+  throw InputError(path, 0,
+                   "unknown mesh format '" + ext + "' (expected .obj, .bs, .gltf or .glb)");
 }
 
 }  // namespace rtmini

@@ -9,7 +9,8 @@ namespace rtmini::ao {
 
 void AoCli::add_to(CLI::App& app, AoOptions& o) {
   app.add_option("input,-f,--file", o.input,
-                 "mesh (.obj, .bs: flattened) or scene (.toml: instances, blockers)")
+                 "mesh (.obj, .bs: flattened), glTF (.gltf, .glb: node instances) or scene "
+                 "(.toml: instances, blockers)")
       ->required();
   app.add_option("-o,--outfile,--output", o.output,
                  "per-vertex AO: .bin (sample layout), .ply, .obj, .glb");

@@ -5,7 +5,9 @@
 #include <set>
 
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/gltf_reader.hpp"
 #include "rtmini/io/obj_reader.hpp"
+#include "rtmini/io/path.hpp"
 #include "rtmini/io/scene_file.hpp"
 #include "rtmini/io/scene_settings.hpp"
 #include "rtmini/scene/primitives.hpp"
@@ -51,6 +53,44 @@ std::set<std::size_t> read_blockers(const SceneDescription& desc) {
     out.insert(static_cast<std::size_t>(*v));
   }
   return out;
+}
+
+AffineD to_affine(const Affine3x4& a) {
+  AffineD out;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 4; ++j) out.m[i][j] = a[i][j];
+  return out;
+}
+
+// Stored meshes by (file, mesh of the file): a file named by several [[meshes]] entries, or a
+// glTF mesh referenced by several nodes, is stored once. Whole-file meshes (OBJ, .bs) use -1.
+using StoredMeshes = std::map<std::pair<std::string, int>, int>;
+
+// Every node instance of a glTF file, placed by `placement` (the [[meshes]] entry's transform,
+// identity for a glTF given directly) after its own node transforms. Meshes over the same
+// accessors (GltfScene::same_geometry) share one stored copy.
+void add_gltf_instances(AoScene& scene, StoredMeshes& stored, const std::string& file,
+                        const AffineD& placement, bool blocker, const std::string& where,
+                        long line) {
+  const GltfScene gltf = read_gltf(file, GltfTextures::kIgnore);
+  for (const GltfInstance& gi : gltf.instances) {
+    const int geometry = gltf.same_geometry[gi.mesh];
+    auto it = stored.find({file, geometry});
+    if (it == stored.end()) {
+      it = stored.emplace(std::make_pair(file, geometry), static_cast<int>(scene.meshes.size()))
+               .first;
+      scene.meshes.push_back(
+          make_ao_mesh(gltf.meshes[geometry], file + " " + gltf.meshes[geometry].objects.front()));
+    }
+    AoInstance inst;
+    inst.mesh = it->second;
+    inst.xform = compose(placement, to_affine(gi.xform));
+    inst.blocker = blocker;
+    if (std::fabs(determinant(inst.xform)) < 1e-300)
+      throw InputError(where, line,
+                       "transform of glTF node '" + gi.name + "' in " + file + " is singular");
+    scene.instances.push_back(inst);
+  }
 }
 
 }  // namespace
@@ -123,18 +163,26 @@ AoMesh make_ao_mesh(const Mesh& mesh, const std::string& name) {
 
 AoScene load_ao_scene(const std::string& path) {
   AoScene scene;
-  if (!has_suffix(path, ".toml")) {
+  StoredMeshes stored;
+  if (is_gltf_extension(lower_extension(path))) {
+    add_gltf_instances(scene, stored, path, AffineD{}, false, path, 0);
+  } else if (!has_suffix(path, ".toml")) {
     scene.meshes.push_back(make_ao_mesh(read_mesh(path), path));
     scene.instances.push_back(AoInstance{});
   } else {
     const SceneDescription desc = read_scene_file(path);
     const std::set<std::size_t> blockers = read_blockers(desc);
-    std::map<std::string, int> stored;  // file -> mesh id: one copy per file
     for (std::size_t i = 0; i < desc.meshes.size(); ++i) {
       const MeshDesc& md = desc.meshes[i];
-      auto it = stored.find(md.file);
+      if (is_gltf_extension(lower_extension(md.file))) {
+        add_gltf_instances(scene, stored, md.file, make_trs(md.translate, md.rotate_deg, md.scale),
+                           blockers.count(i) != 0, desc.path, md.line);
+        continue;
+      }
+      auto it = stored.find({md.file, -1});
       if (it == stored.end()) {
-        it = stored.emplace(md.file, static_cast<int>(scene.meshes.size())).first;
+        it = stored.emplace(std::make_pair(md.file, -1), static_cast<int>(scene.meshes.size()))
+                 .first;
         scene.meshes.push_back(make_ao_mesh(read_mesh(md.file), md.file));
       }
       AoInstance inst;

@@ -51,8 +51,11 @@ AoMesh make_ao_mesh(const Mesh& mesh, const std::string& name);
 AoScene recentred(const AoScene& scene, const Vec3d& world_origin);
 
 // .obj/.bs: one mesh, one identity instance (the sample's OBJ loader flattens).
+// .gltf/.glb: every node with a mesh is an instance (its world transform); a glTF mesh used
+// by several nodes (or meshes over the same accessors) is stored once.
 // .toml: io/scene_file.hpp layout; [[meshes]] naming the same file share one
-// stored mesh; [settings] blockers = [i, ...] marks [[meshes]] entries (0-based)
+// stored mesh; a [[meshes]] glTF entry adds all its node instances, the entry's transform
+// applied after the nodes' own; [settings] blockers = [i, ...] marks [[meshes]] entries (0-based)
 // as blockers; [[spheres]] become icosphere receivers. InputError on bad input.
 AoScene load_ao_scene(const std::string& path);
 

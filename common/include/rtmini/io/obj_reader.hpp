@@ -19,12 +19,16 @@ namespace rtmini {
 // is an InputError too (an OBJ without `usemtl` loads without its missing library).
 Mesh read_obj(const std::string& path);
 
-// Dispatches on the extension (case-insensitive): .obj -> read_obj, .bs -> read_bakeshop.
+// Dispatches on the extension (case-insensitive): .obj -> read_obj, .bs -> read_bakeshop,
+// .gltf/.glb -> read_gltf flattened into world space (io/gltf_reader.hpp).
 Mesh read_mesh(const std::string& path);
 
+// True for ".gltf" and ".glb" (an extension as lower_extension returns it).
+bool is_gltf_extension(const std::string& ext);
+
 // The files read_mesh(path) reads: the mesh itself and, for an OBJ, the material libraries it
-// names that exist and the image maps those name (io/input_files.hpp hashes them for the
-// restart signature).
+// names that exist and the image maps those name, for a glTF its external buffers and images
+// (io/input_files.hpp hashes them for the restart signature).
 std::vector<std::string> mesh_files(const std::string& path);
 
 }  // namespace rtmini

@@ -8,7 +8,8 @@
 //               intensity) | "sphere" (center, radius, emission); all fields required
 //   [[materials]] name (required) + any of kd, ks, ke ([3]), ns, ni, d: overrides the fields
 //               of every mesh material of that name; also the target of a mesh `material`
-//   [[meshes]]  file (required, relative to the TOML file's folder), translate [3],
+//   [[meshes]]  file (required, relative to the TOML file's folder: .obj, .bs, .gltf, .glb; a
+//               glTF is flattened through its node transforms first), translate [3],
 //               rotate_deg [3] (XYZ Euler: about x, then y, then z), scale (number or [3]),
 //               material (name of a [[materials]] entry, replaces all the mesh's materials)
 //   [[spheres]] center, radius (required), material = { kd, ks, ke, ns, ni, d }
