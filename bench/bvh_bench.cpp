@@ -40,6 +40,8 @@ struct Options {
   std::string quality = "sah";
   std::string peer;
   std::string camera = "framed";
+  std::string spatial_splits = bvh::to_string(bvh::kDefaultSpatialSplits);
+  double split_budget = bvh::kDefaultSplitBudget;
   int samples_per_face = 3;
   int rays = 64;
   int width = 1024, height = 1024;
@@ -340,6 +342,9 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
     quality = bvh::BuildQuality::kSah;
   else
     throw InputError("--quality must be lbvh or sah, got '" + o.quality + "'");
+  bvh::SpatialSplits spatial;
+  if (!bvh::parse_spatial_splits(o.spatial_splits, spatial))
+    throw InputError("--spatial-splits must be off, on or auto, got '" + o.spatial_splits + "'");
   const bool any = o.workload == "ao" || o.workload == "shadow";
 
   std::cout << build_banner() << "\n";
@@ -347,6 +352,9 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
             << mesh.positions.size() << " vertices, " << mesh.triangle_count() << " triangles\n";
 
   DeviceMesh<Mem> dm = upload_mesh(mesh, quality);
+  if (quality == bvh::BuildQuality::kSah)  // again, with the split settings asked for
+    dm.accel = bvh::build<Exec, Mem>(Exec(), dm.tris, quality, bvh::QuantizedWide::kOnDevices,
+                                     o.split_budget, spatial);
   const int repeats = std::max(1, o.repeats);
   Peer peer(o.peer, dm.tris);
   // Build timings: the best of several builds of the already-uploaded triangles, each repeat
@@ -360,7 +368,8 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
     lbvh_s = std::min(lbvh_s, seconds_since(t0));
     t0 = Clock::now();
     double c0 = cpu_seconds();
-    auto b2 = bvh::build<Exec, Mem>(Exec(), dm.tris, bvh::BuildQuality::kSah);
+    auto b2 = bvh::build<Exec, Mem>(Exec(), dm.tris, bvh::BuildQuality::kSah,
+                                    bvh::QuantizedWide::kOnDevices, o.split_budget, spatial);
     Kokkos::fence();
     sah_s.push_back(seconds_since(t0));
     sah_cpu.push_back(cpu_seconds() - c0);
@@ -374,6 +383,8 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
   std::printf("build: lbvh %.2f ms, sah %.2f ms; traced with %s: %s\n", lbvh_s * 1e3,
               best_of(sah_s) * 1e3, bvh::to_string(quality), q.to_string().c_str());
 
+  std::printf("sah splits: spatial %s, budget %g; %d leaf triangles (%d input)\n",
+              o.spatial_splits.c_str(), o.split_budget, dm.accel.num_prims, int(dm.tris.extent(0)));
   print_wide_layout(dm.accel);
 
   const Aabb box = dm.accel.bounds;
@@ -573,12 +584,25 @@ int bench_main(Communicator& comm, int argc, char** argv) {
                  "primary/shadow/diffuse camera: framed (>= 95 % of a probe grid on the mesh) or "
                  "overview (the whole bounding box, mostly misses)")
       ->capture_default_str();
+  app.add_option("--spatial-splits", o.spatial_splits,
+                 "SAH build: spatial splits off, on, or auto (the builder's default)")
+      ->capture_default_str();
+  app.add_option("--split-budget", o.split_budget,
+                 "SAH build: extra references for slivers, as a fraction of the triangles")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--peer", o.peer, "trace the identical rays with a peer: embree");
   if (const auto done = parse_command_line(app, argc, argv, common, comm.is_root())) return *done;
   RunReport report;
   report.app = "rtmini-bvh-bench";
-  report.parameters = {{"mesh", o.mesh},       {"workload", o.workload}, {"quality", o.quality},
-                       {"repeats", o.repeats}, {"camera", o.camera},     {"seed", o.seed}};
+  report.parameters = {{"mesh", o.mesh},
+                       {"workload", o.workload},
+                       {"quality", o.quality},
+                       {"repeats", o.repeats},
+                       {"camera", o.camera},
+                       {"seed", o.seed},
+                       {"spatial_splits", o.spatial_splits},
+                       {"split_budget", o.split_budget}};
   const int code = run(o, report, comm, common.memory_limit());
   // Phases only: the program has no dispatch loop of its own to record.
   if (!common.timings.empty())

@@ -142,6 +142,11 @@ TEST_P(BvhVsBruteForce, EveryHitEqual) {
     const auto accel = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, q);
     expect_same(trace_all(accel, rays), ref, GetParam() + " " + bvh::to_string(q));
   }
+  // Spatial splits forced on: chopped references, whole triangles in the leaves.
+  const auto spatial = bvh::build<TestExecSpace, TestMemSpace>(
+      TestExecSpace(), tris, bvh::BuildQuality::kSah, bvh::QuantizedWide::kOnDevices,
+      bvh::kDefaultSplitBudget, bvh::SpatialSplits::kOn);
+  expect_same(trace_all(spatial, rays), ref, GetParam() + " sah, spatial splits");
 }
 
 INSTANTIATE_TEST_SUITE_P(SmallMeshes, BvhVsBruteForce,
@@ -195,6 +200,12 @@ TEST(Bvh, TinyAndDegenerateInputs) {
       expect_same_hits(accel, ref, rays,
                        "degenerate n=" + std::to_string(count) + " " + bvh::to_string(q));
     }
+    const auto spatial = bvh::build<TestExecSpace, TestMemSpace>(
+        TestExecSpace(), tris, bvh::BuildQuality::kSah, bvh::QuantizedWide::kOnDevices,
+        bvh::kDefaultSplitBudget, bvh::SpatialSplits::kOn);
+    if (count > 0)
+      expect_same_hits(spatial, ref, axis_rays(2000),
+                       "degenerate n=" + std::to_string(count) + " sah, spatial splits");
   }
 }
 
@@ -356,6 +367,20 @@ TEST(Bvh, PresplitSliverFanMatchesBruteForce) {
   expect_same_hits(sah, ref, fan_rays<TestExecSpace>(20000), "sliver fan, rays from above");
 }
 
+TEST(Bvh, SpatialSplitSliverFanMatchesBruteForce) {
+  const Mesh mesh = sliver_fan();
+  auto tris = upload_triangles(mesh);
+  const bvh::BruteForce<TestMemSpace> ref{tris};
+  const auto sah = bvh::build<TestExecSpace, TestMemSpace>(
+      TestExecSpace(), tris, bvh::BuildQuality::kSah, bvh::QuantizedWide::kOnDevices,
+      bvh::kDefaultSplitBudget, bvh::SpatialSplits::kOn);
+  EXPECT_GT(sah.num_prims, int(tris.extent(0))) << "spatial splits must chop the fan's slivers";
+  expect_same_hits(sah, ref, random_rays(tris, sah.bounds, 20000, 19),
+                   "sliver fan, spatial splits, random rays");
+  expect_same_hits(sah, ref, fan_rays<TestExecSpace>(20000),
+                   "sliver fan, spatial splits, rays from above");
+}
+
 // Mean ray-triangle tests per ray on the host (binary or 8-wide layout).
 double host_tests_per_ray(const bvh::Bvh<Kokkos::HostSpace>& accel,
                           const Kokkos::View<Ray*, Kokkos::HostSpace>& rays) {
@@ -377,21 +402,30 @@ TEST(Bvh, PresplitSliverFanTestsPerRay) {
     tris(t) = {Vec3(mesh.positions[tl.vertices[t][0]]), Vec3(mesh.positions[tl.vertices[t][1]]),
                Vec3(mesh.positions[tl.vertices[t][2]])};
   const auto rays = fan_rays<Host>(4000);
-  for (const double budget : {0.0, bvh::kDefaultSplitBudget}) {
-    auto accel = bvh::build<Host, Kokkos::HostSpace>(Host(), tris, bvh::BuildQuality::kSah,
-                                                     bvh::QuantizedWide::kOnDevices, budget);
-    const double wide = host_tests_per_ray(accel, rays);
-    accel.wide = {};  // the binary layout, as traversed on devices
-    const double binary = host_tests_per_ray(accel, rays);
-    std::printf("split budget %.2f: %d references, %.1f tests per ray (8-wide), %.1f (binary)\n",
-                budget, accel.num_prims, wide, binary);
-    if (budget == 0.0) {
-      EXPECT_GT(binary, 200.0) << "without pre-splitting the fan must be a hard case";
-    } else {
-      EXPECT_LE(wide, 150.0);
-      EXPECT_LE(binary, 150.0);
+  double unsplit = 0;
+  for (const auto spatial : {bvh::SpatialSplits::kOff, bvh::SpatialSplits::kOn})
+    for (const double budget : {0.0, bvh::kDefaultSplitBudget}) {
+      if (spatial == bvh::SpatialSplits::kOn && budget == 0.0) continue;
+      auto accel = bvh::build<Host, Kokkos::HostSpace>(
+          Host(), tris, bvh::BuildQuality::kSah, bvh::QuantizedWide::kOnDevices, budget, spatial);
+      const double wide = host_tests_per_ray(accel, rays);
+      accel.wide = {};  // the binary layout, as traversed on devices
+      const double binary = host_tests_per_ray(accel, rays);
+      std::printf(
+          "spatial splits %s, split budget %.2f: %d references, %.1f tests per ray (8-wide), "
+          "%.1f (binary)\n",
+          bvh::to_string(spatial), budget, accel.num_prims, wide, binary);
+      if (budget == 0.0) {
+        unsplit = binary;
+        EXPECT_GT(binary, 200.0) << "without pre-splitting the fan must be a hard case";
+      } else if (spatial == bvh::SpatialSplits::kOff) {
+        EXPECT_LE(wide, 150.0);
+        EXPECT_LE(binary, 150.0);
+      } else {
+        EXPECT_LE(binary, 0.75 * unsplit);
+        EXPECT_LE(wide, 0.75 * unsplit);
+      }
     }
-  }
 }
 
 }  // namespace

@@ -15,9 +15,14 @@ namespace rtmini::test {
 namespace {
 
 // Returns the number of escaping rays out of n shot from `inside`.
-long long count_escapes(const Mesh& mesh, const Vec3& inside, long long n, bvh::BuildQuality q) {
+long long count_escapes(const Mesh& mesh, const Vec3& inside, long long n, bvh::BuildQuality q,
+                        bvh::SpatialSplits spatial = bvh::kDefaultSpatialSplits) {
   const auto dm = upload_mesh<TestExecSpace>(mesh, q);
-  const auto accel = dm.accel;
+  const auto accel = spatial == bvh::kDefaultSpatialSplits
+                         ? dm.accel
+                         : bvh::build<TestExecSpace, TestMemSpace>(
+                               TestExecSpace(), dm.tris, q, bvh::QuantizedWide::kOnDevices,
+                               bvh::kDefaultSplitBudget, spatial);
   const auto tris = dm.tris;
   const int nt = static_cast<int>(tris.extent(0));
   long long escapes = 0;
@@ -75,6 +80,27 @@ TEST(Watertight, IcosphereAtManyScales) {
   total += 800000;
   EXPECT_GE(total, 10000000);
   EXPECT_EQ(escaped, 0);
+}
+
+// Spatial splits chop references at planes through the triangles: the chopped parts' boxes must
+// still hold every hit the watertight test reports, at every scale.
+TEST(Watertight, SpatialSplitsAtManyScales) {
+  const Case cases[] = {
+      {"unit", 1, 0}, {"tiny", 1e-4, 0}, {"huge", 1e4, 0}, {"far-huge", 1e3, 1e4}};
+  for (const Case& c : cases) {
+    Mesh m;
+    const Vec3d center(c.offset, -0.5 * c.offset, 0.25 * c.offset);
+    append_icosphere(m, center, c.scale, 3, -1, 0);
+    const Vec3 inside(center + Vec3d(0.21, -0.13, 0.08) * c.scale);
+    EXPECT_EQ(count_escapes(m, inside, 200000, bvh::BuildQuality::kSah, bvh::SpatialSplits::kOn), 0)
+        << c.name;
+  }
+  const Mesh spot = read_mesh(std::string(scenes_dir()) + "/spot.obj");
+  Vec3d c(0, 0, 0);
+  for (const auto& p : spot.positions) c += p;
+  c = c * (1.0 / double(spot.positions.size()));
+  EXPECT_EQ(count_escapes(spot, Vec3(c), 400000, bvh::BuildQuality::kSah, bvh::SpatialSplits::kOn),
+            0);
 }
 
 TEST(Watertight, SpotFromInside) {

@@ -71,27 +71,30 @@ enum class QuantizedWide { kOnDevices, kNever };
 // The SAH build runs on the host and returns a finished tree (zero-area triangles as points,
 // padded boxes: the same functions as the kernels above), so no device kernel runs for it.
 template <class MemorySpace>
-Bvh<MemorySpace> build_sah(Kokkos::View<const Triangle*, MemorySpace> tris, double split_budget) {
+Bvh<MemorySpace> build_sah(Kokkos::View<const Triangle*, MemorySpace> tris, double split_budget,
+                           SpatialSplits spatial_splits) {
   Kokkos::Profiling::pushRegion("rtmini::bvh::build_sah");
   auto host = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), tris);
   const std::vector<Triangle> v(host.data(), host.data() + host.extent(0));
-  const HostBvh h = build_sah_host(v, split_budget);
+  const HostBvh h = build_sah_host(v, split_budget, spatial_splits);
   Bvh<MemorySpace> out = upload<MemorySpace>(h, BuildQuality::kSah);
   add_wide_nodes(out, h.nodes, h.tris.data(), h.prim.data());
   Kokkos::Profiling::popRegion();
   return out;
 }
 
-// split_budget (SAH only): extra pre-split references for slivers, as a fraction of the
-// triangle count (presplit.hpp); 0 builds from the triangles as they are.
+// split_budget (SAH only): extra references for slivers (pre-split parts or spatial splits), as
+// a fraction of the triangle count; 0 builds from the triangles as they are. spatial_splits (SAH
+// only): build_quality.hpp.
 template <class ExecSpace, class MemorySpace = typename ExecSpace::memory_space>
 Bvh<MemorySpace> build(const ExecSpace& space, Kokkos::View<const Triangle*, MemorySpace> tris,
                        BuildQuality quality,
                        QuantizedWide quantized_wide = QuantizedWide::kOnDevices,
-                       double split_budget = kDefaultSplitBudget) {
+                       double split_budget = kDefaultSplitBudget,
+                       SpatialSplits spatial_splits = kDefaultSpatialSplits) {
   Bvh<MemorySpace> out;
   if (quality == BuildQuality::kSah) {
-    out = build_sah<MemorySpace>(tris, split_budget);
+    out = build_sah<MemorySpace>(tris, split_budget, spatial_splits);
   } else {
     out = build_lbvh<ExecSpace, MemorySpace>(space, tris);
     collapse_zero_area(space, out);

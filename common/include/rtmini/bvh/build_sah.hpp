@@ -2,14 +2,16 @@
 // SAH-quality build: top-down binned SAH (Wald, "On fast construction of
 // SAH-based bounding volume hierarchies", 2007) on the host, 16 bins on all
 // three axes, leaves of up to kMaxLeafSize when splitting does not pay.
-// Slivers are pre-split first when that pays (presplit.hpp): a triangle may
-// then sit in several leaves, at most once per leaf.
+// Slivers are cut by spatial splits where the SAH says they pay (Stich et al.
+// 2009, build_sah.cpp), or else pre-split when that pays (presplit.hpp): a
+// triangle may then sit in several leaves, at most once per leaf.
 // Slower to build than the LBVH but traces faster; the result is copied to
 // the memory space of the caller's choice.
 #include <algorithm>
 #include <string>
 #include <vector>
 
+#include "rtmini/bvh/build_quality.hpp"
 #include "rtmini/bvh/bvh.hpp"
 #include "rtmini/bvh/presplit.hpp"
 
@@ -20,13 +22,20 @@ struct HostBvh {
   std::vector<Triangle> tris;
   std::vector<int> prim;
   Aabb bounds;
-  int references = 0;  // items the build sorted: triangles plus extra pre-split parts
+  int references = 0;           // items in the leaves: triangles plus extra split parts
+  bool spatial_splits = false;  // whether the build tried spatial splits
 };
 
-// split_budget: extra pre-split references allowed, as a fraction of the triangle count
-// (0: never split).
+// Whether a build asked for `s` tries spatial splits on these triangles.
+bool uses_spatial_splits(const std::vector<Triangle>& input, SpatialSplits s);
+
+inline constexpr SpatialSplits kDefaultSpatialSplits = SpatialSplits::kAuto;
+
+// split_budget: extra references allowed (pre-split parts, or those added by spatial splits), as
+// a fraction of the triangle count (0: never split).
 HostBvh build_sah_host(const std::vector<Triangle>& input,
-                       double split_budget = kDefaultSplitBudget);
+                       double split_budget = kDefaultSplitBudget,
+                       SpatialSplits spatial_splits = kDefaultSpatialSplits);
 
 // compat::upload, except that host memory is filled by a plain copy: the Kokkos fill and
 // deep_copy are parallel regions whose spin-waits cost more than the copy itself when the
