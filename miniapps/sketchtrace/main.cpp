@@ -72,6 +72,8 @@ nlohmann::json parameters_json(const RenderSettings& s) {
   p["stencil_samples"] = s.stencil_samples;
   p["sphere_subdivisions"] = s.sphere_subdivisions;
   p["smooth"] = s.smooth;
+  p["displacement"] = s.displacement;
+  p["displacement_level"] = s.displacement_level;
   p["background"] = vec_json(s.background);
   p["ambient"] = vec_json(s.ambient);
   p["camera"] = {{"position", vec_json(s.camera.position)},

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "displace.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/obj_reader.hpp"
 #include "rtmini/scene/camera.hpp"
@@ -174,6 +175,8 @@ HostScene build_scene(const std::string& input, const SceneDescription* desc,
     settings.camera = frame_bounds(lo + s.origin, hi + s.origin, settings.camera.fov_deg);
   if (s.mesh.faces.empty()) throw InputError(input, 0, "the scene has no geometry");
   s.map_images = load_map_images(s.mesh.materials);
+  apply_displacement_mode(s.mesh, s.map_images, parse_displacement_mode(settings.displacement),
+                          settings.displacement_level);
   return s;
 }
 
