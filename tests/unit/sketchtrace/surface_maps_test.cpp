@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include "../optional_features.hpp"
+#include "displace.hpp"
 #include "parallax.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/obj_reader.hpp"
@@ -179,6 +180,43 @@ TEST(Parallax, FindsThePitFloorAndTheStepWallAnalytically) {
   EXPECT_EQ(parallax_self_shadow(h, near_wall, Vec3(s, Real(0), s), depth_uv),
             Real(1));  // a light at +u, away from the wall
   EXPECT_EQ(parallax_self_shadow(h, near_wall, Vec3(Real(0), Real(0), Real(1)), depth_uv), Real(1));
+}
+
+TEST(Displacement, TessellatedGridKeepsItsBorderAndSinksTheInteriorByTheHeight) {
+  Mesh mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  mesh.texcoords = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  Face f;
+  f.count = 4;
+  f.v = {0, 1, 2, 3};
+  f.uv = {0, 1, 2, 3};
+  f.material = 0;
+  mesh.faces.push_back(f);
+  Material m;
+  m.maps.displacement = "height.png";
+  m.maps.displacement_scale = 0.2f;
+  mesh.materials.push_back(m);
+  Image height(4, 4, 3);
+  for (float& v : height.data) v = 0.25f;  // depth 0.75 x 0.2 below the polygon
+  const std::vector<MapImage> images{{"height.png", false, height}};
+
+  Mesh off = mesh;
+  EXPECT_EQ(apply_displacement_mode(off, images, DisplacementMode::kOff, 3), 1u);
+  ASSERT_EQ(off.faces.size(), 1u);
+  EXPECT_TRUE(off.materials[off.faces[0].material].maps.displacement.empty());
+
+  EXPECT_EQ(apply_displacement_mode(mesh, images, DisplacementMode::kTessellate, 2), 1u);
+  EXPECT_EQ(mesh.faces.size(), 2u * 4 * 4);
+  EXPECT_TRUE(mesh.materials[mesh.faces[0].material].maps.displacement.empty());
+  int border = 0, inside = 0;
+  for (std::size_t i = 4; i < mesh.positions.size(); ++i) {
+    const Vec3d& p = mesh.positions[i];
+    const bool on_border = p.x == 0 || p.y == 0 || p.x == 1 || p.y == 1;
+    EXPECT_NEAR(p.z, on_border ? 0.0 : -0.75 * 0.2, 1e-6) << p.x << " " << p.y;
+    (on_border ? border : inside) += 1;
+  }
+  EXPECT_EQ(border, 16);
+  EXPECT_EQ(inside, 9);
 }
 
 void write_text(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
