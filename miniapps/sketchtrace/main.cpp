@@ -74,6 +74,7 @@ nlohmann::json parameters_json(const RenderSettings& s) {
   p["smooth"] = s.smooth;
   p["displacement"] = s.displacement;
   p["displacement_level"] = s.displacement_level;
+  p["texture_filter"] = s.texture_filter;
   p["background"] = vec_json(s.background);
   p["ambient"] = vec_json(s.ambient);
   p["camera"] = {{"position", vec_json(s.camera.position)},

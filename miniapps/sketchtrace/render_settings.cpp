@@ -113,7 +113,9 @@ std::string range_problem(const RenderSettings& s, std::string& key) {
                   s.displacement == "off",
               "displacement", "must be parallax, tessellate or off"),
         check(s.displacement_level >= 0 && s.displacement_level <= 10, "displacement_level",
-              "must be in [0, 10]")}) {
+              "must be in [0, 10]"),
+        check(s.texture_filter == "cone" || s.texture_filter == "none", "texture_filter",
+              "must be cone or none")}) {
     if (r.empty() && !p.empty()) r = p;
   }
   for (const std::string& a : s.aov) {
@@ -155,7 +157,8 @@ void apply_scene_settings(const SceneDescription& scene, RenderSettings& s) {
                     "style",
                     "chunk_pixels",
                     "displacement",
-                    "displacement_level"},
+                    "displacement_level",
+                    "texture_filter"},
                    scene.path, "[settings]");
   const SettingsReader r(scene.settings->table, scene.path);
   r.integer("width", s.width);
@@ -175,6 +178,7 @@ void apply_scene_settings(const SceneDescription& scene, RenderSettings& s) {
   r.integer("chunk_pixels", s.chunk_pixels);
   r.string("displacement", s.displacement);
   r.integer("displacement_level", s.displacement_level);
+  r.string("texture_filter", s.texture_filter);
   r.color("background", s.background);
   if (const toml::node* n = r.get("seed")) {
     if (!n->is_integer() || *n->value<std::int64_t>() < 0)
