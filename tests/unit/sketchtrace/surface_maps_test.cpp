@@ -83,8 +83,9 @@ TEST(RayConeLod, ConeOfOneTexelReadsLevelZeroAndEachDoublingOneLevelUp) {
   const Real texel = Real(1) / size;  // world size of a texel on this quad
   EXPECT_NEAR(texture_lod(r[0].lod_base, size, size, texel, Real(1)), 0.0, 1e-4);
   EXPECT_NEAR(texture_lod(r[0].lod_base, size, size, 4 * texel, Real(1)), 2.0, 1e-4);
-  // Grazing at 60 degrees the footprint stretches by 1 / cos = 2: one level coarser.
-  EXPECT_NEAR(texture_lod(r[0].lod_base, size, size, texel, Real(0.5)), 1.0, 1e-4);
+  // Grazing at 75.5 degrees the footprint stretches by 1 / cos = 4 along one axis: its area
+  // matches 2 x 2 texels, one level coarser.
+  EXPECT_NEAR(texture_lod(r[0].lod_base, size, size, texel, Real(0.25)), 1.0, 1e-4);
   // The same texture tiled 8 times over the quad: texels 8 times smaller, 3 levels finer.
   UnitQuad tiled;
   for (TexCoord& t : tiled.texcoords) t = {t.u * 8, t.v * 8};
