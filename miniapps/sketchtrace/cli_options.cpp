@@ -42,6 +42,12 @@ void CliOverrides::add_to(CLI::App& app, RunOptions& run) {
   app.add_option("--stencil-samples", stencil_samples_, "Stencil evaluations per pixel");
   app.add_option("--sphere-subdivisions", sphere_subdivisions_, "Icosphere level of [[spheres]]");
   app.add_option("--smooth", smooth_, "on|off: interpolated vertex normals");
+  app.add_option("--displacement", displacement_,
+                 "parallax|tessellate|off: height fields (MTL disp) marched, displaced or ignored");
+  app.add_option("--displacement-level", displacement_level_,
+                 "tessellate: 2^level x 2^level cells per displaced face");
+  app.add_option("--texture-filter", texture_filter_,
+                 "cone|none: mip level from ray cones, or always the finest (aliases)");
   app.add_option("--ambient", ambient_, "Ambient light r,g,b");
   app.add_option("--background", background_, "Background radiance r,g,b");
   app.add_option("--camera-pos", camera_pos_, "Camera position x,y,z");
@@ -99,6 +105,9 @@ void CliOverrides::apply(RenderSettings& s) const {
   if (given("--sphere-subdivisions")) s.sphere_subdivisions = sphere_subdivisions_;
   if (given("--smooth")) s.smooth = on_off("--smooth", smooth_);
   if (given("--chunk-pixels")) s.chunk_pixels = chunk_pixels_;
+  if (given("--displacement")) s.displacement = displacement_;
+  if (given("--displacement-level")) s.displacement_level = displacement_level_;
+  if (given("--texture-filter")) s.texture_filter = texture_filter_;
   if (given("--ambient")) {
     const Vec3d a = parse_vec3("--ambient", ambient_);
     if (a.x < 0 || a.y < 0 || a.z < 0) throw InputError("--ambient: must be non-negative");

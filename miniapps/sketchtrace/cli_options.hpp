@@ -39,7 +39,8 @@ class CliOverrides {
  private:
   CLI::App* app_ = nullptr;
   int width_ = 0, height_ = 0, spp_ = 0, shadow_samples_ = 0, bounces_ = 0, glossy_ = 0;
-  int stencil_samples_ = 0, sphere_subdivisions_ = 0, chunk_pixels_ = 0;
+  int stencil_samples_ = 0, sphere_subdivisions_ = 0, chunk_pixels_ = 0, displacement_level_ = 0;
+  std::string displacement_, texture_filter_;
   std::string soft_shadows_, indirect_, smooth_, bvh_, aov_, style_;
   double edge_thickness_ = 0, crease_angle_ = 0, depth_threshold_ = 0;
   std::string ambient_, background_, camera_pos_, look_at_, up_, shutter_, velocity_;

@@ -72,6 +72,9 @@ nlohmann::json parameters_json(const RenderSettings& s) {
   p["stencil_samples"] = s.stencil_samples;
   p["sphere_subdivisions"] = s.sphere_subdivisions;
   p["smooth"] = s.smooth;
+  p["displacement"] = s.displacement;
+  p["displacement_level"] = s.displacement_level;
+  p["texture_filter"] = s.texture_filter;
   p["background"] = vec_json(s.background);
   p["ambient"] = vec_json(s.ambient);
   p["camera"] = {{"position", vec_json(s.camera.position)},
@@ -222,6 +225,10 @@ void upload_scene(RunState& r) {
                     {"mesh_lights", ds.num_mesh_lights},
                     {"point_lights", ds.num_points},
                     {"memory_estimate_bytes", r.peak_bytes}};
+  if (ds.maps.any) {
+    r.report.scene["textures"] = r.scene->map_images.size();
+    r.report.scene["texture_bytes"] = ds.texture_bytes;
+  }
 }
 
 // What the run will allocate from here on (report/memory_check.hpp), from the host scene and
@@ -235,7 +242,8 @@ MemoryNeed memory_need(const RunState& r) {
       dispatch_pixels(r.s, static_cast<std::int64_t>(r.pixels_total()), r.comm.size()));
   MemoryNeed need;
   need.views = device_mesh_bytes(r.scene->mesh.triangle_count(), r.scene->mesh.positions.size()) +
-               nv * sizeof(Vec3) + dispatch * (sizeof(std::int64_t) + sizeof(PixelResult));
+               nv * sizeof(Vec3) + dispatch * (sizeof(std::int64_t) + sizeof(PixelResult)) +
+               texture_bytes(*r.scene);
   // Upload's host side (triangle list, normals in double) and one dispatch's results.
   need.host = nt * 4 * sizeof(int) + nv * (sizeof(Vec3d) + sizeof(Vec3)) +
               dispatch * (sizeof(std::int64_t) + sizeof(PixelResult));
@@ -266,6 +274,9 @@ void print_banner(const RunState& r) {
               compat::concurrency());
   std::printf("  memory estimate (max over ranks): %.1f MiB peak resident\n",
               r.peak_bytes / 1048576.0);
+  if (r.renderer->scene().maps.any)
+    std::printf("  textures: %zu images, %.2f MiB on the device (mip chains and texture records)\n",
+                r.scene->map_images.size(), r.renderer->scene().texture_bytes / 1048576.0);
   std::fflush(stdout);
 }
 

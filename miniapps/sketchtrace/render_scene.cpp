@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "displace.hpp"
 #include "moving_objects_host.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/obj_reader.hpp"
@@ -192,6 +193,8 @@ HostScene build_scene(const std::string& input, const SceneDescription* desc,
     place_moving_objects_last(s, input);
   }
   s.map_images = load_map_images(s.mesh.materials);
+  apply_displacement_mode(s.mesh, s.map_images, parse_displacement_mode(settings.displacement),
+                          settings.displacement_level);
   return s;
 }
 

@@ -77,6 +77,9 @@ struct HostScene {
   Vec3d origin{0.0};
 };
 
+// Device bytes of the scene's image maps and texture records (surface_maps.hpp).
+inline double texture_bytes(const HostScene& s) { return surface_map_bytes(s.mesh, s.map_images); }
+
 // A world-space camera in the render frame of a scene whose frame sits at `origin`.
 CameraDesc to_render_frame(const CameraDesc& camera, const Vec3d& origin);
 

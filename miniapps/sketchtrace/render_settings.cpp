@@ -108,7 +108,14 @@ std::string range_problem(const RenderSettings& s, std::string& key) {
         check(s.camera.shutter_close >= s.camera.shutter_open, "shutter", "close must be >= open"),
         check(s.style == "none" || s.style == "sketch" || s.style == "color_pencil", "style",
               "must be sketch, color_pencil or none"),
-        check(s.chunk_pixels >= 0, "chunk_pixels", "must be >= 0 (0 = auto)")}) {
+        check(s.chunk_pixels >= 0, "chunk_pixels", "must be >= 0 (0 = auto)"),
+        check(s.displacement == "parallax" || s.displacement == "tessellate" ||
+                  s.displacement == "off",
+              "displacement", "must be parallax, tessellate or off"),
+        check(s.displacement_level >= 0 && s.displacement_level <= 10, "displacement_level",
+              "must be in [0, 10]"),
+        check(s.texture_filter == "cone" || s.texture_filter == "none", "texture_filter",
+              "must be cone or none")}) {
     if (r.empty() && !p.empty()) r = p;
   }
   for (const std::string& a : s.aov) {
@@ -148,7 +155,10 @@ void apply_scene_settings(const SceneDescription& scene, RenderSettings& s) {
                     "bvh",
                     "aov",
                     "style",
-                    "chunk_pixels"},
+                    "chunk_pixels",
+                    "displacement",
+                    "displacement_level",
+                    "texture_filter"},
                    scene.path, "[settings]");
   const SettingsReader r(scene.settings->table, scene.path);
   r.integer("width", s.width);
@@ -166,6 +176,9 @@ void apply_scene_settings(const SceneDescription& scene, RenderSettings& s) {
   r.integer("sphere_subdivisions", s.sphere_subdivisions);
   r.boolean("smooth", s.smooth);
   r.integer("chunk_pixels", s.chunk_pixels);
+  r.string("displacement", s.displacement);
+  r.integer("displacement_level", s.displacement_level);
+  r.string("texture_filter", s.texture_filter);
   r.color("background", s.background);
   if (const toml::node* n = r.get("seed")) {
     if (!n->is_integer() || *n->value<std::int64_t>() < 0)

@@ -37,6 +37,13 @@ struct RenderSettings {
   std::string style = "none";    // sketch | color_pencil | none
   bool stats = false;
   bool general_kernel = false;  // testing: skip the feature specialisation (same image, slower)
+  // Height fields (MTL disp): parallax | tessellate | off (displace.hpp), and the
+  // tessellation's level (2^level x 2^level cells per face).
+  std::string displacement = "parallax";
+  int displacement_level = 6;
+  // Texture filtering: "cone" (mip level from ray cones) or "none" (always level 0: aliases;
+  // for measuring what the cones buy).
+  std::string texture_filter = "cone";
   int chunk_pixels = 0;  // pixels per dispatch (0: auto, about 1/64 of a rank's share, 256..65536)
 
   bool wants_aov(const std::string& name) const;

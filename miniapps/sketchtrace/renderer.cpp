@@ -86,8 +86,12 @@ Renderer::Renderer(const HostScene& scene, const RenderSettings& s) {
   params_.ambient = Vec3(s.ambient);
   params_.seed = s.seed;
   // One pixel's angle (RTG ch. 20): up is scaled to the image plane's half height.
-  params_.cone_spread = static_cast<Real>(
-      std::atan(2.0 * length(Vec3d(camera_.up)) / length(Vec3d(camera_.forward)) / s.height));
+  // A zero spread (--texture-filter none) makes every cone width 0: level 0 everywhere.
+  params_.cone_spread =
+      s.texture_filter == "none"
+          ? Real(0)
+          : static_cast<Real>(std::atan(2.0 * length(Vec3d(camera_.up)) /
+                                        length(Vec3d(camera_.forward)) / s.height));
   params_.lens = s.camera.aperture > 0.0;
   params_.motion =
       s.camera.shutter_close > s.camera.shutter_open && length(s.camera.velocity) > 0.0;

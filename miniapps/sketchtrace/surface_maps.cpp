@@ -101,6 +101,14 @@ double map_image_bytes(const std::vector<MapImage>& images) {
   return texels * 3 * sizeof(float);
 }
 
+double surface_map_bytes(const Mesh& mesh, const std::vector<MapImage>& images) {
+  bool any = false;
+  for (const Material& m : mesh.materials) any = any || m.maps.any();
+  if (!any) return 0;
+  return map_image_bytes(images) + double(mesh.triangle_count()) * sizeof(TexturedTriangle) +
+         double(mesh.materials.size()) * sizeof(MaterialMapIds);
+}
+
 std::vector<TexturedTriangle> textured_triangles(const std::vector<Vec3d>& positions,
                                                  const std::vector<std::array<int, 3>>& tris,
                                                  const std::vector<std::array<int, 3>>& uv_ids,

@@ -40,6 +40,9 @@ struct PackedTextures {
 
 // Device bytes of the packed mip chains of `images` (about 4/3 of level 0).
 double map_image_bytes(const std::vector<MapImage>& images);
+// What upload_surface_maps will allocate for a mesh with `triangles` triangles: the mip
+// chains and, when any material has a map, one texture record per triangle.
+double surface_map_bytes(const Mesh& mesh, const std::vector<MapImage>& images);
 
 // Per-triangle texture records of a triangle list (uv ids per corner, -1 none): coordinates,
 // lod_base and world_per_uv, tangents from tangent_frame.hpp.

@@ -70,13 +70,16 @@ struct RayCone {
 };
 
 // Level of detail (fractional mip level) for a cone of `width` hitting a triangle of
-// `lod_base` at |cos| `cos_incidence`, on a `width` x `height` image (RTG ch. 20 eq. 34):
-// 0.5 log2(texels per world area) + log2(cone width / |cos|).
+// `lod_base` at |cos| `cos_incidence`, on a `width` x `height` image: 0.5 log2(texels per
+// world area) + 0.5 log2(footprint area), the footprint being the cone's ellipse, width x
+// width / |cos| (RTG ch. 20 eq. 34 takes the major axis, log2(width / |cos|), which blurs
+// grazing surfaces along their minor axis too: results/accuracy/texture_filter.md).
 KOKKOS_INLINE_FUNCTION Real texture_lod(Real lod_base, int tex_width, int tex_height,
                                         Real cone_width, Real cos_incidence) {
   const Real c = math::fmax(math::fabs(cos_incidence), Real(1e-4));
   const Real w = math::fmax(cone_width, Real(1e-20));
-  return lod_base + Real(0.5) * math::log2(Real(tex_width) * Real(tex_height)) + math::log2(w / c);
+  return lod_base + Real(0.5) * math::log2(Real(tex_width) * Real(tex_height)) + math::log2(w) -
+         Real(0.5) * math::log2(c);
 }
 
 // Texel (x, y) of one level, wrapped (OBJ maps repeat outside [0, 1]).

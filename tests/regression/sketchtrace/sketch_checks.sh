@@ -8,6 +8,7 @@
 #   motion_balance       moving_spheres (object motion blur): 1 rank x 1 and 2 threads, 2, 3 and
 #                        4 ranks with every --balance strategy give one verification hash
 #   bad FILE             exit 2 and "file:line: reason" on stderr
+#   bad_map              an MTL naming a missing image: exit 2 and "mtl-file:line: reason"
 #   timings NP           --timings/--summary files have the documented layout
 #   style                --style sketch runs the hand-drawn passes
 #   make_reference       (re)writes the reference images (not a test)
@@ -27,6 +28,7 @@ scene_args() {
     watchtower) echo "--width 160 --height 120 --spp 4 --shadow-samples 8" ;;
     dist_first) echo "--width 200 --height 160 --spp 8 --glossy-samples 4" ;;
     moving_spheres) echo "--width 160 --height 100 --spp 8" ;;
+    textured_cube) echo "--width 160 --height 120 --spp 4 --shadow-samples 4" ;;
     *) echo "unknown scene $1" >&2; exit 1 ;;
   esac
 }
@@ -188,6 +190,15 @@ case $mode in
     grep -Eq "$file:[0-9]+: " "$work/err.txt" || { echo "no file:line: in the message" >&2; exit 1; }
     [[ ! -e $work/x.png ]]
     ;;
+  bad_map)
+    rc=0
+    "$SKETCH" "$BAD/missing_map.obj" -o "$work/x.png" > "$work/out.txt" 2> "$work/err.txt" || rc=$?
+    cat "$work/err.txt"
+    [[ $rc == 2 ]] || { echo "expected exit 2, got $rc" >&2; exit 1; }
+    grep -Eq "missing_map.mtl:5: .*no_such_texture.png" "$work/err.txt" ||
+      { echo "no mtl-file:line: in the message" >&2; exit 1; }
+    [[ ! -e $work/x.png ]]
+    ;;
   timings)
     np=$1
     # shellcheck disable=SC2046
@@ -216,7 +227,7 @@ PYEOF
     [[ -s $work/sketch.png && -s $work/sketch.aov.exr ]]
     ;;
   make_reference)
-    for scene in two_spheres spheres watchtower dist_first moving_spheres; do
+    for scene in two_spheres spheres watchtower dist_first moving_spheres textured_cube; do
       # shellcheck disable=SC2046
       "$SKETCH" "$INPUTS/$scene/$scene.toml" -o "$REF/$scene.exr" $(scene_args "$scene")
     done
