@@ -17,20 +17,22 @@ check() {  # check NAME CONDITION-EXIT-STATUS DETAIL
 }
 # sweep NAME "PROGRAM [SUBCOMMAND]" "ARGS OF A TINY RUN"
 sweep() {
-  local name=$1 cmd=$2 args=$3 first out rc lines
+  local name=$1 first out rc lines cmd args
+  read -ra cmd <<<"$2"
+  read -ra args <<<"$3"
   echo "$name"
-  first=$($cmd --help 2>&1 | head -1)
+  first=$("${cmd[@]}" --help 2>&1 | head -1)
   case "$first" in "$name:"*) check help 0 "$first" ;; *) check help 1 "$first" ;; esac
-  out=$($cmd --version 2>&1); rc=$?
+  out=$("${cmd[@]}" --version 2>&1); rc=$?
   [[ $rc -eq 0 && "$out" =~ ^rtmini\ [0-9]+\.[0-9]+\.[0-9]+\ \(git\ [0-9a-f]+\)\ Kokkos ]]
   check version $? "exit $rc: $out"
   # The unknown flag goes after a valid run's arguments, so that it is the only thing wrong.
-  out=$(cd "$work" && $cmd $args --no-such-flag 2>&1); rc=$?
+  out=$(cd "$work" && "${cmd[@]}" "${args[@]}" --no-such-flag 2>&1); rc=$?
   lines=$(printf '%s\n' "$out" | grep -c .)
   [ $rc -eq 2 ] && [ "$lines" -eq 1 ]
   check unknown-flag $? "exit $rc, $lines line(s): $out"
   rm -f "$work/s.json" "$work/t.h5"
-  out=$(cd "$work" && $cmd $args --threads 2 --summary s.json --timings t.h5 2>&1); rc=$?
+  out=$(cd "$work" && "${cmd[@]}" "${args[@]}" --threads 2 --summary s.json --timings t.h5 2>&1); rc=$?
   [ $rc -eq 0 ] && [ -s "$work/s.json" ] && [ -s "$work/t.h5" ]
   check threads-summary-timings $? "exit $rc, summary $(test -s "$work/s.json" && echo written || echo MISSING), timings $(test -s "$work/t.h5" && echo written || echo MISSING)"
 }
