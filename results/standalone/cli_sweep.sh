@@ -42,13 +42,17 @@ sweep bake "$bin/bake" "$inputs/cube/cube.bs -n 20 -k 1 -o out.bs"
 sweep "bake ao" "$bin/bake ao" "$inputs/meshes/spot.obj --rays 4"
 sweep "bake render" "$bin/bake render" "map.bs --width 48 --height 32 -o r.ppm"
 sweep sketchtrace "$bin/sketchtrace" "$inputs/two_spheres/two_spheres.toml --width 48 --height 32 -o s.ppm"
+# sketchtrace-post draws on the sweep's own sketchtrace render.
+(cd "$work" && "$bin/sketchtrace" "$inputs/two_spheres/two_spheres.toml" --width 48 --height 32 \
+  -o post_in.ppm >/dev/null 2>&1)
+sweep sketchtrace-post "$bin/sketchtrace-post" "post_in.ppm -o post.ppm"
 sweep rtmini-ao "$bin/rtmini-ao" "$inputs/meshes/spot.obj --rays 4"
 sweep rtmini-gen-inputs "$bin/rtmini-gen-inputs" "cube -o cube.bs"
 sweep rtmini-bvh-bench "$bin/rtmini-bvh-bench" "icosphere:2 --width 32 --height 32 --repeats 1"
 sweep rtmini-bake-lookup-bench "$bin/rtmini-bake-lookup-bench" "1000"
 for p in "$bin"/*; do
   case $(basename "$p") in
-    bake | sketchtrace | rtmini-ao | rtmini-gen-inputs | rtmini-bvh-bench | rtmini-bake-lookup-bench) ;;
+    bake | sketchtrace | sketchtrace-post | rtmini-ao | rtmini-gen-inputs | rtmini-bvh-bench | rtmini-bake-lookup-bench) ;;
     *) echo "$(basename "$p"): installed but not in this sweep"; failed=$((failed + 1)) ;;
   esac
 done
