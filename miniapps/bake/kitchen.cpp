@@ -642,7 +642,9 @@ void BakeRun::report_map_plan() {
                           {"mirror_reads", reads},
                           {"remote_read_fraction", reads > 0 ? remote / reads : 0.0},
                           {"exchange_bytes_per_iteration", bytes},
-                          {"exchange_buffers", exchange_->direct() ? "direct" : "host-staged"}};
+                          {"exchange_buffers", comm_.size() == 1     ? "none"
+                                               : exchange_->direct() ? "direct"
+                                                                     : "host-staged"}};
   params_["map"] = report_.scene["map"];
   if (root_)
     std::printf(
