@@ -767,11 +767,11 @@ void BakeRun::report_progress(int it, std::int64_t entries_done) {
   std::vector<int> upcoming;
   for (int j = it + 1; j <= iterations_; ++j) upcoming.push_back(static_cast<int>(hit_mode(j)));
   const double left = eta_.remaining(static_cast<int>(hit_mode(it)), my_ranges_.size(), upcoming);
-  if (left < 0) return;  // no honest estimate yet
   const double spent = timer_.now() - iterate_start_;
+  // No honest estimate yet (left < 0): the line shows the entries done and "ETA ?".
   progress_line_->update(static_cast<double>((it - first_) * my_items_ + entries_done),
-                         static_cast<double>((iterations_ - first_ + 1) * my_items_), spent,
-                         spent + left);
+                         static_cast<double>((iterations_ - first_ + 1) * my_items_),
+                         left < 0 ? 0.0 : spent, spent + std::max(0.0, left));
 }
 
 // The new map becomes the previous one; its halo entries come from their owners. One rank

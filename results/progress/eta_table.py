@@ -69,7 +69,8 @@ def table(path, label, cpu):
     final = [r for r in lines if r[3]][-1]
     total = final[1]
     what = f" ({label})" if label else ""
-    clock = "CPU clock of the process" if cpu else "wall clock"
+    clock = ("CPU clock of the process (the other columns: the line's wall-clock figures)"
+             if cpu else "wall clock")
     print(f"\n{path}{what}: {total:.1f} s of progress-line time, errors on the {clock}\n")
     print("| elapsed s | work by time % | items % | true remaining s | ETA s | ETA error | "
           "beyond rounding | linear ETA s | linear error |")

@@ -17,20 +17,22 @@ check() {  # check NAME CONDITION-EXIT-STATUS DETAIL
 }
 # sweep NAME "PROGRAM [SUBCOMMAND]" "ARGS OF A TINY RUN"
 sweep() {
-  local name=$1 cmd=$2 args=$3 first out rc lines
+  local name=$1 first out rc lines cmd args
+  read -ra cmd <<<"$2"
+  read -ra args <<<"$3"
   echo "$name"
-  first=$($cmd --help 2>&1 | head -1)
+  first=$("${cmd[@]}" --help 2>&1 | head -1)
   case "$first" in "$name:"*) check help 0 "$first" ;; *) check help 1 "$first" ;; esac
-  out=$($cmd --version 2>&1); rc=$?
+  out=$("${cmd[@]}" --version 2>&1); rc=$?
   [[ $rc -eq 0 && "$out" =~ ^rtmini\ [0-9]+\.[0-9]+\.[0-9]+\ \(git\ [0-9a-f]+\)\ Kokkos ]]
   check version $? "exit $rc: $out"
   # The unknown flag goes after a valid run's arguments, so that it is the only thing wrong.
-  out=$(cd "$work" && $cmd $args --no-such-flag 2>&1); rc=$?
+  out=$(cd "$work" && "${cmd[@]}" "${args[@]}" --no-such-flag 2>&1); rc=$?
   lines=$(printf '%s\n' "$out" | grep -c .)
   [ $rc -eq 2 ] && [ "$lines" -eq 1 ]
   check unknown-flag $? "exit $rc, $lines line(s): $out"
   rm -f "$work/s.json" "$work/t.h5"
-  out=$(cd "$work" && $cmd $args --threads 2 --summary s.json --timings t.h5 2>&1); rc=$?
+  out=$(cd "$work" && "${cmd[@]}" "${args[@]}" --threads 2 --summary s.json --timings t.h5 2>&1); rc=$?
   [ $rc -eq 0 ] && [ -s "$work/s.json" ] && [ -s "$work/t.h5" ]
   check threads-summary-timings $? "exit $rc, summary $(test -s "$work/s.json" && echo written || echo MISSING), timings $(test -s "$work/t.h5" && echo written || echo MISSING)"
 }
@@ -40,13 +42,17 @@ sweep bake "$bin/bake" "$inputs/cube/cube.bs -n 20 -k 1 -o out.bs"
 sweep "bake ao" "$bin/bake ao" "$inputs/meshes/spot.obj --rays 4"
 sweep "bake render" "$bin/bake render" "map.bs --width 48 --height 32 -o r.ppm"
 sweep sketchtrace "$bin/sketchtrace" "$inputs/two_spheres/two_spheres.toml --width 48 --height 32 -o s.ppm"
+# sketchtrace-post draws on the sweep's own sketchtrace render.
+(cd "$work" && "$bin/sketchtrace" "$inputs/two_spheres/two_spheres.toml" --width 48 --height 32 \
+  -o post_in.ppm >/dev/null 2>&1)
+sweep sketchtrace-post "$bin/sketchtrace-post" "post_in.ppm -o post.ppm"
 sweep rtmini-ao "$bin/rtmini-ao" "$inputs/meshes/spot.obj --rays 4"
 sweep rtmini-gen-inputs "$bin/rtmini-gen-inputs" "cube -o cube.bs"
 sweep rtmini-bvh-bench "$bin/rtmini-bvh-bench" "icosphere:2 --width 32 --height 32 --repeats 1"
 sweep rtmini-bake-lookup-bench "$bin/rtmini-bake-lookup-bench" "1000"
 for p in "$bin"/*; do
   case $(basename "$p") in
-    bake | sketchtrace | rtmini-ao | rtmini-gen-inputs | rtmini-bvh-bench | rtmini-bake-lookup-bench) ;;
+    bake | sketchtrace | sketchtrace-post | rtmini-ao | rtmini-gen-inputs | rtmini-bvh-bench | rtmini-bake-lookup-bench) ;;
     *) echo "$(basename "$p"): installed but not in this sweep"; failed=$((failed + 1)) ;;
   esac
 done

@@ -86,6 +86,13 @@ case $case_name in
     [ "$(json_get a.json verification_hash)" = "$(json_get b.json verification_hash)" ] ||
       fail "TOML camera and flags give different hashes"
     cmp a.ppm b.ppm || fail "TOML camera and flags give different images"
+    # --progress traces the rows in a spread order, in time-sized dispatches: same image, hash.
+    "$BAKE" render map.bs -o p.ppm --width 64 --height 48 "${cornell_camera[@]}" --progress \
+      --summary p.json >log.txt 2>progress.txt || { cat log.txt progress.txt; fail "--progress run failed"; }
+    grep -q "^bake render: \[#*\] 100.0%" progress.txt || fail "--progress drew no final line"
+    cmp a.ppm p.ppm || fail "--progress changes the image"
+    [ "$(json_get a.json verification_hash)" = "$(json_get p.json verification_hash)" ] ||
+      fail "--progress changes the hash"
     "$BAKE" render map.bs --width 64 --height 48 "${cornell_camera[@]}" --background 1,1,1 \
       --reference a.ppm --max-rmse 0.01 --summary c.json >log.txt 2>&1
     rc=$?
@@ -94,7 +101,7 @@ case $case_name in
 e = json.load(open(sys.argv[1]))["errors"]
 assert e["rmse"] > 0.01 and 0 < e["ssim"] < 1 and e["psnr"] > 0 and e["rel_mse"] > 0, e' c.json ||
       fail "errors in the summary"
-    echo "cli: outputs, summary, reference metrics and exit status as documented"
+    echo "cli: outputs, summary, reference metrics, exit status and --progress as documented"
     ;;
   sketchtrace)
     # Bake with N = 20 and N = 1000 viewpoints; render both with `bake render` and compare with
