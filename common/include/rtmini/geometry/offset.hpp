@@ -40,7 +40,10 @@ namespace rtmini {
 // Higham's gamma(n) = n u / (1 - n u), u the unit roundoff of Real: the relative error bound of
 // n successive roundings.
 KOKKOS_INLINE_FUNCTION constexpr Real rounding_gamma(int n) {
-  constexpr Real u = std::numeric_limits<Real>::epsilon() / Real(2);
+  // 2^-24 or 2^-53 spelled out: std::numeric_limits is host-only code for nvcc.
+  constexpr Real u = sizeof(Real) == sizeof(float) ? Real(5.9604644775390625e-8)
+                                                   : Real(1.1102230246251565e-16);
+  static_assert(u == std::numeric_limits<Real>::epsilon() / Real(2), "unit roundoff");
   return Real(n) * u / (Real(1) - Real(n) * u);
 }
 
