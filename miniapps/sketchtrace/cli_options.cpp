@@ -29,7 +29,7 @@ void CliOverrides::add_to(CLI::App& app, RunOptions& run) {
   app.add_option("--spp", spp_, "Anti-aliasing samples per pixel (stratified, jittered)");
   app.add_option("--soft-shadows", soft_shadows_, "on|off: area lights sampled over their area");
   app.add_option("--shadow-samples", shadow_samples_,
-                 "Shadow rays per area light at the first hit");
+                 "Shadow rays per area light at the first hit and behind mirrors and clear glass");
   app.add_option("--bounces", bounces_,
                  "Secondary rays (reflection/refraction) after the camera ray");
   app.add_option("--glossy-samples", glossy_, "Glossy branches at the first hit");

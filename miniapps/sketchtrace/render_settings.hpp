@@ -17,7 +17,7 @@ struct RenderSettings {
   int height = 480;
   int spp = 1;  // anti-aliasing samples per pixel (stratified, jittered)
   bool soft_shadows = true;
-  int shadow_samples = 16;  // per area light at the first hit
+  int shadow_samples = 16;  // per area light at the first hit and behind mirrors/clear glass
   int bounces = 3;          // secondary rays (reflection/refraction/diffuse) after the camera ray
   int glossy_samples = 1;   // glossy branches at the first hit
   bool indirect = false;    // diffuse interreflection (off: Whitted/Cook shading + ambient)

@@ -27,7 +27,8 @@ trap 'rm -rf "$work"' EXIT
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-2} OMP_PROC_BIND=false
 refspp=${REFSPP:-1024}
 csv=$out/light_convergence.csv
-echo "scene,binary,spp,shadow_samples,bounces,seed,rmse,render_s,rays" >"$csv"
+timing_only=${TIMING_ONLY:-0}  # 1: only the timing repeats, appended to an existing CSV
+[ "$timing_only" = 1 ] || echo "scene,binary,spp,shadow_samples,bounces,seed,rmse,render_s,rays" >"$csv"
 
 # run ID BINARY SCENE ARGS...: render into ID.exr, log and summary into raw/.
 run() {
@@ -45,11 +46,13 @@ import json, sys
 t = json.load(open(sys.argv[1]))
 secs = t["phases"].get("render", t["phases"]["total"])
 rays = t["scene"]["rays"]
-print(",".join(sys.argv[2:]) + f',{t["errors"]["rmse"]:.6f},{secs:.3f},{rays}')
+rmse = f'{t["errors"]["rmse"]:.6f}' if "errors" in t else ""
+print(",".join(sys.argv[2:]) + f",{rmse},{secs:.3f},{rays}")
 PY
 }
 
 for scene in reflected_shadow glass; do
+  [ "$timing_only" = 1 ] && break
   run "${scene}_ref" "$after" "$scene" --spp "$refspp" --seed 9001
   run "${scene}_ref_before" "$before" "$scene" --spp "$refspp" --seed 9002 \
     --reference "$work/${scene}_ref.exr"
@@ -71,8 +74,9 @@ for scene in reflected_shadow glass; do
 done
 
 # Joint stratification: direct light only, 16 shadow rays per pixel split every way.
-run strat_ref "$after" penumbra --spp 256 --shadow-samples 64 --seed 9004
+[ "$timing_only" = 1 ] || run strat_ref "$after" penumbra --spp 256 --shadow-samples 64 --seed 9004
 for split in 16x1 8x2 4x4 2x8 1x16; do
+  [ "$timing_only" = 1 ] && break
   spp=${split%x*} sh=${split#*x}
   for seed in 1 2 3; do
     for bin in before after; do
@@ -84,14 +88,14 @@ for split in 16x1 8x2 4x4 2x8 1x16; do
     done
   done
 done
-# Cost: 5 interleaved repeats of each binary at 32 spp (medians and spread in the report).
+# Cost: 5 interleaved repeats of each binary at 32 spp (the report takes the minimum, the run
+# least disturbed by other work on a shared machine, and shows the spread).
 for scene in reflected_shadow glass; do
   for rep in 1 2 3 4 5; do
     for bin in before after; do
       b=$before
       [ $bin = after ] && b=$after
-      run "time_${scene}_${bin}_$rep" "$b" "$scene" --spp 32 --seed 5 \
-        --reference "$work/${scene}_ref.exr"
+      run "time_${scene}_${bin}_$rep" "$b" "$scene" --spp 32 --seed 5
       row "time_${scene}_${bin}_$rep" "timing_$scene" "$bin" 32 4 default "$rep"
     done
   done
