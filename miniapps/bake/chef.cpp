@@ -614,9 +614,10 @@ std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, cons
                            Kokkos::View<CachedHit*, MemSpace> cache,
                            Kokkos::View<TracedHit*, MemSpace> traced,
                            Kokkos::View<std::int64_t*, MemSpace> map_offset,
-                           const SparseColors& sparse, Kokkos::View<int*, MemSpace> order, int it,
-                           std::int64_t begin, std::int64_t end, std::int64_t cache_offset,
-                           HitCacheMode mode, Kokkos::View<const Vec3f*, MemSpace> prev,
+                           const SparseColors& sparse, const FirstReads& first_reads,
+                           Kokkos::View<int*, MemSpace> order, int it, std::int64_t begin,
+                           std::int64_t end, std::int64_t cache_offset, HitCacheMode mode,
+                           Kokkos::View<const Vec3f*, MemSpace> prev,
                            Kokkos::View<Vec3f*, MemSpace> next) {
   const Vec3f bg = cfg.background;
   // A sparse map's offsets do not give the colour counts: the reader takes those from the scene.
@@ -627,7 +628,8 @@ std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, cons
                             lookup,
                             fibonacci_radius(cfg.viewpoints),
                             Vec3(bg),
-                            sparse};
+                            sparse,
+                            first_reads};
   std::int64_t rays = 0;
   const bool with_gather = cfg.gather_rays > 0 && it > 0;
   if (with_gather) {
@@ -680,9 +682,11 @@ std::int64_t Chef::bake_iteration(int it, std::int64_t begin, std::int64_t end,
     cache = HitCacheMode::kOff;
   if (config_.lookup == Lookup::kKdTree)
     return run_iteration(scene_, config_, kdtree_, base_, gather_, cache_, traced_, map_offset_,
-                         sparse_, order_, it, begin, end, cache_offset, cache, prev, next);
+                         sparse_, first_reads_, order_, it, begin, end, cache_offset, cache, prev,
+                         next);
   return run_iteration(scene_, config_, inverse_, base_, gather_, cache_, traced_, map_offset_,
-                       sparse_, order_, it, begin, end, cache_offset, cache, prev, next);
+                       sparse_, first_reads_, order_, it, begin, end, cache_offset, cache, prev,
+                       next);
 }
 
 }  // namespace rtmini::bake

@@ -62,6 +62,9 @@ class Chef {
     map_offset_ = offset;
     sparse_ = sparse;
   }
+  // The next bake_iteration reads remote vertices from their base colours and flags what it
+  // reads (FirstReads, map_reader.hpp); an empty FirstReads switches that off again.
+  void set_first_reads(FirstReads first) { first_reads_ = first; }
 
   // Traces the mirror rays of vertices [begin, end) once, keeps the hits (and fills the hit
   // cache), flags in `read` every vertex a hit reads and counts the reads of vertices that are
@@ -114,6 +117,7 @@ class Chef {
   Kokkos::View<TracedHit*, MemSpace> traced_;
   Kokkos::View<std::int64_t*, MemSpace> map_offset_;
   SparseColors sparse_;
+  FirstReads first_reads_;
   std::int64_t local_items_ = 0;
   Kokkos::View<int*, MemSpace> order_;  // viewpoints in a direction-coherent order
   FibonacciKdTree<MemSpace> kdtree_;

@@ -304,7 +304,11 @@ class BakeRun {
   void assign_batches(std::vector<Batch> batches);
   void balance_by_lookup_hits();
   std::vector<char> read_items() const;
-  std::vector<std::int64_t> halo_entries(const std::vector<char>& present) const;
+  std::vector<std::int64_t> halo_entries() const;
+  bool fuses_halo_plan() const;
+  void start_fused_plan(const std::vector<char>& own, const std::vector<char>& present);
+  void finish_fused_plan();
+  void report_map_plan();
   void bake_base();
   void restart();
   int iterate();
@@ -312,7 +316,7 @@ class BakeRun {
   std::int64_t trace(int it, Kokkos::View<Vec3f*, MemSpace> out);
   void report_progress(int it, std::int64_t entries_done);
   void report_stopped(int it);
-  void exchange(IterationRecord& rec);
+  void exchange(int it, IterationRecord& rec);
   void checkpoint(int it);
   bool stop_after(int it, double t0);
   std::vector<Vec3f> global_map();
@@ -346,6 +350,12 @@ class BakeRun {
   std::unique_ptr<Chef> chef_;
   MapLayout layout_;
   std::unique_ptr<MapExchange> exchange_;
+  // The fused halo plan between plan_map and the end of iteration 1 (fuses_halo_plan).
+  struct PendingHalo {
+    bool active = false;
+    MapLayout dense;  // every present vertex with all its viewpoints: where the flags sit
+    Kokkos::View<char*, MemSpace> flags;
+  } pending_;
   Kokkos::View<char*, MemSpace> owned_;  // per vertex, with the traced halo
   ReadCount reads_;
   Kokkos::View<Vec3f*, MemSpace> prev_, next_;
@@ -533,19 +543,92 @@ void BakeRun::plan_map() {
   std::vector<char> present(static_cast<std::size_t>(host_.vertices()), halo_ == Halo::kAll);
   for (const VertexRange& r : my_ranges_)
     std::fill(present.begin() + r.begin, present.begin() + r.end, 1);
+  const std::vector<char> own = present;
   if (halo_ == Halo::kTraced) trace_halo(present);
   timer_.stop();
   timer_.start("halo");
-  layout_ = make_map_layout(host_, present);
-  chef_->set_map_offset(layout_.device);
-  if (halo_ == Halo::kTraced) {
-    layout_ = make_sparse_layout(host_, layout_, read_items(), owner_, comm_.rank());
-    chef_->set_map_offset(layout_.device, layout_.sparse);
+  if (fuses_halo_plan()) {
+    start_fused_plan(own, present);
+  } else {
+    layout_ = make_map_layout(host_, present);
+    chef_->set_map_offset(layout_.device);
+    if (halo_ == Halo::kTraced) {
+      layout_ = make_sparse_layout(host_, layout_, read_items(), owner_, comm_.rank());
+      chef_->set_map_offset(layout_.device, layout_.sparse);
+    }
+    exchange_ = std::make_unique<MapExchange>(comm_, host_, layout_, owner_, halo_entries());
+    report_map_plan();
   }
-  const std::vector<std::int64_t> halo = halo_entries(present);
-  exchange_ = std::make_unique<MapExchange>(comm_, host_, layout_, owner_, halo);
   prev_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_prev", layout_.colors());
   next_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_next", layout_.colors());
+  timer_.stop();
+}
+
+// Which colours of remote vertices a rank reads is known only once its lookups have run at the
+// traced hits. A fresh run's first mirror iteration runs exactly those lookups on the base map,
+// whose colours are constant per vertex: it reads remote vertices from their fetched base
+// colours and flags what it reads (FirstReads), and the sparse layout and exchange are planned
+// right after it. A restart's first iteration reads a map that varies per viewpoint, so it needs
+// the read set up front: a separate pass over the lookups (read_items).
+bool BakeRun::fuses_halo_plan() const {
+  return halo_ == Halo::kTraced && c_.restart.empty() && iterations_ >= 1;
+}
+
+// Until iteration 1 has run, this rank's map holds its own vertices only; the remote vertices'
+// base colours come from their owners (one colour per vertex).
+void BakeRun::start_fused_plan(const std::vector<char>& own, const std::vector<char>& present) {
+  layout_ = make_map_layout(host_, own);
+  mark_dense(layout_);  // the readers take colour counts from the scene, not from this layout
+  chef_->set_map_offset(layout_.device, layout_.sparse);
+  pending_.dense = make_map_layout(host_, present);
+  pending_.flags = Kokkos::View<char*, MemSpace>("rtmini::bake::read_items",
+                                                 static_cast<std::size_t>(pending_.dense.colors()));
+  std::vector<std::int64_t> remote;
+  for (std::int64_t v = 0; v < host_.vertices(); ++v)
+    if (present[v] && !own[v]) remote.push_back(v);
+  std::vector<Vec3> base;
+  compat::download(chef_->base(), base);
+  // Vec3f(base): the bits iteration 0 stores for every viewpoint of the vertex.
+  std::vector<Vec3f> mine(base.size());
+  for (std::size_t v = 0; v < base.size(); ++v)
+    if (own[v]) mine[v] = Vec3f(base[v]);
+  const std::vector<Vec3f> fetched = fetch_vertex_colors(comm_, owner_, remote, mine);
+  std::vector<Vec3f> remote_base(base.size());
+  for (std::size_t k = 0; k < remote.size(); ++k) remote_base[remote[k]] = fetched[k];
+  FirstReads first;
+  first.owned = owned_;
+  first.base = compat::upload<MemSpace>("rtmini::bake::remote_base", remote_base);
+  first.at = pending_.dense.device;
+  first.flags = pending_.flags;
+  chef_->set_first_reads(first);
+  pending_.active = true;
+}
+
+// After the fused first iteration: the sparse layout from what it read, the exchange plan, and
+// this rank's colours of that iteration moved into the new layout (its own vertices are dense
+// in both, and each batch's are contiguous, so a batch moves in one copy).
+void BakeRun::finish_fused_plan() {
+  chef_->set_first_reads(FirstReads{});
+  std::vector<char> read;
+  compat::download(pending_.flags, read);
+  MapLayout sparse = make_sparse_layout(host_, pending_.dense, read, owner_, comm_.rank());
+  Kokkos::View<Vec3f*, MemSpace> next("rtmini::bake::map_next", sparse.colors());
+  for (const VertexRange& r : my_ranges_) {
+    using Span = std::pair<std::int64_t, std::int64_t>;
+    Kokkos::deep_copy(Kokkos::subview(next, Span(sparse.offset[r.begin], sparse.offset[r.end])),
+                      Kokkos::subview(next_, Span(layout_.offset[r.begin], layout_.offset[r.end])));
+  }
+  layout_ = std::move(sparse);
+  chef_->set_map_offset(layout_.device, layout_.sparse);
+  next_ = next;
+  prev_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_prev", layout_.colors());
+  pending_ = PendingHalo{};
+  exchange_ = std::make_unique<MapExchange>(comm_, host_, layout_, owner_, halo_entries());
+  report_map_plan();
+}
+
+// The map's size and traffic per rank, into the summary and on stdout.
+void BakeRun::report_map_plan() {
   const double local = static_cast<double>(layout_.colors());
   const double max_local = comm_.max(local), sum_local = comm_.sum(local);
   const double reads = static_cast<double>(comm_.sum(reads_.reads));
@@ -558,9 +641,9 @@ void BakeRun::plan_map() {
                           {"local_colors_mean", sum_local / comm_.size()},
                           {"mirror_reads", reads},
                           {"remote_read_fraction", reads > 0 ? remote / reads : 0.0},
-                          {"exchange_bytes_per_iteration", bytes}};
+                          {"exchange_bytes_per_iteration", bytes},
+                          {"exchange_buffers", exchange_->direct() ? "direct" : "host-staged"}};
   params_["map"] = report_.scene["map"];
-  timer_.stop();
   if (root_)
     std::printf(
         "  map per rank: %.0f colours max (%.1f %% of the whole map), %.3g %% of mirror "
@@ -582,10 +665,10 @@ std::vector<char> BakeRun::read_items() const {
 
 // The colours (global entry numbers, ascending) this rank reads from other ranks: every colour of
 // a present remote vertex, or with the traced (sparse) halo only those the lookups read.
-std::vector<std::int64_t> BakeRun::halo_entries(const std::vector<char>& present) const {
+std::vector<std::int64_t> BakeRun::halo_entries() const {
   std::vector<std::int64_t> halo;
   for (std::int64_t v = 0; v < host_.vertices(); ++v) {
-    if (!present[v] || owner_[v] == comm_.rank() || !layout_.present(v)) continue;
+    if (owner_[v] == comm_.rank() || !layout_.present(v)) continue;
     for (std::int64_t j = 0; j < host_.color_count(v); ++j)
       if (layout_.keeps(v, j)) halo.push_back(host_.color_offset[v] + j);
   }
@@ -692,10 +775,11 @@ void BakeRun::report_progress(int it, std::int64_t entries_done) {
 // The new map becomes the previous one; its halo entries come from their owners. One rank
 // holds everything: the map never leaves the device (on a GPU two host copies would cost more
 // than the iteration).
-void BakeRun::exchange(IterationRecord& rec) {
-  std::swap(prev_, next_);
+void BakeRun::exchange(int it, IterationRecord& rec) {
   const double t0 = timer_.now();
-  rec.allgather_bytes = exchange_->run(comm_, prev_);
+  if (pending_.active && it >= 1) finish_fused_plan();
+  std::swap(prev_, next_);
+  rec.allgather_bytes = exchange_ ? exchange_->run(comm_, prev_) : 0;
   rec.allgather = timer_.now() - t0;
 }
 
@@ -751,7 +835,7 @@ int BakeRun::iterate() {
     totals_.completion = t1;
     comm_.barrier();
     totals_.idle += timer_.now() - t1;
-    exchange(rec);
+    exchange(it, rec);
     const double t2 = timer_.now();
     checkpoint(it);
     rec.write = timer_.now() - t2;

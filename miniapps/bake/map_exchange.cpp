@@ -1,7 +1,13 @@
 #include "map_exchange.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <stdexcept>
+#include <string>
+
+#if defined(RTMINI_HAVE_MPI) && defined(OPEN_MPI) && __has_include(<mpi-ext.h>)
+#include <mpi-ext.h>  // MPIX_Query_cuda_support
+#endif
 
 namespace rtmini::bake {
 namespace {
@@ -80,6 +86,17 @@ std::vector<std::int64_t> entries_of(const BakeSceneHost& scene, const MapLayout
 
 }  // namespace
 
+bool mpi_takes_map_memory() {
+  if (Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpace>::accessible) return true;
+  if (const char* e = std::getenv("RTMINI_MPI_DEVICE_BUFFERS"); e && std::string(e) == "0")
+    return false;
+#if defined(MPIX_CUDA_AWARE_SUPPORT) && MPIX_CUDA_AWARE_SUPPORT
+  return MPIX_Query_cuda_support() == 1;
+#else
+  return false;
+#endif
+}
+
 MapLayout make_map_layout(const BakeSceneHost& scene, const std::vector<char>& present) {
   MapLayout l;
   const std::int64_t nv = scene.vertices();
@@ -122,6 +139,41 @@ MapLayout make_sparse_layout(const BakeSceneHost& scene, const MapLayout& full,
   return l;
 }
 
+void mark_dense(MapLayout& layout) {
+  layout.mask_at.assign(layout.offset.size() - 1, -1);
+  layout.sparse.start = layout.device;
+  layout.sparse.mask_at = upload("rtmini::bake::map_mask_at", layout.mask_at);
+}
+
+std::vector<Vec3f> fetch_vertex_colors(const Communicator& comm, const std::vector<int>& owner,
+                                       const std::vector<std::int64_t>& wanted,
+                                       const std::vector<Vec3f>& own) {
+  // Requests grouped by owner; slot[k]: where wanted[k] sits in that grouping.
+  std::vector<int> ask(comm.size(), 0);
+  for (const std::int64_t v : wanted) ++ask[owner[v]];
+  std::vector<std::int64_t> asked(wanted.size());
+  std::vector<std::size_t> slot(wanted.size());
+  {
+    std::vector<int> pos = displacements(ask);
+    for (std::size_t k = 0; k < wanted.size(); ++k) {
+      slot[k] = static_cast<std::size_t>(pos[owner[wanted[k]]]++);
+      asked[slot[k]] = wanted[k];
+    }
+  }
+  const std::vector<int> told = exchange_counts(comm, ask);
+  std::int64_t requests = 0;
+  for (const int n : told) requests += n;
+  std::vector<std::int64_t> vertices(static_cast<std::size_t>(requests));
+  alltoallv(comm, asked.data(), ask, vertices.data(), told);
+  std::vector<Vec3f> answers(vertices.size());
+  for (std::size_t k = 0; k < vertices.size(); ++k) answers[k] = own[vertices[k]];
+  std::vector<Vec3f> grouped(wanted.size());
+  alltoallv(comm, answers.data(), told, grouped.data(), ask);
+  std::vector<Vec3f> out(wanted.size());
+  for (std::size_t k = 0; k < wanted.size(); ++k) out[k] = grouped[slot[k]];
+  return out;
+}
+
 MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
                          const MapLayout& layout, const std::vector<int>& owner,
                          const std::vector<std::int64_t>& halo) {
@@ -151,8 +203,11 @@ MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
   recv_items_ = upload("rtmini::bake::exchange_recv_items", recv);
   send_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_send", send.size());
   recv_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_recv", recv.size());
-  host_send_.resize(send.size());
-  host_recv_.resize(recv.size());
+  direct_ = mpi_takes_map_memory();
+  if (!direct_) {
+    host_send_.resize(send.size());
+    host_recv_.resize(recv.size());
+  }
 }
 
 std::int64_t MapExchange::run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map) {
@@ -163,10 +218,15 @@ std::int64_t MapExchange::run(const Communicator& comm, Kokkos::View<Vec3f*, Mem
   Kokkos::parallel_for(
       "rtmini::bake::exchange_pack", Policy(0, static_cast<std::int64_t>(send_items.extent(0))),
       KOKKOS_LAMBDA(std::int64_t i) { send_buf(i) = map(send_items(i)); });
-  // Through host buffers: works with any MPI (a CUDA-aware one could take the device views).
-  Kokkos::deep_copy(compat::host_view(host_send_.data(), host_send_.size()), send_buf);
-  alltoallv(comm, host_send_.data(), send_counts_, host_recv_.data(), recv_counts_);
-  Kokkos::deep_copy(recv_buf, compat::host_view(host_recv_.data(), host_recv_.size()));
+  if (direct_) {
+    Kokkos::fence();  // the packed colours must be in memory before MPI reads them
+    alltoallv(comm, send_buf.data(), send_counts_, recv_buf.data(), recv_counts_);
+  } else {
+    // Device memory and an MPI that cannot read it: through host buffers (any MPI works).
+    Kokkos::deep_copy(compat::host_view(host_send_.data(), host_send_.size()), send_buf);
+    alltoallv(comm, host_send_.data(), send_counts_, host_recv_.data(), recv_counts_);
+    Kokkos::deep_copy(recv_buf, compat::host_view(host_recv_.data(), host_recv_.size()));
+  }
   Kokkos::parallel_for(
       "rtmini::bake::exchange_scatter", Policy(0, static_cast<std::int64_t>(recv_items.extent(0))),
       KOKKOS_LAMBDA(std::int64_t i) { map(recv_items(i)) = recv_buf(i); });

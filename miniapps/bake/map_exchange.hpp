@@ -50,6 +50,22 @@ MapLayout make_sparse_layout(const BakeSceneHost& scene, const MapLayout& full,
                              const std::vector<char>& read, const std::vector<int>& owner,
                              int rank);
 
+// Marks every vertex of `layout` dense in its SparseColors, for readers that take the colour
+// counts from the scene rather than from the layout (a layout that leaves remote vertices out).
+void mark_dense(MapLayout& layout);
+
+// One colour per vertex from the vertices' owners (collective): `wanted` lists vertex ids,
+// ascending; `own` holds this rank's colours by vertex id. Returns the colours of `wanted`.
+std::vector<Vec3f> fetch_vertex_colors(const Communicator& comm, const std::vector<int>& owner,
+                                       const std::vector<std::int64_t>& wanted,
+                                       const std::vector<Vec3f>& own);
+
+// Whether MPI can read and write the map's memory space directly: always for host memory; for
+// device memory with a CUDA-aware MPI, detected at run time (Open MPI's MPIX_Query_cuda_support;
+// RTMINI_MPI_DEVICE_BUFFERS=0 forces the host staging, for comparison). Never required: without
+// it the exchange stages through host buffers.
+bool mpi_takes_map_memory();
+
 class MapExchange {
  public:
   // Plans the exchange (collective): `halo` lists, ascending, the colours (global entry
@@ -62,6 +78,7 @@ class MapExchange {
   std::int64_t run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
 
   std::int64_t send_colors() const { return total(send_counts_); }
+  bool direct() const { return direct_; }  // MPI moves the map's own buffers (no host copies)
   std::int64_t recv_colors() const { return total(recv_counts_); }
 
  private:
@@ -73,7 +90,8 @@ class MapExchange {
   std::vector<int> send_counts_, send_displs_, recv_counts_, recv_displs_;  // in colours
   Kokkos::View<std::int64_t*, MemSpace> send_items_, recv_items_;           // local entries
   Kokkos::View<Vec3f*, MemSpace> send_buf_, recv_buf_;
-  std::vector<Vec3f> host_send_, host_recv_;
+  std::vector<Vec3f> host_send_, host_recv_;  // only when MPI cannot take MemSpace (direct_)
+  bool direct_ = false;
 };
 
 // Every rank's owned colours in the global (replicated) order, on the root only (empty

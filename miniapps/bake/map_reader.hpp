@@ -48,6 +48,25 @@ KOKKOS_INLINE_FUNCTION std::int64_t sparse_entry(std::int64_t first, std::int64_
   return first + kept[w] + compat::popcount64(below);
 }
 
+// The first mirror iteration of a rank whose sparse halo is not planned yet (kitchen.cpp,
+// "fused halo plan"). Its previous map is the base map, whose N colours of a vertex are all
+// Vec3f(base colour): a remote vertex is read from its one fetched base colour (the same bits
+// the exchanged entries would hold, so the same sums), and every viewpoint a lookup reads is
+// flagged: the read set that fixes the sparse layout, found by the iteration itself instead
+// of by a second pass over the same lookups.
+struct FirstReads {
+  Kokkos::View<const char*, MemSpace> owned;       // per vertex; empty: not the first iteration
+  Kokkos::View<const Vec3f*, MemSpace> base;       // per vertex: Vec3f(base), remote ones
+  Kokkos::View<const std::int64_t*, MemSpace> at;  // per vertex + 1: offsets of `flags`
+  Kokkos::View<char*, MemSpace> flags;             // per viewpoint of a present vertex: read
+
+  KOKKOS_INLINE_FUNCTION bool remote(int vert) const { return owned.extent(0) > 0 && !owned(vert); }
+  KOKKOS_INLINE_FUNCTION Vec3 read(int vert, int j) const {
+    flags(at(vert) + j) = 1;  // every writer writes 1: no ordering needed
+    return Vec3(base(vert));
+  }
+};
+
 // Colour of the previous map seen along `dir` at a hit: the hit triangle's three vertex
 // colours, each looked up at `dir` among its nearest viewpoints, mixed barycentrically.
 template <class LookupT>
@@ -59,7 +78,8 @@ struct MapReader {
   LookupT lookup;
   Real radius;
   Vec3 background;
-  SparseColors sparse;  // empty: prev is laid out by color_offset
+  SparseColors sparse;     // empty: prev is laid out by color_offset
+  FirstReads first_reads;  // remote vertices of the fused first iteration (empty: none)
 
   // The entry of vertex vert's viewpoint j in prev (first = color_offset(vert)).
   KOKKOS_INLINE_FUNCTION std::int64_t entry(int vert, std::int64_t first, int j) const {
@@ -81,8 +101,9 @@ struct MapReader {
     for (int k = 0; k < 3; ++k) {
       const int vert = tri_vertices(prim, k);
       const std::int64_t first = color_offset(vert);
+      const bool remote = first_reads.remote(vert);
       if (color_offset(vert + 1) - first == 1) {
-        sum += Vec3(prev(entry(vert, first, 0))) * w[k];
+        sum += (remote ? first_reads.read(vert, 0) : Vec3(prev(entry(vert, first, 0)))) * w[k];
         continue;
       }
       if (!have_nb) {
@@ -91,7 +112,9 @@ struct MapReader {
       }
       Vec3 c(Real(0));
       for (int j = 0; j < nb.count; ++j)
-        c += Vec3(prev(entry(vert, first, nb.index[j]))) * nb.weight[j];
+        c += (remote ? first_reads.read(vert, nb.index[j])
+                     : Vec3(prev(entry(vert, first, nb.index[j])))) *
+             nb.weight[j];
       sum += c * w[k];
     }
     if (without_emission) {

@@ -69,7 +69,8 @@ std::int64_t run_kernel(const BakedMapDevice& map, const LookupT& lookup,
                                   lookup,
                                   fibonacci_radius(map.viewpoints),
                                   Vec3(p.background),
-                                  SparseColors{}};
+                                  SparseColors{},
+                                  FirstReads{}};
   const int grid = static_cast<int>(std::sqrt(static_cast<double>(p.spp)) + 1e-9);
   const RenderPixels<LookupT> kernel{map.mesh.accel, reader, camera, out,
                                      p.width,        p.spp,  grid,   p.seed};
