@@ -38,7 +38,7 @@ MovingScene square_scene(const ObjectMotion& motion) {
 
 // Closest hit and surface point of a vertical ray down through (x, z) at `time`.
 struct DownHit {
-  bool on_square = false;
+  bool on_square = false;  // on a moving object
   Vec3 p;
 };
 DownHit shoot_down(const MovingScene& scene, Real x, Real z, Real time) {
@@ -186,6 +186,21 @@ TEST(SketchMotion, TwoLevelTraceMatchesBruteForce) {
   EXPECT_EQ(differ, 0);
   EXPECT_EQ(occl_differ, 0);
   EXPECT_LE(world_differ, rays / 2000) << "moving the triangles instead of the ray";
+}
+
+TEST(SketchMotion, SceneWithNothingStillHasAnEmptyStillTree) {
+  HostScene s;
+  const int obj = add_sphere(s, Vec3d(0, 1, 0), 0.3, 2, Material{}, "sphere");
+  s.solid_balls.pop_back();
+  add_mover(s, obj, obj + 1, Vec3d(0, 1, 0), motion_of(Vec3d(0, 0, -1), Vec3d(0, 1, 0), 0), 1);
+  s.max_abs_time = 1.0;
+  place_moving_objects_last(s, "test");
+  const MovingScene scene = upload_scene(s, bvh::BuildQuality::kSah, 0.5);
+  EXPECT_EQ(scene.mesh.accel.num_prims, 0);
+  const DownHit h = shoot_down(scene, 0, Real(-0.5), Real(0.5));
+  EXPECT_TRUE(h.on_square);  // the sphere, moved to z = -0.5
+  EXPECT_NEAR(h.p.y, 1.3, 1e-2);
+  EXPECT_FALSE(shoot_down(scene, 0, 0, Real(0.5)).on_square);
 }
 
 TEST(SketchMotion, StillSceneHasNoMovers) {
