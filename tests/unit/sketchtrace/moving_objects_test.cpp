@@ -95,36 +95,14 @@ TEST(SketchMotion, SpinningSquareTurnsAboutItsPivot) {
   EXPECT_FALSE(shoot_down(scene, Real(0.21), 0, 1).on_square);
 }
 
-// Three moving spheres (translating and spinning) and a moving box over a still floor;
-// random rays at random times. The trace must report exactly the hit of a brute-force loop
-// over all triangles (moving ones tested in object space with the same moved ray), and the
-// same triangle as moving the triangles into world space (up to rounding at edges).
-TEST(SketchMotion, TwoLevelTraceMatchesBruteForce) {
-  HostScene s;
-  add_floor(s, 5.0, 0.5f);
-  const Vec3d centres[3] = {{-1.2, 0.6, 0.2}, {0.5, 0.5, -0.8}, {1.4, 0.9, 0.9}};
-  const ObjectMotion motions[3] = {motion_of({1.5, 0, 0}, {0, 1, 0}, 0),
-                                   motion_of({0, 0.8, 0.3}, {1, 1, 0}, 120),
-                                   motion_of({-0.6, 0, 0.5}, {0, 0, 1}, -200)};
-  for (int i = 0; i < 3; ++i) {
-    const int obj = add_sphere(s, centres[i], 0.5, 2, Material{}, "sphere");
-    s.solid_balls.pop_back();
-    add_mover(s, obj, obj + 1, centres[i], motions[i], 1);
-  }
-  Material m;
-  const int mat = add_scene_material(s, m);
-  const int box = add_mesh_object(s, "box");
-  append_quad(s.mesh, Vec3d(-0.3, 1.6, 0.3), Vec3d(0.6, 0, 0), Vec3d(0, 0.5, -0.6), mat, box);
-  append_quad(s.mesh, Vec3d(-0.3, 1.6, -0.3), Vec3d(0.6, 0, 0), Vec3d(0, 0.4, 0), mat, box);
-  add_mover(s, box, box + 1, Vec3d(0, 1.8, 0), motion_of({0.4, -0.2, 0}, {0, 1, 0}, 360), 1);
-  s.max_abs_time = 1.0;
-  place_moving_objects_last(s, "test");
-  const MovingScene scene = upload_scene(s, bvh::BuildQuality::kSah, 0.5);
-  ASSERT_EQ(scene.motion.count, 4);
-
-  const int rays = 40000;
+struct BruteForceCounts {
   long long hits = 0, mover_hits = 0, differ = 0, world_differ = 0, occl_differ = 0;
-  const MovingScene sc = scene;
+};
+
+// `rays` random rays at random times through the two-level trace and a brute-force loop over
+// all triangles. A free function: nvcc refuses device lambdas inside a gtest TEST body.
+BruteForceCounts compare_with_brute_force(const MovingScene& sc, int rays) {
+  BruteForceCounts n;
   Kokkos::parallel_reduce(
       "rtmini::test::motion_brute_force", Kokkos::RangePolicy<>(0, rays),
       KOKKOS_LAMBDA(int i, long long& nh, long long& nm, long long& nd, long long& nw,
@@ -180,7 +158,41 @@ TEST(SketchMotion, TwoLevelTraceMatchesBruteForce) {
         // Any-hit over the whole segment agrees with "some closest hit exists".
         if (scene_occluded(sc, r, counter) != h.valid()) ++no;
       },
-      hits, mover_hits, differ, world_differ, occl_differ);
+      n.hits, n.mover_hits, n.differ, n.world_differ, n.occl_differ);
+  return n;
+}
+
+// Three moving spheres (translating and spinning) and a moving box over a still floor;
+// random rays at random times. The trace must report exactly the hit of a brute-force loop
+// over all triangles (moving ones tested in object space with the same moved ray), and the
+// same triangle as moving the triangles into world space (up to rounding at edges).
+TEST(SketchMotion, TwoLevelTraceMatchesBruteForce) {
+  HostScene s;
+  add_floor(s, 5.0, 0.5f);
+  const Vec3d centres[3] = {{-1.2, 0.6, 0.2}, {0.5, 0.5, -0.8}, {1.4, 0.9, 0.9}};
+  const ObjectMotion motions[3] = {motion_of({1.5, 0, 0}, {0, 1, 0}, 0),
+                                   motion_of({0, 0.8, 0.3}, {1, 1, 0}, 120),
+                                   motion_of({-0.6, 0, 0.5}, {0, 0, 1}, -200)};
+  for (int i = 0; i < 3; ++i) {
+    const int obj = add_sphere(s, centres[i], 0.5, 2, Material{}, "sphere");
+    s.solid_balls.pop_back();
+    add_mover(s, obj, obj + 1, centres[i], motions[i], 1);
+  }
+  Material m;
+  const int mat = add_scene_material(s, m);
+  const int box = add_mesh_object(s, "box");
+  append_quad(s.mesh, Vec3d(-0.3, 1.6, 0.3), Vec3d(0.6, 0, 0), Vec3d(0, 0.5, -0.6), mat, box);
+  append_quad(s.mesh, Vec3d(-0.3, 1.6, -0.3), Vec3d(0.6, 0, 0), Vec3d(0, 0.4, 0), mat, box);
+  add_mover(s, box, box + 1, Vec3d(0, 1.8, 0), motion_of({0.4, -0.2, 0}, {0, 1, 0}, 360), 1);
+  s.max_abs_time = 1.0;
+  place_moving_objects_last(s, "test");
+  const MovingScene scene = upload_scene(s, bvh::BuildQuality::kSah, 0.5);
+  ASSERT_EQ(scene.motion.count, 4);
+
+  const int rays = 40000;
+  const BruteForceCounts n = compare_with_brute_force(scene, rays);
+  const long long hits = n.hits, mover_hits = n.mover_hits, differ = n.differ,
+                  world_differ = n.world_differ, occl_differ = n.occl_differ;
   EXPECT_GT(hits, rays / 2);
   EXPECT_GT(mover_hits, rays / 10);  // the test exercises the moving objects
   EXPECT_EQ(differ, 0);
