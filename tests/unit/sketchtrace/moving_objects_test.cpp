@@ -102,7 +102,7 @@ struct BruteForceCounts {
 // `rays` random rays at random times through the two-level trace and a brute-force loop over
 // all triangles. A free function: nvcc refuses device lambdas inside a gtest TEST body.
 BruteForceCounts compare_with_brute_force(const MovingScene& sc, int rays) {
-  BruteForceCounts n;
+  BruteForceCounts counts;
   Kokkos::parallel_reduce(
       "rtmini::test::motion_brute_force", Kokkos::RangePolicy<>(0, rays),
       KOKKOS_LAMBDA(int i, long long& nh, long long& nm, long long& nd, long long& nw,
@@ -158,8 +158,8 @@ BruteForceCounts compare_with_brute_force(const MovingScene& sc, int rays) {
         // Any-hit over the whole segment agrees with "some closest hit exists".
         if (scene_occluded(sc, r, counter) != h.valid()) ++no;
       },
-      n.hits, n.mover_hits, n.differ, n.world_differ, n.occl_differ);
-  return n;
+      counts.hits, counts.mover_hits, counts.differ, counts.world_differ, counts.occl_differ);
+  return counts;
 }
 
 // Three moving spheres (translating and spinning) and a moving box over a still floor;
