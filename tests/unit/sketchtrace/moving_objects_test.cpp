@@ -42,7 +42,6 @@ struct DownHit {
   Vec3 p;
 };
 DownHit shoot_down(const MovingScene& scene, Real x, Real z, Real time) {
-  DownHit out;
   Kokkos::View<DownHit*> result("result", 1);
   const MovingScene sc = scene;
   Kokkos::parallel_for(
