@@ -57,6 +57,9 @@ expect_one_line() {
   end=$(date +%s)
   [[ $rc != 124 && $rc != 137 ]] || fail "hung: no exit within $limit s: $*"
   [[ $rc == "$want" ]] || { cat err.txt >&2; fail "exit $rc, expected $want: $*"; }
+  # Ranks share stderr: another process's partial line (Kokkos' oversubscription warning is
+  # written in pieces) can precede the app's line without a newline; split it off.
+  sed -i -E "s/(.)($app( \\(rank [0-9]+\\))?: )/\\1\\n\\2/g" err.txt
   local lines
   lines=$(grep -c "^$app" err.txt || true)
   [[ $lines == 1 ]] || { cat err.txt >&2; fail "$lines lines of $app on stderr, expected 1: $*"; }
