@@ -9,15 +9,6 @@
 namespace rtmini::sketch {
 namespace {
 
-template <class T>
-Kokkos::View<T*, MemSpace> to_device(const char* label, const std::vector<T>& host) {
-  Kokkos::View<T*, MemSpace> view(std::string(label), host.size());
-  auto mirror = Kokkos::create_mirror_view(view);
-  for (std::size_t i = 0; i < host.size(); ++i) mirror(i) = host[i];
-  Kokkos::deep_copy(view, mirror);
-  return view;
-}
-
 // Texture-coordinate ids of each triangle's corners, in triangulate()'s order.
 std::vector<std::array<int, 3>> corner_uv_ids(const Mesh& mesh) {
   std::vector<std::array<int, 3>> ids;
@@ -50,7 +41,7 @@ DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality, doub
   // Shading normals per triangle corner, split where faces meet at more than the crease angle.
   const CornerNormals corners = crease_split_normals(scene.mesh.positions, tl.vertices, cos_crease);
   std::vector<Vec3> normals(corners.normals.begin(), corners.normals.end());
-  d.shading_normals = to_device("rtmini::sketch::shading_normals", normals);
+  d.shading_normals = compat::upload<MemSpace>("rtmini::sketch::shading_normals", normals);
   d.corner_normal =
       Kokkos::View<int* [3], MemSpace>("rtmini::sketch::corner_normal", tl.vertices.size());
   auto corner_host = Kokkos::create_mirror_view(d.corner_normal);
@@ -59,9 +50,9 @@ DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality, doub
   Kokkos::deep_copy(d.corner_normal, corner_host);
   d.maps = upload_surface_maps(scene.mesh, scene.map_images, tl.vertices, corner_uv_ids(scene.mesh),
                                corners.of_corner, normals);
-  d.objects = to_device("rtmini::sketch::objects", scene.objects);
-  d.quads = to_device("rtmini::sketch::quad_lights", scene.quads);
-  d.points = to_device("rtmini::sketch::point_lights", scene.points);
+  d.objects = compat::upload<MemSpace>("rtmini::sketch::objects", scene.objects);
+  d.quads = compat::upload<MemSpace>("rtmini::sketch::quad_lights", scene.quads);
+  d.points = compat::upload<MemSpace>("rtmini::sketch::point_lights", scene.points);
 
   // Emissive triangles grouped by object (one mesh light per object), quad lights excluded.
   std::map<int, std::vector<int>> by_object;
@@ -99,11 +90,11 @@ DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality, doub
     }
     lights.push_back(l);
   }
-  d.mesh_lights = to_device("rtmini::sketch::mesh_lights", lights);
-  d.emissive_tris = to_device("rtmini::sketch::emissive_tris", tris);
-  d.emissive_cdf = to_device("rtmini::sketch::emissive_cdf", cdf);
-  d.solid_balls = to_device("rtmini::sketch::solid_balls", scene.solid_balls);
-  d.light_of_object = to_device("rtmini::sketch::light_of_object", light_of_object);
+  d.mesh_lights = compat::upload<MemSpace>("rtmini::sketch::mesh_lights", lights);
+  d.emissive_tris = compat::upload<MemSpace>("rtmini::sketch::emissive_tris", tris);
+  d.emissive_cdf = compat::upload<MemSpace>("rtmini::sketch::emissive_cdf", cdf);
+  d.solid_balls = compat::upload<MemSpace>("rtmini::sketch::solid_balls", scene.solid_balls);
+  d.light_of_object = compat::upload<MemSpace>("rtmini::sketch::light_of_object", light_of_object);
   d.num_solid_balls = static_cast<int>(scene.solid_balls.size());
   d.num_quads = static_cast<int>(scene.quads.size());
   d.num_points = static_cast<int>(scene.points.size());

@@ -20,15 +20,6 @@ std::vector<int> mover_of_objects(const HostScene& s) {
   return of;
 }
 
-template <class T>
-Kokkos::View<T*, MemSpaceT> upload(const char* label, const std::vector<T>& host) {
-  Kokkos::View<T*, MemSpaceT> view(std::string(label), host.size());
-  auto mirror = Kokkos::create_mirror_view(view);
-  for (std::size_t i = 0; i < host.size(); ++i) mirror(i) = host[i];
-  Kokkos::deep_copy(view, mirror);
-  return view;
-}
-
 template <class T, class View>
 void append(std::vector<T>& out, const View& v) {
   out.insert(out.end(), v.data(), v.data() + v.extent(0));
@@ -141,16 +132,16 @@ DeviceMotion<MemSpaceT> upload_motion(const HostScene& s, const TriangleList& tl
   }
   coordinate_bound = Real(bound);
   DeviceMotion<MemSpaceT> out;
-  out.objects = upload("rtmini::sketch::moving_objects", objects);
-  out.nodes = upload("rtmini::sketch::moving_nodes", nodes);
-  out.tris = upload("rtmini::sketch::moving_tris", tris);
-  out.prim = upload("rtmini::sketch::moving_prim", prim);
+  out.objects = compat::upload<MemSpaceT>("rtmini::sketch::moving_objects", objects);
+  out.nodes = compat::upload<MemSpaceT>("rtmini::sketch::moving_nodes", nodes);
+  out.tris = compat::upload<MemSpaceT>("rtmini::sketch::moving_tris", tris);
+  out.prim = compat::upload<MemSpaceT>("rtmini::sketch::moving_prim", prim);
   // The wide layout only where the kernels can traverse it (traverse_object).
   if (Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpaceT>::accessible) {
-    out.wide = upload("rtmini::sketch::moving_wide", wide);
-    out.leaves = upload("rtmini::sketch::moving_leaves", leaves);
+    out.wide = compat::upload<MemSpaceT>("rtmini::sketch::moving_wide", wide);
+    out.leaves = compat::upload<MemSpaceT>("rtmini::sketch::moving_leaves", leaves);
   }
-  out.mover_of_object = upload("rtmini::sketch::mover_of_object", mover);
+  out.mover_of_object = compat::upload<MemSpaceT>("rtmini::sketch::mover_of_object", mover);
   out.count = static_cast<int>(objects.size());
   return out;
 }

@@ -10,15 +10,6 @@ namespace {
 
 using DeviceSpace = Kokkos::DefaultExecutionSpace::memory_space;
 
-template <class T>
-Kokkos::View<T*, DeviceSpace> upload(const char* label, const std::vector<T>& host) {
-  Kokkos::View<T*, DeviceSpace> view(std::string(label), host.size());
-  auto mirror = Kokkos::create_mirror_view(view);
-  for (std::size_t i = 0; i < host.size(); ++i) mirror(i) = host[i];
-  Kokkos::deep_copy(view, mirror);
-  return view;
-}
-
 // Input index range [first, last) that output texel i of `out` texels covers in `in`.
 void covered(int i, int in, int out, int& first, int& last) {
   first = static_cast<int>(static_cast<long>(i) * in / out);
@@ -169,11 +160,11 @@ SurfaceMaps<DeviceSpace> upload_surface_maps(const Mesh& mesh, const std::vector
   }
   const std::vector<TexturedTriangle> records =
       textured_triangles(mesh.positions, tris, uv_ids, mesh.texcoords, normal_ids, normals);
-  d.texels = upload("rtmini::sketch::texels", packed.texels);
-  d.levels = upload("rtmini::sketch::texture_levels", packed.levels);
-  d.textures = upload("rtmini::sketch::textures", packed.textures);
-  d.materials = upload("rtmini::sketch::material_maps", ids);
-  d.tris = upload("rtmini::sketch::textured_triangles", records);
+  d.texels = compat::upload<DeviceSpace>("rtmini::sketch::texels", packed.texels);
+  d.levels = compat::upload<DeviceSpace>("rtmini::sketch::texture_levels", packed.levels);
+  d.textures = compat::upload<DeviceSpace>("rtmini::sketch::textures", packed.textures);
+  d.materials = compat::upload<DeviceSpace>("rtmini::sketch::material_maps", ids);
+  d.tris = compat::upload<DeviceSpace>("rtmini::sketch::textured_triangles", records);
   d.bytes = packed.texels.size() * sizeof(float) + packed.levels.size() * sizeof(TextureLevel) +
             packed.textures.size() * sizeof(TextureDesc) + ids.size() * sizeof(MaterialMapIds) +
             records.size() * sizeof(TexturedTriangle);
