@@ -11,6 +11,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -52,6 +53,7 @@ class ObjScan {
   explicit ObjScan(const std::string& path, Mesh* mesh = nullptr) : path_(path), mesh_(mesh) {}
 
   void run(std::string_view text) {
+    if (mesh_ != nullptr) reserve_for(text);
     detail::LineCursor cursor(text);
     std::string_view raw;
     while (cursor.next(raw)) {
@@ -95,6 +97,24 @@ class ObjScan {
   }
 
  private:
+  // Room for the vertices, texture coordinates and faces the text holds (lines starting "v ",
+  // "vt ", "f "): the arrays grow once instead of being copied at every doubling.
+  void reserve_for(std::string_view text) {
+    std::size_t v = 0, vt = 0, f = 0;
+    for (std::size_t i = 0; i + 2 < text.size();) {
+      const char c0 = text[i], c1 = text[i + 1];
+      v += c0 == 'v' && c1 == ' ';
+      vt += c0 == 'v' && c1 == 't' && text[i + 2] == ' ';
+      f += c0 == 'f' && c1 == ' ';
+      const std::size_t end = text.find('\n', i);
+      if (end == std::string_view::npos) break;
+      i = end + 1;
+    }
+    mesh_->positions.reserve(v);
+    mesh_->texcoords.reserve(vt);
+    mesh_->faces.reserve(f);
+  }
+
   // Splits on spaces, tabs and '\r' (CRLF files), as detail::split_fields, into a reused vector.
   static void split_into(std::string_view line, std::vector<std::string_view>& fields) {
     fields.clear();
@@ -299,13 +319,25 @@ class ObjScan {
   // A 1-based (or negative, relative to the end) index checked against the `count` defined so
   // far, returned 0-based.
   int index(std::string_view field, long count, const char* what) const {
-    const auto value = detail::parse_number<long>(field);
+    const std::optional<long> value = parse_index(field);
     if (!value) fail("invalid " + std::string(what) + " index '" + std::string(field) + "'");
     if (*value == 0) fail(std::string(what) + " index 0 is invalid (OBJ indices start at 1)");
     if (*value > count || -*value > count)
       fail(std::string(what) + " index " + std::to_string(*value) + " out of range (" +
            std::to_string(count) + " defined so far)");
     return static_cast<int>(*value > 0 ? *value - 1 : count + *value);
+  }
+
+  // Most indices are a few plain digits: read those directly, anything else (a sign, a long or
+  // malformed number) as detail::parse_number reads it.
+  static std::optional<long> parse_index(std::string_view field) {
+    if (field.empty() || field.size() > 9) return detail::parse_number<long>(field);
+    long value = 0;
+    for (const char c : field) {
+      if (c < '0' || c > '9') return detail::parse_number<long>(field);
+      value = 10 * value + (c - '0');
+    }
+    return value;
   }
 
   // `v`, `v/vt`, `v//vn` or `v/vt/vn`: appends the vertex and texture-coordinate indices.
