@@ -48,21 +48,5 @@ for rep in 1 2 3 4 5; do
 done
 cmp /tmp/aob/dragon_base.glb /tmp/aob/dragon_new.glb && echo "glb outputs identical"
 # Median per phase (ms) over the five runs of each binary.
-python3 - "$R" <<'EOF'
-import glob, re, statistics, sys
-phases = {}
-for path in sorted(glob.glob(sys.argv[1] + "/ao_*_*.log")):
-    tag = path.rsplit("/", 1)[1].split("_")[1]
-    for line in open(path):
-        m = re.match(r"^(\S.*?) \.\.\.\s+([0-9.]+) ms", line)
-        if m:
-            phases.setdefault(m.group(1), {}).setdefault(tag, []).append(float(m.group(2)))
-print(f"{'phase':32s} {'base median (min-max)':>26s} {'new median (min-max)':>26s}")
-for name, by in phases.items():
-    cells = []
-    for tag in ("base", "new"):
-        v = by.get(tag, [])
-        cells.append(f"{statistics.median(v):8.2f} ({min(v):.2f}-{max(v):.2f})" if v else "-")
-    print(f"{name:32s} {cells[0]:>26s} {cells[1]:>26s}")
-EOF
+python3 "$NEW/results/ao/phase_medians.py" "$R"
 echo "total $(( $(date +%s) - t0 )) s"
