@@ -11,6 +11,9 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <optional>
+#include <set>
+#include <sstream>
 #include <utility>
 
 #include "rtmini/io/bakeshop.hpp"
@@ -28,90 +31,238 @@ std::string directory_of(const std::string& path) {
   return slash == std::string::npos ? std::string(".") : path.substr(0, slash);
 }
 
-// tinyobjloader reports no line numbers, so this pass checks what it would
-// otherwise accept silently or crash on: counts, numbers, finiteness, index ranges.
-class ObjPrescan {
+// One pass over the OBJ text. It checks what a reader could otherwise accept silently or crash
+// on (field counts, numbers, finiteness, index ranges), every error at its own "file:line", and,
+// given a Mesh, reads the geometry in the same pass: positions, texture coordinates, faces
+// (quads kept, larger polygons fanned), object names, and the `mtllib`/`usemtl` statements
+// whose materials read_obj resolves once the libraries are read. No allocation per line: the
+// fields of a line are views into the text, kept in one reused vector.
+class ObjScan {
  public:
-  explicit ObjPrescan(const std::string& path) : path_(path) {}
+  // A `usemtl` statement: its name, line, and how many `mtllib` statements came before it
+  // (a material is known to a face only when its library was named earlier in the file).
+  struct UseMtl {
+    std::string name;
+    long line = 0;
+    std::size_t libraries_before = 0;
+    // `usemtlNAME` with no space: it sets the faces' material as before this reader (by that
+    // name, -1 when unknown) but is not checked against the libraries.
+    bool glued = false;
+  };
+
+  explicit ObjScan(const std::string& path, Mesh* mesh = nullptr) : path_(path), mesh_(mesh) {}
 
   void run(std::string_view text) {
-    for_each_statement(text, [&](const std::vector<std::string_view>& f) {
-      if (f[0] == "v") {
-        if (f.size() != 4 && f.size() != 5 && f.size() != 7)
-          fail("vertex needs 3 coordinates (optionally w, or r g b), got " +
-               std::to_string(f.size() - 1) + " fields");
-        check_numbers(f, "vertex");
-        ++nv_;
-      } else if (f[0] == "vt") {
-        if (f.size() < 2 || f.size() > 4) fail("texture coordinate needs 1 to 3 fields");
-        check_numbers(f, "texture coordinate");
-        ++nvt_;
-      } else if (f[0] == "vn") {
-        if (f.size() != 4) fail("normal needs 3 fields, got " + std::to_string(f.size() - 1));
-        check_numbers(f, "normal");
-        ++nvn_;
-      } else if (f[0] == "f") {
-        if (f.size() < 4)
-          fail("face needs at least 3 vertices, got " + std::to_string(f.size() - 1));
-        for (std::size_t i = 1; i < f.size(); ++i) check_face_vertex(f[i]);
-      } else if (f[0] == "mtllib") {
-        if (f.size() < 2) fail("mtllib without a file name");
-        for (std::size_t i = 1; i < f.size(); ++i) {
-          const std::string mtl = directory_of(path_) + "/" + std::string(f[i]);
-          if (std::ifstream(mtl)) {
-            if (std::find(mtl_files_.begin(), mtl_files_.end(), mtl) == mtl_files_.end())
-              mtl_files_.push_back(mtl);
-          } else if (missing_mtl_line_ == 0) {
-            missing_mtl_line_ = line_;
-            missing_mtl_ = mtl;
-          }
-        }
-      } else if (f[0] == "usemtl") {
-        if (f.size() != 2) fail("usemtl needs exactly one material name");
-        usemtl_.emplace_back(std::string(f[1]), line_);
-      }
-    });
+    if (mesh_ != nullptr) reserve_for(text);
+    detail::LineCursor cursor(text);
+    std::string_view raw;
+    while (cursor.next(raw)) {
+      line_ = cursor.line_number();
+      std::string_view line = raw;
+      const std::size_t hash = line.find('#');
+      if (hash != std::string_view::npos) line = line.substr(0, hash);
+      split_into(line, fields_);
+      if (!fields_.empty()) statement(raw);
+    }
     // A missing library matters only when a face asks for a material from it
     // (the shared dragon.obj names a dragon.mtl that does not exist and uses none).
-    if (missing_mtl_line_ > 0 && !usemtl_.empty()) {
+    const bool uses_materials =
+        std::any_of(usemtl_.begin(), usemtl_.end(), [](const UseMtl& u) { return !u.glued; });
+    if (missing_mtl_line_ > 0 && uses_materials) {
       line_ = missing_mtl_line_;
       fail("cannot open material library '" + missing_mtl_ + "'");
     }
   }
 
-  const std::vector<std::pair<std::string, long>>& usemtl() const { return usemtl_; }
+  const std::vector<UseMtl>& usemtl() const { return usemtl_; }
   const std::vector<std::string>& mtl_files() const { return mtl_files_; }
   const std::vector<std::string>& image_files() const { return image_files_; }
+  // The file names of each `mtllib` statement, split as OBJ writers escape them ("a\ b.mtl").
+  const std::vector<std::vector<std::string>>& mtllib_names() const { return mtllib_names_; }
 
   // A material library: the numbers of the statements rtmini reads (colours Ka Kd Ks Ke Tf,
   // scalars Ns Ni d Tr), so that a bad value is reported at its own file and line, and the
   // image maps (map_Kd map_Ks map_bump bump norm disp), each decoded once here so that a
   // missing or broken image is reported at the line that names it.
   void run_mtl(std::string_view text) {
-    for_each_statement(text, [&](const std::vector<std::string_view>& f) {
-      if (is_image_map(f[0])) return check_image_map(f);
-      const bool colour =
-          f[0] == "Ka" || f[0] == "Kd" || f[0] == "Ks" || f[0] == "Ke" || f[0] == "Tf";
-      const bool scalar = f[0] == "Ns" || f[0] == "Ni" || f[0] == "d" || f[0] == "Tr";
-      if (!colour && !scalar) return;
-      if (colour && f.size() > 1 && (f[1] == "spectral" || f[1] == "xyz")) return;
-      if (f.size() < 2) fail(std::string(f[0]) + " needs a value");
-      check_numbers(f, (std::string("material statement ") + std::string(f[0])).c_str());
-    });
-  }
-
- private:
-  // Calls fn with the fields of every non-empty line (comments removed), line_ set.
-  template <class Fn>
-  void for_each_statement(std::string_view text, Fn&& fn) {
     detail::LineCursor cursor(text);
     std::string_view line;
     while (cursor.next(line)) {
       line_ = cursor.line_number();
       const std::size_t hash = line.find('#');
       if (hash != std::string_view::npos) line = line.substr(0, hash);
-      const auto f = detail::split_fields(line);
-      if (!f.empty()) fn(f);
+      split_into(line, fields_);
+      if (!fields_.empty()) mtl_statement(fields_);
+    }
+  }
+
+ private:
+  // Room for the vertices, texture coordinates and faces the text holds (lines starting "v ",
+  // "vt ", "f "): the arrays grow once instead of being copied at every doubling.
+  void reserve_for(std::string_view text) {
+    std::size_t v = 0, vt = 0, f = 0;
+    for (std::size_t i = 0; i + 2 < text.size();) {
+      const char c0 = text[i], c1 = text[i + 1];
+      v += c0 == 'v' && c1 == ' ';
+      vt += c0 == 'v' && c1 == 't' && text[i + 2] == ' ';
+      f += c0 == 'f' && c1 == ' ';
+      const std::size_t end = text.find('\n', i);
+      if (end == std::string_view::npos) break;
+      i = end + 1;
+    }
+    mesh_->positions.reserve(v);
+    mesh_->texcoords.reserve(vt);
+    mesh_->faces.reserve(f);
+  }
+
+  // Splits on spaces, tabs and '\r' (CRLF files), as detail::split_fields, into a reused vector.
+  static void split_into(std::string_view line, std::vector<std::string_view>& fields) {
+    fields.clear();
+    const auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+    std::size_t i = 0;
+    while (i < line.size()) {
+      while (i < line.size() && is_space(line[i])) ++i;
+      const std::size_t start = i;
+      while (i < line.size() && !is_space(line[i])) ++i;
+      if (i > start) fields.push_back(line.substr(start, i - start));
+    }
+  }
+
+  void statement(std::string_view raw) {
+    const std::vector<std::string_view>& f = fields_;
+    if (f[0] == "v") {
+      if (f.size() != 4 && f.size() != 5 && f.size() != 7)
+        fail("vertex needs 3 coordinates (optionally w, or r g b), got " +
+             std::to_string(f.size() - 1) + " fields");
+      double xyz[3];
+      for (std::size_t i = 1; i < f.size(); ++i) {
+        const double value = number(f[i], "vertex");
+        if (i <= 3) xyz[i - 1] = value;
+      }
+      if (mesh_ != nullptr) mesh_->positions.emplace_back(xyz[0], xyz[1], xyz[2]);
+      ++nv_;
+    } else if (f[0] == "vt") {
+      if (f.size() < 2 || f.size() > 4) fail("texture coordinate needs 1 to 3 fields");
+      double uv[2] = {0.0, 0.0};  // a missing v is 0
+      for (std::size_t i = 1; i < f.size(); ++i) {
+        const double value = number(f[i], "texture coordinate");
+        if (i <= 2) uv[i - 1] = value;
+      }
+      if (mesh_ != nullptr)
+        mesh_->texcoords.push_back({static_cast<float>(uv[0]), static_cast<float>(uv[1])});
+      ++nvt_;
+    } else if (f[0] == "vn") {
+      if (f.size() != 4) fail("normal needs 3 fields, got " + std::to_string(f.size() - 1));
+      for (std::size_t i = 1; i < f.size(); ++i) (void)number(f[i], "normal");
+      ++nvn_;
+    } else if (f[0] == "f") {
+      if (f.size() < 4) fail("face needs at least 3 vertices, got " + std::to_string(f.size() - 1));
+      face(f);
+    } else if (f[0] == "mtllib") {
+      mtllib(f, raw);
+    } else if (f[0] == "usemtl") {
+      if (f.size() != 2) fail("usemtl needs exactly one material name");
+      usemtl_.push_back({std::string(f[1]), line_, mtllib_names_.size()});
+    } else if (f[0].substr(0, 6) == "usemtl") {
+      usemtl_.push_back({std::string(f[0].substr(6)), line_, mtllib_names_.size(), true});
+    } else if (is_name_statement(raw, 'g')) {
+      group(raw);
+    } else if (is_name_statement(raw, 'o')) {
+      // The object's name is the rest of the line, as written.
+      name_ = std::string(statement_rest(raw));
+      object_ = -1;
+    }
+  }
+
+  // `g`/`o` followed by a space or tab (a bare "g" names nothing and is ignored).
+  static bool is_name_statement(std::string_view raw, char keyword) {
+    const std::size_t k = raw.find_first_not_of(" \t");
+    return k != std::string_view::npos && k + 1 < raw.size() && raw[k] == keyword &&
+           (raw[k + 1] == ' ' || raw[k + 1] == '\t');
+  }
+  // What follows the keyword's one-character name and its separator.
+  static std::string_view statement_rest(std::string_view raw) {
+    return raw.substr(raw.find_first_not_of(" \t") + 2);
+  }
+
+  // `g a b`: the group names joined by one space (one object per distinct list); `g ` alone
+  // returns to the unnamed object.
+  void group(std::string_view raw) {
+    std::vector<std::string_view> names;
+    split_into(statement_rest(raw), names);
+    name_.clear();
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      if (i > 0) name_ += ' ';
+      name_ += names[i];
+    }
+    object_ = -1;
+  }
+
+  void mtllib(const std::vector<std::string_view>& f, std::string_view raw) {
+    if (f.size() < 2) fail("mtllib without a file name");
+    for (std::size_t i = 1; i < f.size(); ++i) {
+      const std::string mtl = directory_of(path_) + "/" + std::string(f[i]);
+      if (std::ifstream(mtl)) {
+        if (std::find(mtl_files_.begin(), mtl_files_.end(), mtl) == mtl_files_.end())
+          mtl_files_.push_back(mtl);
+      } else if (missing_mtl_line_ == 0) {
+        missing_mtl_line_ = line_;
+        missing_mtl_ = mtl;
+      }
+    }
+    // File names split on spaces, a backslash escaping the next character (writers escape
+    // spaces in names this way); the comment is part of the raw line, as for object names.
+    std::vector<std::string> names(1);
+    bool escaped = false;
+    const std::size_t keyword = static_cast<std::size_t>(f[0].data() - raw.data());
+    const std::string_view rest = raw.substr(keyword + f[0].size() + 1);
+    for (const char c : rest) {
+      if (!escaped && c == '\\') {
+        escaped = true;
+        continue;
+      }
+      if (!escaped && c == ' ') {
+        if (!names.back().empty()) names.emplace_back();
+      } else {
+        names.back() += c;
+      }
+      escaped = false;
+    }
+    if (names.back().empty()) names.pop_back();
+    mtllib_names_.push_back(std::move(names));
+  }
+
+  // Checks the face's vertex references and, for a mesh, stores it: up to 4 vertices as one
+  // Face, more as a fan from the first vertex (exact for the convex polygons exporters write).
+  // Face::material holds the index of the face's `usemtl` statement until read_obj resolves it.
+  void face(const std::vector<std::string_view>& f) {
+    poly_v_.clear();
+    poly_uv_.clear();
+    for (std::size_t i = 1; i < f.size(); ++i) face_vertex(f[i]);
+    if (mesh_ == nullptr) return;
+    if (object_ < 0) {
+      const std::string name = name_.empty() ? "default" : name_;
+      const auto [it, inserted] =
+          object_ids_.emplace(name, static_cast<int>(mesh_->objects.size()));
+      if (inserted) mesh_->objects.push_back(name);
+      object_ = it->second;
+    }
+    Face face;
+    face.material = static_cast<int>(usemtl_.size()) - 1;
+    face.object = object_;
+    const int n = static_cast<int>(poly_v_.size());
+    if (n <= 4) {
+      face.count = n;
+      std::copy(poly_v_.begin(), poly_v_.end(), face.v.begin());
+      std::copy(poly_uv_.begin(), poly_uv_.end(), face.uv.begin());
+      mesh_->faces.push_back(face);
+      return;
+    }
+    face.count = 3;
+    for (int k = 1; k + 1 < n; ++k) {
+      face.v = {poly_v_[0], poly_v_[k], poly_v_[k + 1], -1};
+      face.uv = {poly_uv_[0], poly_uv_[k], poly_uv_[k + 1], -1};
+      mesh_->faces.push_back(face);
     }
   }
 
@@ -122,6 +273,18 @@ class ObjPrescan {
   static bool is_image_map(std::string_view keyword) {
     return keyword == "map_Kd" || keyword == "map_Ks" || keyword == "map_bump" ||
            keyword == "map_Bump" || keyword == "bump" || keyword == "norm" || keyword == "disp";
+  }
+
+  void mtl_statement(const std::vector<std::string_view>& f) {
+    if (is_image_map(f[0])) return check_image_map(f);
+    const bool colour =
+        f[0] == "Ka" || f[0] == "Kd" || f[0] == "Ks" || f[0] == "Ke" || f[0] == "Tf";
+    const bool scalar = f[0] == "Ns" || f[0] == "Ni" || f[0] == "d" || f[0] == "Tr";
+    if (!colour && !scalar) return;
+    if (colour && f.size() > 1 && (f[1] == "spectral" || f[1] == "xyz")) return;
+    if (f.size() < 2) fail(std::string(f[0]) + " needs a value");
+    const std::string what = "material statement " + std::string(f[0]);
+    for (std::size_t i = 1; i < f.size(); ++i) (void)number(f[i], what.c_str());
   }
 
   // `keyword [-option values...] file`: tinyobjloader parses the options (-bm is kept as the
@@ -142,45 +305,69 @@ class ObjPrescan {
     image_files_.push_back(file);
   }
 
-  void check_numbers(const std::vector<std::string_view>& f, const char* what) const {
-    for (std::size_t i = 1; i < f.size(); ++i) {
-      const auto value = detail::parse_number<double>(f[i]);
-      if (!value) fail("invalid number '" + std::string(f[i]) + "' in " + what);
-      if (!std::isfinite(*value)) fail("non-finite value '" + std::string(f[i]) + "' in " + what);
-      if (!detail::fits_real(*value))
-        fail("value '" + std::string(f[i]) + "' in " + what + " is beyond the " +
-             detail::real_range_name() + " range (non-finite once uploaded)");
-    }
+  // A finite number that stays finite in Real, else an error naming the field.
+  double number(std::string_view field, const char* what) const {
+    const auto value = detail::parse_number<double>(field);
+    if (!value) fail("invalid number '" + std::string(field) + "' in " + what);
+    if (!std::isfinite(*value)) fail("non-finite value '" + std::string(field) + "' in " + what);
+    if (!detail::fits_real(*value))
+      fail("value '" + std::string(field) + "' in " + what + " is beyond the " +
+           detail::real_range_name() + " range (non-finite once uploaded)");
+    return *value;
   }
 
-  void check_index(std::string_view field, long count, const char* what) const {
-    const auto value = detail::parse_number<long>(field);
+  // A 1-based (or negative, relative to the end) index checked against the `count` defined so
+  // far, returned 0-based.
+  int index(std::string_view field, long count, const char* what) const {
+    const std::optional<long> value = parse_index(field);
     if (!value) fail("invalid " + std::string(what) + " index '" + std::string(field) + "'");
     if (*value == 0) fail(std::string(what) + " index 0 is invalid (OBJ indices start at 1)");
     if (*value > count || -*value > count)
       fail(std::string(what) + " index " + std::to_string(*value) + " out of range (" +
            std::to_string(count) + " defined so far)");
+    return static_cast<int>(*value > 0 ? *value - 1 : count + *value);
   }
 
-  void check_face_vertex(std::string_view ref) const {
+  // Most indices are a few plain digits: read those directly, anything else (a sign, a long or
+  // malformed number) as detail::parse_number reads it.
+  static std::optional<long> parse_index(std::string_view field) {
+    if (field.empty() || field.size() > 9) return detail::parse_number<long>(field);
+    long value = 0;
+    for (const char c : field) {
+      if (c < '0' || c > '9') return detail::parse_number<long>(field);
+      value = 10 * value + (c - '0');
+    }
+    return value;
+  }
+
+  // `v`, `v/vt`, `v//vn` or `v/vt/vn`: appends the vertex and texture-coordinate indices.
+  void face_vertex(std::string_view ref) {
     const std::size_t s1 = ref.find('/');
-    check_index(ref.substr(0, s1), nv_, "vertex");
+    poly_v_.push_back(index(ref.substr(0, s1), nv_, "vertex"));
+    poly_uv_.push_back(-1);
     if (s1 == std::string_view::npos) return;
     const std::string_view rest = ref.substr(s1 + 1);
     const std::size_t s2 = rest.find('/');
     const std::string_view vt = rest.substr(0, s2);
-    if (!vt.empty()) check_index(vt, nvt_, "texture coordinate");
+    if (!vt.empty()) poly_uv_.back() = index(vt, nvt_, "texture coordinate");
     if (s2 == std::string_view::npos) return;
     const std::string_view vn = rest.substr(s2 + 1);
     if (vn.empty() || vn.find('/') != std::string_view::npos)
       fail("malformed face vertex '" + std::string(ref) + "'");
-    check_index(vn, nvn_, "normal");
+    (void)index(vn, nvn_, "normal");
   }
 
   const std::string& path_;
+  Mesh* mesh_;
   long line_ = 0;
   long nv_ = 0, nvt_ = 0, nvn_ = 0;
-  std::vector<std::pair<std::string, long>> usemtl_;
+  std::vector<std::string_view> fields_;
+  std::vector<int> poly_v_, poly_uv_;
+  std::string name_;  // the current `g`/`o` name ("" until one is given)
+  int object_ = -1;   // its Mesh::objects id, -1 until a face under it is stored
+  std::map<std::string, int> object_ids_;
+  std::vector<UseMtl> usemtl_;
+  std::vector<std::vector<std::string>> mtllib_names_;
   std::vector<std::string> mtl_files_;
   std::vector<std::string> image_files_;
   long missing_mtl_line_ = 0;
@@ -221,84 +408,74 @@ bool material_is_finite(const Material& m) {
          std::isfinite(m.maps.bump_scale) && std::isfinite(m.maps.displacement_scale);
 }
 
+// The materials of the libraries an OBJ names, read as tinyobjloader reads them: of each
+// `mtllib` statement's files, the first that was not read before and opens; a name keeps its
+// first definition.
+struct MaterialLibraries {
+  std::vector<tinyobj::material_t> materials;
+  std::map<std::string, int> ids;
+  std::vector<std::size_t> count_after;  // materials.size() after each `mtllib` statement
+};
+
+MaterialLibraries read_material_libraries(const std::string& folder, const ObjScan& scan) {
+  MaterialLibraries out;
+  std::set<std::string> read;
+  for (const std::vector<std::string>& names : scan.mtllib_names()) {
+    for (const std::string& name : names) {
+      if (read.count(name) != 0) continue;
+      const std::string file = folder + "/" + name;
+      if (!std::ifstream(file)) continue;
+      std::istringstream text(detail::read_text_file(file));
+      std::string warnings, errors;
+      tinyobj::LoadMtl(&out.ids, &out.materials, &text, &warnings, &errors);
+      read.insert(name);
+      break;
+    }
+    out.count_after.push_back(out.materials.size());
+  }
+  return out;
+}
+
+// The material id of each `usemtl` statement: a material counts only when its library was named
+// before the statement (as a reader going through the file once sees it), else -1.
+std::vector<int> usemtl_material_ids(const std::vector<ObjScan::UseMtl>& usemtl,
+                                     const MaterialLibraries& libraries) {
+  std::vector<int> ids;
+  for (const ObjScan::UseMtl& use : usemtl) {
+    const auto it = libraries.ids.find(use.name);
+    const bool known_then =
+        it != libraries.ids.end() && use.libraries_before > 0 &&
+        static_cast<std::size_t>(it->second) < libraries.count_after[use.libraries_before - 1];
+    ids.push_back(known_then ? it->second : -1);
+  }
+  return ids;
+}
+
 }  // namespace
 
 Mesh read_obj(const std::string& path) {
-  const std::string text = detail::read_text_file(path);
-  ObjPrescan prescan(path);
-  prescan.run(text);
-  for (const std::string& mtl : prescan.mtl_files()) {
-    const std::string mtl_text = detail::read_text_file(mtl);
-    ObjPrescan(mtl).run_mtl(mtl_text);
-  }
-
-  // Polygons come back as written: quads stay quads (a Face holds up to 4 vertices, as in .bs
-  // files) and larger ones are fanned below by the same rule for every reader.
-  tinyobj::ObjReaderConfig config;
-  config.triangulate = false;
-  config.vertex_color = false;
-  config.mtl_search_path = directory_of(path);
-  tinyobj::ObjReader reader;
-  if (!reader.ParseFromFile(path, config))
-    throw InputError(path, 0, "OBJ parse failed: " + reader.Error());
-
   Mesh mesh;
-  for (const tinyobj::material_t& m : reader.GetMaterials()) {
-    mesh.materials.push_back(to_material(m, config.mtl_search_path));
+  ObjScan scan(path, &mesh);
+  scan.run(detail::read_text_file(path));
+  for (const std::string& mtl : scan.mtl_files()) ObjScan(mtl).run_mtl(detail::read_text_file(mtl));
+
+  const MaterialLibraries libraries = read_material_libraries(directory_of(path), scan);
+  for (const tinyobj::material_t& m : libraries.materials) {
+    mesh.materials.push_back(to_material(m, directory_of(path)));
     if (!material_is_finite(mesh.materials.back()))
       throw InputError(path, 0, "material '" + m.name + "' has a non-finite value");
   }
-  for (const auto& [name, line] : prescan.usemtl()) {
-    // C++17 lambdas cannot capture a structured binding (Clang refuses; GCC allows it).
-    const std::string& wanted = name;
+  for (const ObjScan::UseMtl& use : scan.usemtl()) {
+    if (use.glued) continue;
     const bool known = std::any_of(mesh.materials.begin(), mesh.materials.end(),
-                                   [&wanted](const Material& m) { return m.name == wanted; });
+                                   [&use](const Material& m) { return m.name == use.name; });
     if (!known)
-      throw InputError(path, line, "material '" + name + "' is not defined in any mtllib");
+      throw InputError(path, use.line, "material '" + use.name + "' is not defined in any mtllib");
   }
-
-  const std::vector<tinyobj::real_t>& v = reader.GetAttrib().vertices;
-  mesh.positions.reserve(v.size() / 3);
-  for (std::size_t i = 0; i + 2 < v.size(); i += 3)
-    mesh.positions.emplace_back(v[i], v[i + 1], v[i + 2]);
-  const std::vector<tinyobj::real_t>& vt = reader.GetAttrib().texcoords;
-  mesh.texcoords.reserve(vt.size() / 2);
-  for (std::size_t i = 0; i + 1 < vt.size(); i += 2)
-    mesh.texcoords.push_back({static_cast<float>(vt[i]), static_cast<float>(vt[i + 1])});
-
-  // Objects by name: OBJ files may reopen a group ("g wall") later; its faces join the first.
-  std::map<std::string, int> object_ids;
-  for (const tinyobj::shape_t& shape : reader.GetShapes()) {
-    const std::string name = shape.name.empty() ? "default" : shape.name;
-    const auto [it, inserted] = object_ids.emplace(name, static_cast<int>(mesh.objects.size()));
-    if (inserted) mesh.objects.push_back(name);
-    std::size_t base = 0;
-    for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
-      const int n = shape.mesh.num_face_vertices[f];
-      const auto index = [&](int k) { return shape.mesh.indices[base + k].vertex_index; };
-      const auto uv = [&](int k) { return shape.mesh.indices[base + k].texcoord_index; };
-      Face face;
-      face.material = shape.mesh.material_ids[f];
-      face.object = it->second;
-      if (n <= 4) {
-        face.count = n;
-        for (int k = 0; k < n; ++k) {
-          face.v[k] = index(k);
-          face.uv[k] = uv(k);
-        }
-        mesh.faces.push_back(face);
-      } else {
-        // A fan from the first vertex: exact for the convex polygons OBJ exporters write.
-        face.count = 3;
-        for (int k = 1; k + 1 < n; ++k) {
-          face.v = {index(0), index(k), index(k + 1), -1};
-          face.uv = {uv(0), uv(k), uv(k + 1), -1};
-          mesh.faces.push_back(face);
-        }
-      }
-      base += n;
-    }
-  }
+  // Faces carry the index of their `usemtl` statement until here.
+  const std::vector<int> ids = usemtl_material_ids(scan.usemtl(), libraries);
+  for (Face& face : mesh.faces)
+    if (face.material >= 0) face.material = ids[static_cast<std::size_t>(face.material)];
   return mesh;
 }
 
@@ -308,11 +485,11 @@ std::vector<std::string> mesh_files(const std::string& path) {
   if (is_gltf_extension(lower_extension(path))) return gltf_files(path);
   std::vector<std::string> files{path};
   if (lower_extension(path) != ".obj") return files;
-  ObjPrescan prescan(path);
-  prescan.run(detail::read_text_file(path));
-  files.insert(files.end(), prescan.mtl_files().begin(), prescan.mtl_files().end());
-  for (const std::string& mtl : prescan.mtl_files()) {
-    ObjPrescan library(mtl);
+  ObjScan scan(path);
+  scan.run(detail::read_text_file(path));
+  files.insert(files.end(), scan.mtl_files().begin(), scan.mtl_files().end());
+  for (const std::string& mtl : scan.mtl_files()) {
+    ObjScan library(mtl);
     library.run_mtl(detail::read_text_file(mtl));
     files.insert(files.end(), library.image_files().begin(), library.image_files().end());
   }

@@ -1,5 +1,6 @@
 #include "rtmini/io/text_fields.hpp"
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -10,9 +11,22 @@ namespace rtmini::detail {
 // Binary mode: the bytes are the file's (no newline translation), so byte offsets in error
 // messages match the file; the line parsers strip '\r' themselves. A path that cannot be opened
 // is the user's input (InputError, exit 2); a read failing after that is the system's (exit 3).
+// A regular file is read at once into a buffer of its size (a copy through an ostringstream costs
+// as much as parsing the mesh); anything else (a pipe, a folder) goes through the stream.
 std::string read_text_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "cannot open file");
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(path, ec)) {
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    if (!ec) {
+      std::string text(static_cast<std::size_t>(size), '\0');
+      in.read(text.data(), static_cast<std::streamsize>(size));
+      if (in.bad()) throw IoError(path + ": read error");
+      text.resize(static_cast<std::size_t>(in.gcount()));  // a file that shrank meanwhile
+      return text;
+    }
+  }
   std::ostringstream buffer;
   buffer << in.rdbuf();
   if (in.bad()) throw IoError(path + ": read error");

@@ -3,8 +3,11 @@
 // Format Specification"). Instancing is kept: each stored mesh's positions and
 // indices are written once and shared by the primitives of its instances.
 #include <cstring>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <utility>
+#include <vector>
 
 #include "ao_output.hpp"
 #include "rtmini/io/atomic_file.hpp"
@@ -29,26 +32,39 @@ void pad4(std::string& buf, char fill) {
   while (buf.size() % 4 != 0) buf.push_back(fill);
 }
 
+std::size_t round_up4(std::size_t n) { return (n + 3) / 4 * 4; }
+
+// The BIN chunk is laid out first (offsets and lengths go into the JSON, which precedes it in
+// the file) and filled afterwards straight into the file's one buffer: no copy per view.
 struct GltfBuilder {
   nlohmann::json views = nlohmann::json::array();
   nlohmann::json accessors = nlohmann::json::array();
-  std::string bin;
+  std::size_t bin_size = 0;
+  // Per view: where it starts in the BIN chunk and what writes its bytes there.
+  std::vector<std::pair<std::size_t, std::function<void(char*)>>> fills;
 
-  // Appends bytes as a new bufferView (4-byte aligned) and returns its index.
-  int add_view(const std::string& bytes, int target) {
-    pad4(bin, '\0');
-    views.push_back({{"buffer", 0},
-                     {"byteOffset", bin.size()},
-                     {"byteLength", bytes.size()},
-                     {"target", target}});
-    bin += bytes;
+  // Reserves `bytes` bytes as a new bufferView (4-byte aligned) and returns its index.
+  int add_view(std::size_t bytes, int target, std::function<void(char*)> fill) {
+    bin_size = round_up4(bin_size);
+    views.push_back(
+        {{"buffer", 0}, {"byteOffset", bin_size}, {"byteLength", bytes}, {"target", target}});
+    fills.emplace_back(bin_size, std::move(fill));
+    bin_size += bytes;
     return static_cast<int>(views.size()) - 1;
   }
+
   int add_accessor(nlohmann::json acc) {
     accessors.push_back(std::move(acc));
     return static_cast<int>(accessors.size()) - 1;
   }
 };
+
+// Stores floats (or 32-bit indices) one after the other from `out`.
+template <class T>
+char* store(char* out, T v) {
+  std::memcpy(out, &v, sizeof(T));
+  return out + sizeof(T);
+}
 
 }  // namespace
 
@@ -65,21 +81,26 @@ void write_ao_glb(const std::string& path, const AoResult& res) {
     if (mesh.tris.empty() || mesh.positions.empty()) continue;  // glTF accessors need count >= 1
     auto it = shared.find(inst.mesh);
     if (it == shared.end()) {
-      std::string pos, idx;
       float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
       for (const Vec3d& p : mesh.positions) {
         const float f[3] = {static_cast<float>(p.x), static_cast<float>(p.y),
                             static_cast<float>(p.z)};
         for (int k = 0; k < 3; ++k) {
-          put(pos, f[k]);
           lo[k] = std::min(lo[k], f[k]);
           hi[k] = std::max(hi[k], f[k]);
         }
       }
-      for (const auto& t : mesh.tris)
-        for (int k = 0; k < 3; ++k) put(idx, static_cast<std::uint32_t>(t[k]));
-      const int pv = g.add_view(pos, kArrayBuffer);
-      const int iv = g.add_view(idx, kElementArrayBuffer);
+      const int pv = g.add_view(mesh.positions.size() * 12, kArrayBuffer, [&mesh](char* out) {
+        for (const Vec3d& p : mesh.positions) {
+          out = store(out, static_cast<float>(p.x));
+          out = store(out, static_cast<float>(p.y));
+          out = store(out, static_cast<float>(p.z));
+        }
+      });
+      const int iv = g.add_view(mesh.tris.size() * 12, kElementArrayBuffer, [&mesh](char* out) {
+        for (const auto& t : mesh.tris)
+          for (int k = 0; k < 3; ++k) out = store(out, static_cast<std::uint32_t>(t[k]));
+      });
       const int pa = g.add_accessor({{"bufferView", pv},
                                      {"componentType", kFloat},
                                      {"count", mesh.positions.size()},
@@ -92,14 +113,14 @@ void write_ao_glb(const std::string& path, const AoResult& res) {
                                      {"type", "SCALAR"}});
       it = shared.emplace(inst.mesh, std::make_pair(pa, ia)).first;
     }
-    std::string col;
-    for (std::int64_t v = plan.vertex_base[r]; v < plan.vertex_base[r + 1]; ++v) {
-      const float c = std::min(1.0f, std::max(0.0f, res.values[v]));
-      put(col, c);
-      put(col, c);
-      put(col, c);
-    }
-    const int cv = g.add_view(col, kArrayBuffer);
+    const std::int64_t first = plan.vertex_base[r], last = plan.vertex_base[r + 1];
+    const int cv = g.add_view(static_cast<std::size_t>(last - first) * 12, kArrayBuffer,
+                              [&res, first, last](char* out) {
+                                for (std::int64_t v = first; v < last; ++v) {
+                                  const float c = std::min(1.0f, std::max(0.0f, res.values[v]));
+                                  for (int k = 0; k < 3; ++k) out = store(out, c);
+                                }
+                              });
     const int ca = g.add_accessor({{"bufferView", cv},
                                    {"componentType", kFloat},
                                    {"count", mesh.positions.size()},
@@ -121,7 +142,7 @@ void write_ao_glb(const std::string& path, const AoResult& res) {
     nodes.push_back(node);
     roots.push_back(nodes.size() - 1);
   }
-  pad4(g.bin, '\0');
+  const std::size_t bin_size = round_up4(g.bin_size);
   nlohmann::json doc = {{"asset", {{"version", "2.0"}, {"generator", "rtmini bake --mode ao"}}},
                         {"scene", 0},
                         {"scenes", {{{"nodes", roots}}}},
@@ -129,19 +150,22 @@ void write_ao_glb(const std::string& path, const AoResult& res) {
                         {"meshes", meshes},
                         {"accessors", g.accessors},
                         {"bufferViews", g.views},
-                        {"buffers", {{{"byteLength", g.bin.size()}}}}};
+                        {"buffers", {{{"byteLength", bin_size}}}}};
   std::string json = doc.dump();
   pad4(json, ' ');
   std::string out;
+  out.reserve(12 + 8 + json.size() + 8 + bin_size);
   put(out, kGlbMagic);
   put(out, std::uint32_t{2});
-  put(out, static_cast<std::uint32_t>(12 + 8 + json.size() + 8 + g.bin.size()));
+  put(out, static_cast<std::uint32_t>(12 + 8 + json.size() + 8 + bin_size));
   put(out, static_cast<std::uint32_t>(json.size()));
   put(out, kChunkJson);
   out += json;
-  put(out, static_cast<std::uint32_t>(g.bin.size()));
+  put(out, static_cast<std::uint32_t>(bin_size));
   put(out, kChunkBin);
-  out += g.bin;
+  const std::size_t bin_start = out.size();
+  out.resize(bin_start + bin_size, '\0');  // the padding between views stays zero
+  for (const auto& [offset, fill] : g.fills) fill(out.data() + bin_start + offset);
   write_text_atomic(path, out);
 }
 

@@ -89,6 +89,57 @@ TEST(ObjReader, MissingLibraryWithoutUsemtlIsHarmless) {
   EXPECT_TRUE(m.materials.empty());
 }
 
+// Object names as OBJ writers mean them: `g` joins its names with one space, `o` keeps the rest
+// of its line as written, a bare `g`/`o` changes nothing, and a name gets its id at its first face
+// (the same rules as tinyobjloader, which read_obj used before).
+TEST(ObjReader, GroupAndObjectNames) {
+  test::TempDir dir;
+  test::write_file(dir.file("n.obj"),
+                   "v 0 0 0\nv 1 0 0\nv 0 1 0\ng unused\ng\nf 1 2 3\ng a\tb  c\nf 1 2 3\n"
+                   "o  spaced \nf 3 2 1\no\nf 1 3 2\ng a b c\nf 2 3 1\n");
+  const Mesh m = read_obj(dir.file("n.obj"));
+  ASSERT_EQ(m.faces.size(), 5u);
+  EXPECT_EQ(m.objects, (std::vector<std::string>{"unused", "a b c", " spaced "}));
+  const std::vector<int> expected{0, 1, 2, 2, 1};
+  for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(m.faces[i].object, expected[i]);
+}
+
+// A face's material is the one its `usemtl` names if a library named before that statement
+// defines it (-1 otherwise; a name defined in no library at all is an error). Of one `mtllib`
+// statement's files the first not read before is read; a name keeps its first definition.
+TEST(ObjReader, MaterialsKnownFromTheirLibraryOn) {
+  test::TempDir dir;
+  test::write_file(dir.file("l1.mtl"), "newmtl a\nKd 1 0 0\nnewmtl b\nKd 0 1 0\n");
+  test::write_file(dir.file("l2.mtl"), "newmtl b\nKd 0 0 1\nnewmtl c\nKd 1 1 0\n");
+  test::write_file(dir.file("m.obj"),
+                   "mtllib l1.mtl l2.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl c\nf 1 2 3\n"
+                   "mtllib l1.mtl l2.mtl\nusemtl c\nf 1 2 3\nusemtl b\nf 1 2 3\n");
+  const Mesh m = read_obj(dir.file("m.obj"));
+  ASSERT_EQ(m.materials.size(), 4u);  // a b from l1, then b c from l2
+  EXPECT_EQ(m.materials[3].name, "c");
+  ASSERT_EQ(m.faces.size(), 3u);
+  EXPECT_EQ(m.faces[0].material, -1);  // l2 was not read yet
+  EXPECT_EQ(m.faces[1].material, 3);
+  EXPECT_EQ(m.faces[2].material, 1);  // l1's b
+}
+
+// CRLF line ends, a one-field `vt` (v = 0), negative texture-coordinate indices, `v//vn`.
+TEST(ObjReader, TexcoordsAndCrlf) {
+  test::TempDir dir;
+  test::write_file(dir.file("t.obj"),
+                   "v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nvt 0.25\r\nvt 0.5 0.75 1\r\nvn 0 0 1\r\n"
+                   "f 1/-2 2/-1 3/1\r\nf 1//1 2//1 3//1\r\n");
+  const Mesh m = read_obj(dir.file("t.obj"));
+  ASSERT_EQ(m.texcoords.size(), 2u);
+  EXPECT_EQ(m.texcoords[0].u, 0.25f);
+  EXPECT_EQ(m.texcoords[0].v, 0.f);
+  EXPECT_EQ(m.texcoords[1].v, 0.75f);
+  ASSERT_EQ(m.faces.size(), 2u);
+  EXPECT_EQ(m.faces[0].uv, (std::array<int, 4>{0, 1, 0, -1}));
+  EXPECT_EQ(m.faces[1].uv, (std::array<int, 4>{-1, -1, -1, -1}));
+  EXPECT_EQ(m.faces[1].v, (std::array<int, 4>{0, 1, 2, -1}));
+}
+
 TEST(ObjReader, UnknownExtensionAndMissingFile) {
   test::TempDir dir;
   EXPECT_THROW(read_mesh(dir.file("mesh.ply")), InputError);
