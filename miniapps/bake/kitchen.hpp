@@ -33,6 +33,10 @@ std::vector<Batch> make_batches(const BakeSceneHost& scene, int ranks, Balance b
 constexpr double kLookupHitCost = 4.7;
 std::vector<double> lookup_hit_cost(const BakeSceneHost& scene, const std::vector<float>& hits);
 
+// The cost of each vertex's mirror trace: the BVH nodes its rays visit (nodes[v], estimated)
+// plus one per colour (every colour entry is a work item, traced or not).
+std::vector<double> mirror_trace_cost(const BakeSceneHost& scene, const std::vector<float>& nodes);
+
 // Spatial ownership: blocks of block_size consecutive vertices (default vertices / (16 ranks),
 // at least 64), ordered by the Morton code of their centroid and cut into `ranks` runs of about
 // equal cost (colours), so a rank owns a compact region of the scene and its rays read more of

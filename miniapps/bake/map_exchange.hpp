@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "bake_scene.hpp"
+#include "kitchen.hpp"
 #include "map_reader.hpp"
 #include "rtmini/parallel/communicator.hpp"
 
@@ -103,5 +104,15 @@ std::vector<Vec3f> gather_global_map(const Communicator& comm, const BakeSceneHo
 // The entries of `layout` copied out of a map in the global order (a restart).
 std::vector<Vec3f> localise_map(const BakeSceneHost& scene, const MapLayout& layout,
                                 const std::vector<Vec3f>& global);
+
+// Moves one record of record_bytes per colour entry from the ownership `from` to the ownership
+// `to` (collective; both ascending vertex ranges over all vertices, as make_batches returns
+// them): `mine` holds this rank's records of its `from` ranges in vertex order; returns those
+// of its `to` ranges, in vertex order. Records that stay on a rank are copied, not sent.
+std::vector<unsigned char> move_entry_records(const Communicator& comm, const BakeSceneHost& scene,
+                                              const std::vector<Batch>& from,
+                                              const std::vector<Batch>& to,
+                                              const std::vector<unsigned char>& mine,
+                                              std::size_t record_bytes);
 
 }  // namespace rtmini::bake
