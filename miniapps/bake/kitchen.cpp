@@ -190,10 +190,11 @@ void write_timings_file(const Communicator& comm, const BakeConfig& c, const Pha
 
 }  // namespace
 
-std::vector<double> lookup_hit_cost(const BakeSceneHost& scene, const std::vector<float>& hits) {
+std::vector<double> lookup_hit_cost(const BakeSceneHost& scene, const std::vector<float>& hits,
+                                    double per_hit) {
   std::vector<double> cost(static_cast<std::size_t>(scene.vertices()));
   for (std::int64_t v = 0; v < scene.vertices(); ++v)
-    cost[v] = static_cast<double>(scene.color_count(v)) + kLookupHitCost * double(hits[v]);
+    cost[v] = static_cast<double>(scene.color_count(v)) + per_hit * double(hits[v]);
   return cost;
 }
 
@@ -454,7 +455,7 @@ void BakeRun::balance_by_pilot() {
       estimate_mirror_costs(*scene_, c_, nv * r / p, nv * (r + 1) / p, kPilotRays, totals_.rays);
   std::vector<double> cost;
   if (c_.balance == Balance::kPilot) {
-    cost = lookup_hit_cost(host_, comm_.allgatherv(mine.lookup_hits));
+    cost = lookup_hit_cost(host_, comm_.allgatherv(mine.lookup_hits), kPilotLookupHitCost);
   } else {
     cost = mirror_trace_cost(host_, comm_.allgatherv(mine.nodes));
   }
@@ -765,8 +766,12 @@ void BakeRun::report_work() {
     const double ratio = mean > 0 ? max / mean : 1.0;
     work[mine[k].first] = {
         {"per_rank", per_rank}, {"max", max}, {"mean", mean}, {"max_over_mean", ratio}};
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%s%s %.3f", k ? ", " : "", mine[k].first, ratio);
+    char buf[80];
+    if (std::string(mine[k].first) == "moved_hits")  // a fraction of all entries, not a balance
+      std::snprintf(buf, sizeof buf, ", traced hits moved %.1f %%",
+                    100.0 * mean / std::max(1.0, work["items"]["mean"].get<double>()));
+    else
+      std::snprintf(buf, sizeof buf, "%s%s %.3f", k ? ", " : "", mine[k].first, ratio);
     line += buf;
   }
   report_.scene["work"] = work;
