@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <csignal>
 #include <cstdio>
-#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <iterator>
@@ -490,13 +489,8 @@ void BakeRun::rebalance_by_traced_cost() {
 
 // The traced hits of ownership `from` to this rank's batches (the current ownership).
 void BakeRun::move_traced_hits(const std::vector<Batch>& from) {
-  const std::vector<TracedHit> old = chef_->traced_hits();
-  std::vector<unsigned char> bytes(old.size() * sizeof(TracedHit));
-  std::memcpy(bytes.data(), old.data(), bytes.size());
-  const std::vector<unsigned char> moved =
-      move_entry_records(comm_, host_, from, batches_, bytes, sizeof(TracedHit));
-  std::vector<TracedHit> hits(static_cast<std::size_t>(my_items_));
-  std::memcpy(hits.data(), moved.data(), moved.size());
+  const std::vector<TracedHit> hits =
+      move_entries(comm_, host_, from, batches_, chef_->traced_hits());
   chef_->adopt_traced_hits(hits);
   // Hits received from other ranks: the entries of this rank's ranges it did not own before.
   moved_hits_ = 0;

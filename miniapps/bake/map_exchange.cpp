@@ -281,11 +281,9 @@ std::vector<Vec3f> localise_map(const BakeSceneHost& scene, const MapLayout& lay
   return local;
 }
 
-std::vector<unsigned char> move_entry_records(const Communicator& comm, const BakeSceneHost& scene,
-                                              const std::vector<Batch>& from,
-                                              const std::vector<Batch>& to,
-                                              const std::vector<unsigned char>& mine,
-                                              std::size_t record_bytes) {
+void move_entry_records(const Communicator& comm, const BakeSceneHost& scene,
+                        const std::vector<Batch>& from, const std::vector<Batch>& to,
+                        const void* mine_records, void* out_records, std::size_t record_bytes) {
   const int me = comm.rank(), ranks = comm.size();
   const auto& off = scene.color_offset;
   // Where each range of `of` starts among `rank`'s records (the last entry: their count).
@@ -296,7 +294,8 @@ std::vector<unsigned char> move_entry_records(const Communicator& comm, const Ba
     return at;
   };
   const std::vector<std::int64_t> from_at = first_record(from, me), to_at = first_record(to, me);
-  std::vector<unsigned char> out(static_cast<std::size_t>(to_at.back()) * record_bytes);
+  const auto* mine = static_cast<const unsigned char*>(mine_records);
+  auto* out = static_cast<unsigned char*>(out_records);
   // Every overlap of a `from` range and a `to` range, in vertex order (both lists ascending): the
   // records a sender packs and a receiver unpacks for each pair of ranks, in the same order.
   struct Overlap {
@@ -321,8 +320,7 @@ std::vector<unsigned char> move_entry_records(const Communicator& comm, const Ba
   for (const Overlap& o : overlaps) {
     const std::size_t bytes = static_cast<std::size_t>(off[o.end] - off[o.begin]) * record_bytes;
     if (o.from_rank == me && o.to_rank == me) {
-      std::copy_n(mine.data() + o.from_record * record_bytes, bytes,
-                  out.data() + o.to_record * record_bytes);
+      std::copy_n(mine + o.from_record * record_bytes, bytes, out + o.to_record * record_bytes);
     } else if (o.from_rank == me) {
       send[o.to_rank] += checked_int(off[o.end] - off[o.begin]);
     } else if (o.to_rank == me) {
@@ -335,7 +333,7 @@ std::vector<unsigned char> move_entry_records(const Communicator& comm, const Ba
   for (const Overlap& o : overlaps) {
     if (o.from_rank != me || o.to_rank == me) continue;
     const std::int64_t n = off[o.end] - off[o.begin];
-    std::copy_n(mine.data() + o.from_record * record_bytes, n * record_bytes,
+    std::copy_n(mine + o.from_record * record_bytes, n * record_bytes,
                 packed.data() + static_cast<std::size_t>(pos[o.to_rank]) * record_bytes);
     pos[o.to_rank] += static_cast<int>(n);
   }
@@ -348,10 +346,9 @@ std::vector<unsigned char> move_entry_records(const Communicator& comm, const Ba
     if (o.to_rank != me || o.from_rank == me) continue;
     const std::int64_t n = off[o.end] - off[o.begin];
     std::copy_n(received.data() + static_cast<std::size_t>(pos[o.from_rank]) * record_bytes,
-                n * record_bytes, out.data() + o.to_record * record_bytes);
+                n * record_bytes, out + o.to_record * record_bytes);
     pos[o.from_rank] += static_cast<int>(n);
   }
-  return out;
 }
 
 }  // namespace rtmini::bake
