@@ -8,7 +8,9 @@
 namespace rtmini::bake {
 
 enum class Lookup { kKdTree, kSphericalFibonacci };
-enum class Balance { kStatic, kCost, kSpatial };
+// kCost: cut by the traced cost (kitchen.cpp, BakeRun::rebalance_by_traced_cost); kPilot: by the
+// pilot's estimate alone (the cut before that, kept to compare).
+enum class Balance { kStatic, kCost, kSpatial, kPilot };
 
 struct BakeConfig {
   std::string input;
@@ -37,7 +39,10 @@ struct BakeConfig {
 
 inline const char* to_string(Lookup l) { return l == Lookup::kKdTree ? "kdtree" : "sf"; }
 inline const char* to_string(Balance b) {
-  return b == Balance::kStatic ? "static" : b == Balance::kCost ? "cost" : "spatial";
+  return b == Balance::kStatic  ? "static"
+         : b == Balance::kCost  ? "cost"
+         : b == Balance::kPilot ? "pilot"
+                                : "spatial";
 }
 
 }  // namespace rtmini::bake

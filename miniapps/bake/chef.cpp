@@ -243,7 +243,8 @@ struct TraceMirrorHits {
   Real coordinate_bound;   // DeviceMesh::coordinate_bound, for offset_ray_origin
   bool two_sided = false;  // BakeConfig::two_sided (mirror_normal)
 
-  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t item, std::int64_t& rays) const {
+  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t item, std::int64_t& rays,
+                                         std::int64_t& nodes) const {
     const std::int64_t v = vertex_of_item(color_offset, vbegin, vend, item);
     const std::int64_t first = color_offset(v);
     const std::int64_t slot = cache_offset + (item - item_begin);
@@ -254,8 +255,10 @@ struct TraceMirrorHits {
       Ray ray;
       ray.org = offset_ray_origin(positions(v), n, coordinate_bound);
       ray.dir = mirror_direction(d, n);
-      const Hit hit = bvh::closest_hit(accel, ray);
+      bvh::TraversalStats stats;  // the same hit as without; the nodes measure the trace's work
+      const Hit hit = bvh::closest_hit(accel, ray, stats);
       ++rays;
+      nodes += stats.nodes;
       t.prim = hit.prim;
       t.u = hit.u;
       t.v = hit.v;
@@ -305,10 +308,11 @@ struct TraceReference {
 
 }  // namespace
 
-std::vector<float> estimate_lookup_hits(const BakeSceneDevice& scene, const BakeConfig& config,
-                                        std::int64_t begin, std::int64_t end, int samples,
-                                        std::int64_t& rays) {
+MirrorCostEstimate estimate_mirror_costs(const BakeSceneDevice& scene, const BakeConfig& config,
+                                         std::int64_t begin, std::int64_t end, int samples,
+                                         std::int64_t& rays) {
   Kokkos::View<float*, MemSpace> hits("rtmini::bake::pilot_hits", end - begin);
+  Kokkos::View<float*, MemSpace> nodes("rtmini::bake::pilot_nodes", end - begin);
   const Bvh accel = scene.mesh.accel;
   const auto positions = scene.mesh.positions;
   const auto normal = scene.normal;
@@ -320,13 +324,14 @@ std::vector<float> estimate_lookup_hits(const BakeSceneDevice& scene, const Bake
   const bool two_sided = config.two_sided;
   std::int64_t traced = 0;
   Kokkos::parallel_reduce(
-      "rtmini::bake::pilot_lookup_hits",
+      "rtmini::bake::pilot_mirror_costs",
       Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>, Kokkos::Schedule<Kokkos::Dynamic>>(
           begin, end),
       KOKKOS_LAMBDA(std::int64_t v, std::int64_t & count) {
         if (color_offset(v + 1) - color_offset(v) <= 1) return;
         Ray ray;
         int hit = 0;
+        bvh::TraversalStats stats;
         for (int s = 0; s < samples; ++s) {
           // Fibonacci points are ordered by height: every n/samples-th spans the sphere.
           const int view =
@@ -334,7 +339,7 @@ std::vector<float> estimate_lookup_hits(const BakeSceneDevice& scene, const Bake
           const Vec3 m = mirror_normal(views(view), normal(v), two_sided);
           ray.org = offset_ray_origin(positions(v), m, bound);
           ray.dir = mirror_direction(views(view), m);
-          const int prim = bvh::closest_hit(accel, ray).prim;
+          const int prim = bvh::closest_hit(accel, ray, stats).prim;
           if (prim < 0) continue;
           // Only a view-dependent vertex of the hit triangle costs a viewpoint lookup.
           bool lookup = false;
@@ -345,13 +350,15 @@ std::vector<float> estimate_lookup_hits(const BakeSceneDevice& scene, const Bake
           hit += lookup ? 1 : 0;
         }
         count += samples;
-        hits(v - begin) =
-            static_cast<float>(n) * static_cast<float>(hit) / static_cast<float>(samples);
+        const float scale = static_cast<float>(n) / static_cast<float>(samples);
+        hits(v - begin) = scale * static_cast<float>(hit);
+        nodes(v - begin) = scale * static_cast<float>(stats.nodes);
       },
       traced);
   rays += traced;
-  std::vector<float> out;
-  compat::download(hits, out);
+  MirrorCostEstimate out;
+  compat::download(hits, out.lookup_hits);
+  compat::download(nodes, out.nodes);
   return out;
 }
 
@@ -398,9 +405,7 @@ std::int64_t Chef::trace_reference(std::int64_t begin, std::int64_t end,
   return trace_items("rtmini::bake::trace_reference", item_range(map_offset_, begin, end), k);
 }
 
-ReadCount Chef::trace_mirror_hits(std::int64_t begin, std::int64_t end, std::int64_t cache_offset,
-                                  Kokkos::View<const char*, MemSpace> owned,
-                                  Kokkos::View<char*, MemSpace> read) {
+ReadCount Chef::trace_mirror_hits(std::int64_t begin, std::int64_t end, std::int64_t cache_offset) {
   if (traced_.extent(0) == 0)
     traced_ = Kokkos::View<TracedHit*, MemSpace>("rtmini::bake::traced_hits", local_items_);
   const ItemRange items = item_range(scene_.color_offset, begin, end);
@@ -419,29 +424,112 @@ ReadCount Chef::trace_mirror_hits(std::int64_t begin, std::int64_t end, std::int
                     scene_.mesh.coordinate_bound};
   k.two_sided = config_.two_sided;
   ReadCount count;
-  count.rays = trace_items("rtmini::bake::trace_mirror_hits", items, k);
+  Kokkos::parallel_reduce(
+      "rtmini::bake::trace_mirror_hits",
+      Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>, Kokkos::Schedule<Kokkos::Dynamic>>(
+          items.first, items.end),
+      KOKKOS_LAMBDA(std::int64_t item, std::int64_t & rays, std::int64_t & nodes) {
+        k(item, rays, nodes);
+      },
+      count.rays, count.nodes);
+  return count;
+}
+
+ReadCount Chef::count_mirror_reads(std::int64_t begin, std::int64_t end, std::int64_t cache_offset,
+                                   Kokkos::View<const char*, MemSpace> owned,
+                                   Kokkos::View<char*, MemSpace> read) const {
+  const ItemRange items = item_range(scene_.color_offset, begin, end);
   // Which vertices the hits read (flags: any rank writing 1 is enough), and how many are remote.
   auto traced = traced_;
   auto tri_vertices = scene_.mesh.tri_vertices;
+  auto color_offset = scene_.color_offset;
   const std::int64_t first_slot = cache_offset;
-  double reads = 0, remote = 0;
+  std::int64_t lookups = 0, reads = 0, view_reads = 0, remote = 0;
   Kokkos::parallel_reduce(
       "rtmini::bake::mark_read_vertices",
       Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(0, items.end - items.first),
-      KOKKOS_LAMBDA(std::int64_t i, double& n, double& r) {
+      KOKKOS_LAMBDA(std::int64_t i, std::int64_t & l, std::int64_t & n, std::int64_t & vd,
+                    std::int64_t & r) {
         const int prim = traced(first_slot + i).prim;
         if (prim < 0) return;
+        bool lookup = false;
         for (int k3 = 0; k3 < 3; ++k3) {
           const int vert = tri_vertices(prim, k3);
+          const bool dependent = color_offset(vert + 1) - color_offset(vert) > 1;
           read(vert) = 1;
           n += 1;
+          vd += dependent ? 1 : 0;
+          lookup = lookup || dependent;
           if (!owned(vert)) r += 1;
         }
+        l += lookup ? 1 : 0;
       },
-      reads, remote);
-  count.reads = static_cast<std::int64_t>(reads);
-  count.remote_reads = static_cast<std::int64_t>(remote);
+      lookups, reads, view_reads, remote);
+  ReadCount count;
+  count.lookups = lookups;
+  count.reads = reads;
+  count.view_reads = view_reads;
+  count.remote_reads = remote;
   return count;
+}
+
+std::vector<float> Chef::lookup_hits(std::int64_t begin, std::int64_t end,
+                                     std::int64_t cache_offset) const {
+  Kokkos::View<float*, MemSpace> hits("rtmini::bake::lookup_hits", end - begin);
+  auto traced = traced_;
+  auto tri_vertices = scene_.mesh.tri_vertices;
+  auto color_offset = scene_.color_offset;
+  std::int64_t vertex_begin_item = 0;
+  Kokkos::deep_copy(vertex_begin_item, Kokkos::subview(color_offset, begin));
+  const std::int64_t slot0 = cache_offset - vertex_begin_item;  // slot of global item g: slot0 + g
+  Kokkos::parallel_for(
+      "rtmini::bake::lookup_hits",
+      Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(begin, end),
+      KOKKOS_LAMBDA(std::int64_t v) {
+        if (color_offset(v + 1) - color_offset(v) <= 1) return;
+        int count = 0;
+        for (std::int64_t g = color_offset(v); g < color_offset(v + 1); ++g) {
+          const int prim = traced(slot0 + g).prim;
+          if (prim < 0) continue;
+          bool lookup = false;
+          for (int k = 0; k < 3; ++k) {
+            const int q = tri_vertices(prim, k);
+            lookup = lookup || color_offset(q + 1) - color_offset(q) > 1;
+          }
+          count += lookup ? 1 : 0;
+        }
+        hits(v - begin) = static_cast<float>(count);
+      });
+  std::vector<float> out;
+  compat::download(hits, out);
+  return out;
+}
+
+std::vector<TracedHit> Chef::traced_hits() const {
+  std::vector<TracedHit> out;
+  compat::download(traced_, out);
+  return out;
+}
+
+void Chef::adopt_traced_hits(const std::vector<TracedHit>& hits) {
+  local_items_ = static_cast<std::int64_t>(hits.size());
+  traced_ = compat::upload<MemSpace>("rtmini::bake::traced_hits", hits);
+  if (cache_.extent(0) == 0) return;
+  // The float cache holds the same hits as the trace filled it with.
+  cache_ = Kokkos::View<CachedHit*, MemSpace>("rtmini::bake::hit_cache", local_items_);
+  auto cache = cache_;
+  auto traced = traced_;
+  Kokkos::parallel_for(
+      "rtmini::bake::fill_hit_cache",
+      Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(0, local_items_),
+      KOKKOS_LAMBDA(std::int64_t i) {
+        const TracedHit t = traced(i);
+        CachedHit h;
+        h.prim = t.prim;
+        h.u = static_cast<float>(t.u);
+        h.v = static_cast<float>(t.v);
+        cache(i) = h;
+      });
 }
 
 namespace {

@@ -33,19 +33,25 @@ struct TracedHit {
 // kTraced: shade from the traced hits (Chef::trace_mirror_hits).
 enum class HitCacheMode { kOff, kFill, kUse, kTraced };
 
-// What one rank's mirror rays read: colour reads (three hit-triangle vertices per hit) and those
-// of vertices another rank owns.
+// What one rank's mirror rays cost and read: rays and BVH nodes of the trace; per iteration, the
+// hits that need a viewpoint lookup (the hit triangle has a view-dependent vertex), the colour
+// reads (three hit-triangle vertices per hit), those of view-dependent vertices (a weighted
+// blend of ~8 viewpoints each) and those of vertices another rank owns.
 struct ReadCount {
-  std::int64_t rays = 0, reads = 0, remote_reads = 0;
+  std::int64_t rays = 0, nodes = 0;
+  std::int64_t lookups = 0, reads = 0, view_reads = 0, remote_reads = 0;
 };
 
-// Mirror hits of each vertex in [begin, end) that cost a viewpoint lookup (the hit triangle has a
-// view-dependent vertex), estimated from `samples` of its N mirror rays (viewpoints spread evenly
-// over the sphere) and scaled to N; 0 for view-independent vertices. The pilot of the cost
-// balance (kitchen.cpp); adds the rays it traces to `rays`.
-std::vector<float> estimate_lookup_hits(const BakeSceneDevice& scene, const BakeConfig& config,
-                                        std::int64_t begin, std::int64_t end, int samples,
-                                        std::int64_t& rays);
+// Per vertex of [begin, end), estimated from `samples` of its N mirror rays (viewpoints spread
+// evenly over the sphere) and scaled to N; 0 for view-independent vertices: the hits that cost a
+// viewpoint lookup and the BVH nodes the rays visit. The pilot of the cost balance (kitchen.cpp);
+// adds the rays it traces to `rays`.
+struct MirrorCostEstimate {
+  std::vector<float> lookup_hits, nodes;
+};
+MirrorCostEstimate estimate_mirror_costs(const BakeSceneDevice& scene, const BakeConfig& config,
+                                         std::int64_t begin, std::int64_t end, int samples,
+                                         std::int64_t& rays);
 
 class Chef {
  public:
@@ -66,12 +72,23 @@ class Chef {
   // reads (FirstReads, map_reader.hpp); an empty FirstReads switches that off again.
   void set_first_reads(FirstReads first) { first_reads_ = first; }
 
-  // Traces the mirror rays of vertices [begin, end) once, keeps the hits (and fills the hit
-  // cache), flags in `read` every vertex a hit reads and counts the reads of vertices that are
-  // not `owned`.
-  ReadCount trace_mirror_hits(std::int64_t begin, std::int64_t end, std::int64_t cache_offset,
-                              Kokkos::View<const char*, MemSpace> owned,
-                              Kokkos::View<char*, MemSpace> read);
+  // Traces the mirror rays of vertices [begin, end) once and keeps the hits (and fills the hit
+  // cache); returns the rays and the BVH nodes they visited.
+  ReadCount trace_mirror_hits(std::int64_t begin, std::int64_t end, std::int64_t cache_offset);
+  // After trace_mirror_hits: flags in `read` every vertex the traced hits of vertices [begin,
+  // end) read and counts their lookups and reads, those of vertices not `owned` as remote.
+  ReadCount count_mirror_reads(std::int64_t begin, std::int64_t end, std::int64_t cache_offset,
+                               Kokkos::View<const char*, MemSpace> owned,
+                               Kokkos::View<char*, MemSpace> read) const;
+  // After trace_mirror_hits: the traced hits of each vertex in [begin, end) that need a
+  // viewpoint lookup (exact; estimate_mirror_costs samples them).
+  std::vector<float> lookup_hits(std::int64_t begin, std::int64_t end,
+                                 std::int64_t cache_offset) const;
+  // The traced hits of all this rank's batches, in slot order (moved between ranks when the
+  // ownership changes after the trace), and their replacement: `hits` become the traced hits of
+  // a rank whose batches hold hits.size() colour entries, and refill the float hit cache.
+  std::vector<TracedHit> traced_hits() const;
+  void adopt_traced_hits(const std::vector<TracedHit>& hits);
   // After trace_mirror_hits and set_map_offset: flags in `items` (one per entry of the map
   // layout) every colour of a vertex that is not `owned` that the lookups at the traced hits
   // of vertices [begin, end) read: the remote colours this rank needs, entry by entry.

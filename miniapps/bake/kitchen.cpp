@@ -189,10 +189,18 @@ void write_timings_file(const Communicator& comm, const BakeConfig& c, const Pha
 
 }  // namespace
 
-std::vector<double> lookup_hit_cost(const BakeSceneHost& scene, const std::vector<float>& hits) {
+std::vector<double> lookup_hit_cost(const BakeSceneHost& scene, const std::vector<float>& hits,
+                                    double per_hit) {
   std::vector<double> cost(static_cast<std::size_t>(scene.vertices()));
   for (std::int64_t v = 0; v < scene.vertices(); ++v)
-    cost[v] = static_cast<double>(scene.color_count(v)) + kLookupHitCost * double(hits[v]);
+    cost[v] = static_cast<double>(scene.color_count(v)) + per_hit * double(hits[v]);
+  return cost;
+}
+
+std::vector<double> mirror_trace_cost(const BakeSceneHost& scene, const std::vector<float>& nodes) {
+  std::vector<double> cost(static_cast<std::size_t>(scene.vertices()));
+  for (std::int64_t v = 0; v < scene.vertices(); ++v)
+    cost[v] = static_cast<double>(scene.color_count(v)) + double(nodes[v]);
   return cost;
 }
 
@@ -305,10 +313,14 @@ class BakeRun {
   void check_outputs() const;
   void check_memory();
   void setup();
+  void trace_map();
   void plan_map();
-  void trace_halo(std::vector<char>& present);
+  void count_reads();
   void assign_batches(std::vector<Batch> batches);
-  void balance_by_lookup_hits();
+  void balance_by_pilot();
+  void rebalance_by_traced_cost();
+  void move_traced_hits(const std::vector<Batch>& from);
+  void report_work();
   std::vector<char> read_items() const;
   std::vector<std::int64_t> halo_entries() const;
   bool fuses_halo_plan() const;
@@ -365,7 +377,10 @@ class BakeRun {
     Kokkos::View<char*, MemSpace> flags;
   } pending_;
   Kokkos::View<char*, MemSpace> owned_;  // per vertex, with the traced halo
-  ReadCount reads_;
+  std::vector<char> read_;               // per vertex: read by this rank's traced hits
+  ReadCount traced_;                     // the mirror trace's rays and nodes (trace ownership)
+  ReadCount reads_;                      // the reads of each iteration (final ownership)
+  std::int64_t moved_hits_ = 0;          // traced hits this rank received at the rebalance
   Kokkos::View<Vec3f*, MemSpace> prev_, next_;
   std::vector<Vec3f> map_;  // host copy of the local map (checkpoints, output)
 
@@ -436,15 +451,64 @@ void BakeRun::assign_batches(std::vector<Batch> batches) {
 // view-dependent vertex costs about kLookupHitCost others (kitchen.hpp), and where the rays hit
 // varies across the mesh (bunny_room: 0.01 to 0.9 lookup hits per colour between the 16 ranks'
 // colour-balanced ranges). A pilot of kPilotRays mirror rays per vertex, traced by every rank for
-// its share of the vertices, estimates those hits; the cost balance then cuts the ranges by
-// colours plus hits.
-void BakeRun::balance_by_lookup_hits() {
+// its share of the vertices, estimates those hits and the BVH nodes the rays visit. --balance
+// pilot cuts the final ranges by colours plus estimated hits; --balance cost cuts ranges of
+// equal estimated trace work (nodes) for the mirror trace and recuts them after it by the hits
+// it counted (rebalance_by_traced_cost).
+void BakeRun::balance_by_pilot() {
   constexpr int kPilotRays = 8;
   const std::int64_t nv = host_.vertices(), p = comm_.size(), r = comm_.rank();
-  const std::vector<float> mine =
-      estimate_lookup_hits(*scene_, c_, nv * r / p, nv * (r + 1) / p, kPilotRays, totals_.rays);
-  assign_batches(make_batches(host_, comm_.size(), c_.balance, c_.batch_size,
-                              lookup_hit_cost(host_, comm_.allgatherv(mine))));
+  const MirrorCostEstimate mine =
+      estimate_mirror_costs(*scene_, c_, nv * r / p, nv * (r + 1) / p, kPilotRays, totals_.rays);
+  std::vector<double> cost;
+  if (c_.balance == Balance::kPilot) {
+    cost = lookup_hit_cost(host_, comm_.allgatherv(mine.lookup_hits), kPilotLookupHitCost);
+  } else {
+    cost = mirror_trace_cost(host_, comm_.allgatherv(mine.nodes));
+  }
+  assign_batches(make_batches(host_, comm_.size(), Balance::kCost, c_.batch_size, cost));
+}
+
+// The mirror trace and the iterations weigh vertices differently (BVH nodes against viewpoint
+// lookups; bunny_room's pilot-balanced ranks traced 0.17-0.44 s and iterated at up to 1.2x the
+// mean), so the trace runs on ranges of equal trace work, and the ranges are recut afterwards by
+// the lookup hits it counted, exactly: colours + kLookupHitCost x hits. The traced hits move to
+// their new owners (the same bits: output identical to any other cut).
+void BakeRun::rebalance_by_traced_cost() {
+  std::vector<float> mine;
+  for (std::size_t k = 0; k < my_ranges_.size(); ++k) {
+    const std::vector<float> h =
+        chef_->lookup_hits(my_ranges_[k].begin, my_ranges_[k].end, my_cache_offset_[k]);
+    mine.insert(mine.end(), h.begin(), h.end());
+  }
+  // allgatherv concatenates by rank; each rank's ranges are in vertex order.
+  const std::vector<float> all = comm_.allgatherv(mine);
+  std::vector<float> hits(static_cast<std::size_t>(host_.vertices()));
+  std::size_t at = 0;
+  for (int r = 0; r < comm_.size(); ++r)
+    for (const Batch& b : batches_)
+      if (b.rank == r)
+        for (std::int64_t v = b.begin; v < b.end; ++v) hits[v] = all[at++];
+  const std::vector<Batch> from = batches_;
+  assign_batches(make_batches(host_, comm_.size(), Balance::kCost, c_.batch_size,
+                              lookup_hit_cost(host_, hits)));
+  move_traced_hits(from);
+}
+
+// The traced hits of ownership `from` to this rank's batches (the current ownership).
+void BakeRun::move_traced_hits(const std::vector<Batch>& from) {
+  const std::vector<TracedHit> hits =
+      move_entries(comm_, host_, from, batches_, chef_->traced_hits());
+  chef_->adopt_traced_hits(hits);
+  // Hits received from other ranks: the entries of this rank's ranges it did not own before.
+  moved_hits_ = 0;
+  for (const Batch& b : batches_) {
+    if (b.rank != comm_.rank()) continue;
+    for (const Batch& f : from)
+      if (f.rank != comm_.rank() && f.end > b.begin && f.begin < b.end)
+        moved_hits_ += host_.color_offset[std::min(b.end, f.end)] -
+                       host_.color_offset[std::max(b.begin, f.begin)];
+  }
 }
 
 nlohmann::json BakeRun::parameters() const {
@@ -539,22 +603,59 @@ void BakeRun::setup() {
   if (!c_.reference.empty()) reference_ = read_reference_map(c_.reference, mesh_);
   scene_ = std::make_unique<BakeSceneDevice>(upload_bake_scene(
       mesh_, host_, c_.viewpoints, c_.sah ? bvh::BuildQuality::kSah : bvh::BuildQuality::kLbvh));
-  if (halo_ == Halo::kTraced && c_.balance == Balance::kCost) balance_by_lookup_hits();
+  if (halo_ == Halo::kTraced && (c_.balance == Balance::kCost || c_.balance == Balance::kPilot))
+    balance_by_pilot();
   chef_ = std::make_unique<Chef>(*scene_, c_, my_items_);
 }
 
-// The vertices this rank holds, their layout and the exchange that keeps the remote ones fresh
-// (phases "map", tracing the mirror rays, and "halo", finding the colours they read and planning
-// the exchange; both count as bake time).
-void BakeRun::plan_map() {
+// Phase "map" (bake time): traces this rank's mirror rays once, recuts the ownership by what
+// they cost (--balance cost), and finds the vertices the hits read.
+void BakeRun::trace_map() {
   timer_.start("map");
+  if (halo_ == Halo::kTraced) {
+    for (std::size_t k = 0; k < my_ranges_.size(); ++k) {
+      const ReadCount n =
+          chef_->trace_mirror_hits(my_ranges_[k].begin, my_ranges_[k].end, my_cache_offset_[k]);
+      traced_.rays += n.rays;
+      traced_.nodes += n.nodes;
+    }
+    totals_.rays += traced_.rays;
+    if (c_.balance == Balance::kCost) rebalance_by_traced_cost();
+    count_reads();
+  }
+  timer_.stop();
+}
+
+// Which vertices this rank's traced hits read (read_), and its reads per iteration (reads_).
+void BakeRun::count_reads() {
+  const std::size_t nv = static_cast<std::size_t>(host_.vertices());
+  std::vector<char> own(nv, 0);
+  for (const VertexRange& r : my_ranges_) std::fill(own.begin() + r.begin, own.begin() + r.end, 1);
+  owned_ = Kokkos::View<char*, MemSpace>("rtmini::bake::owned", nv);
+  Kokkos::View<char*, MemSpace> read("rtmini::bake::read", nv);
+  Kokkos::deep_copy(owned_, compat::host_view(own.data(), nv));
+  reads_ = ReadCount{};
+  for (std::size_t k = 0; k < my_ranges_.size(); ++k) {
+    const ReadCount n = chef_->count_mirror_reads(my_ranges_[k].begin, my_ranges_[k].end,
+                                                  my_cache_offset_[k], owned_, read);
+    reads_.lookups += n.lookups;
+    reads_.reads += n.reads;
+    reads_.view_reads += n.view_reads;
+    reads_.remote_reads += n.remote_reads;
+  }
+  compat::download(read, read_);
+}
+
+// Phase "halo" (bake time): the vertices this rank holds, their layout and the exchange that
+// keeps the remote ones fresh.
+void BakeRun::plan_map() {
+  timer_.start("halo");
   std::vector<char> present(static_cast<std::size_t>(host_.vertices()), halo_ == Halo::kAll);
   for (const VertexRange& r : my_ranges_)
     std::fill(present.begin() + r.begin, present.begin() + r.end, 1);
   const std::vector<char> own = present;
-  if (halo_ == Halo::kTraced) trace_halo(present);
-  timer_.stop();
-  timer_.start("halo");
+  if (halo_ == Halo::kTraced)
+    for (std::size_t v = 0; v < present.size(); ++v) present[v] = present[v] || read_[v];
   if (fuses_halo_plan()) {
     start_fused_plan(own, present);
   } else {
@@ -635,6 +736,51 @@ void BakeRun::finish_fused_plan() {
   report_map_plan();
 }
 
+// Every rank's work, counted (the same on any machine, so the balance of a 16-rank run shows on
+// 2 cores): per_rank, max and mean of each counter into the summary's scene.work and the
+// timings file's parameters, max / mean on stdout. The mirror trace's rays and BVH nodes are
+// those of the ownership it ran on; the rest are per iteration, on the final ownership: colour
+// entries, hits needing a viewpoint lookup, colour reads (all, of view-dependent vertices, of
+// remote ones) and the modelled iteration cost, entries + kLookupHitCost x lookups.
+void BakeRun::report_work() {
+  const std::vector<std::pair<const char*, double>> mine = {
+      {"items", double(my_items_)},
+      {"trace_rays", double(traced_.rays)},
+      {"trace_nodes", double(traced_.nodes)},
+      {"lookups", double(reads_.lookups)},
+      {"reads", double(reads_.reads)},
+      {"view_dependent_reads", double(reads_.view_reads)},
+      {"remote_reads", double(reads_.remote_reads)},
+      {"moved_hits", double(moved_hits_)},
+      {"iteration_cost", double(my_items_) + kLookupHitCost * double(reads_.lookups)}};
+  std::vector<double> values;
+  for (const auto& m : mine) values.push_back(m.second);
+  const std::vector<double> all = comm_.allgatherv(values);
+  const std::size_t n = mine.size(), ranks = static_cast<std::size_t>(comm_.size());
+  nlohmann::json work;
+  std::string line;
+  for (std::size_t k = 0; k < n; ++k) {
+    std::vector<double> per_rank(ranks);
+    for (std::size_t r = 0; r < ranks; ++r) per_rank[r] = all[r * n + k];
+    const double max = *std::max_element(per_rank.begin(), per_rank.end());
+    double mean = 0;
+    for (double x : per_rank) mean += x / double(ranks);
+    const double ratio = mean > 0 ? max / mean : 1.0;
+    work[mine[k].first] = {
+        {"per_rank", per_rank}, {"max", max}, {"mean", mean}, {"max_over_mean", ratio}};
+    char buf[80];
+    if (std::string(mine[k].first) == "moved_hits")  // a fraction of all entries, not a balance
+      std::snprintf(buf, sizeof buf, ", traced hits moved %.1f %%",
+                    100.0 * mean / std::max(1.0, work["items"]["mean"].get<double>()));
+    else
+      std::snprintf(buf, sizeof buf, "%s%s %.3f", k ? ", " : "", mine[k].first, ratio);
+    line += buf;
+  }
+  report_.scene["work"] = work;
+  params_["work"] = work;
+  if (root_) std::printf("  work per rank, max / mean: %s\n", line.c_str());
+}
+
 // The map's size and traffic per rank, into the summary and on stdout.
 void BakeRun::report_map_plan() {
   const double local = static_cast<double>(layout_.colors());
@@ -683,26 +829,6 @@ std::vector<std::int64_t> BakeRun::halo_entries() const {
       if (layout_.keeps(v, j)) halo.push_back(host_.color_offset[v] + j);
   }
   return halo;
-}
-
-// Traces this rank's mirror rays once and adds every vertex they read to `present`.
-void BakeRun::trace_halo(std::vector<char>& present) {
-  const std::size_t nv = present.size();
-  owned_ = Kokkos::View<char*, MemSpace>("rtmini::bake::owned", nv);
-  Kokkos::View<char*, MemSpace> read("rtmini::bake::read", nv);
-  auto owned = owned_;
-  Kokkos::deep_copy(owned, compat::host_view(present.data(), nv));
-  for (std::size_t k = 0; k < my_ranges_.size(); ++k) {
-    const ReadCount n = chef_->trace_mirror_hits(my_ranges_[k].begin, my_ranges_[k].end,
-                                                 my_cache_offset_[k], owned, read);
-    reads_.rays += n.rays;
-    reads_.reads += n.reads;
-    reads_.remote_reads += n.remote_reads;
-  }
-  std::vector<char> flags;
-  compat::download(read, flags);
-  for (std::size_t v = 0; v < nv; ++v) present[v] = present[v] || flags[v];
-  totals_.rays += reads_.rays;
 }
 
 // Base colours of this rank's vertices (needed by every iteration, also after a restart).
@@ -978,6 +1104,8 @@ int BakeRun::run() {
   check_memory();
   setup();
   timer_.stop();
+  trace_map();
+  report_work();
   bake_base();
   plan_map();
   restart();

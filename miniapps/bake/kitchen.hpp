@@ -24,14 +24,23 @@ std::vector<Batch> make_batches(const BakeSceneHost& scene, int ranks, Balance b
                                 std::int64_t batch_size,
                                 const std::vector<double>& vertex_cost = {});
 
-// The cost of each vertex's colours in a mirror iteration: 1 per colour plus kLookupHitCost per
-// mirror hit that needs a viewpoint lookup (hits[v], estimated). Such a hit costs a kd-tree
+// The cost of each vertex's colours in a mirror iteration: 1 per colour plus per_hit per mirror
+// hit that needs a viewpoint lookup (hits[v], counted or estimated). Such a hit costs a kd-tree
 // query and three scattered colour reads; a hit on view-independent vertices, or a miss, costs
-// little more than its cache read. On the 16-core host (bunny_room, N = 300, 16 x 1) the ranks'
-// iteration times fit 297 ns per colour + 1.40 us per lookup hit (r^2 = 0.91; all hits alike:
-// r^2 = 0.69), and balancing by colours alone left the slowest rank at 1.7x the mean.
-constexpr double kLookupHitCost = 4.7;
-std::vector<double> lookup_hit_cost(const BakeSceneHost& scene, const std::vector<float>& hits);
+// little more than its cache read. kLookupHitCost: the 16-core host's per-rank iteration times
+// of bunny_room (N = 300, 16 x 1, commit e7c336d) against the ranks' counted work (the same cut
+// recounted here, `results/bake/balance.md`) fit 59 ns per colour + 1.46 us per lookup hit
+// (r^2 = 0.57 on one run's noisy per-rank times; 16 x 1 and 8 x 2 together: 34 ns + 1.66 us,
+// r^2 = 0.93); remote reads add nothing measurable. kPilotLookupHitCost: the older fit (297 ns
+// + 1.40 us) that --balance pilot keeps, so it reproduces the ranges measured before.
+constexpr double kLookupHitCost = 25.0;
+constexpr double kPilotLookupHitCost = 4.7;
+std::vector<double> lookup_hit_cost(const BakeSceneHost& scene, const std::vector<float>& hits,
+                                    double per_hit = kLookupHitCost);
+
+// The cost of each vertex's mirror trace: the BVH nodes its rays visit (nodes[v], estimated)
+// plus one per colour (every colour entry is a work item, traced or not).
+std::vector<double> mirror_trace_cost(const BakeSceneHost& scene, const std::vector<float>& nodes);
 
 // Spatial ownership: blocks of block_size consecutive vertices (default vertices / (16 ranks),
 // at least 64), ordered by the Morton code of their centroid and cut into `ranks` runs of about

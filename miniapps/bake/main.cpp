@@ -77,8 +77,9 @@ void MapCli::add_to(CLI::App& app, BakeConfig& c) {
                "no map lookups)");
   app.add_option("--lookup", lookup, "viewpoint lookup: kdtree or sf (spherical Fibonacci)");
   app.add_option("--balance", balance,
-                 "batch cuts: cost (equal work), static (equal vertex counts) or spatial "
-                 "(blocks in Morton order, equal work per rank)");
+                 "batch cuts: cost (equal work, counted at the traced mirror hits), static (equal "
+                 "vertex counts), spatial (blocks in Morton order, equal colours per rank) or "
+                 "pilot (equal work as a pilot of 8 rays per vertex estimates it)");
   app.add_option("--batch-size", c.batch_size, "vertices per batch (0 = vertices/ranks)");
   app.add_option("--time-limit", c.time_limit_minutes,
                  "minutes; checkpoint and exit 4 if the next iteration would not fit (0 = none)");
@@ -108,8 +109,10 @@ void MapCli::finish(BakeConfig& c) const {
     c.balance = Balance::kCost;
   else if (balance == "spatial")
     c.balance = Balance::kSpatial;
+  else if (balance == "pilot")
+    c.balance = Balance::kPilot;
   else
-    throw InputError("--balance must be static, cost or spatial (got '" + balance + "')");
+    throw InputError("--balance must be static, cost, spatial or pilot (got '" + balance + "')");
   if (bvh_kind != "lbvh" && bvh_kind != "sah")
     throw InputError("--bvh must be lbvh or sah (got '" + bvh_kind + "')");
   c.sah = bvh_kind == "sah";

@@ -32,13 +32,14 @@ std::vector<int> displacements(const std::vector<int>& counts) {
   return d;
 }
 
-// MPI_Alltoallv of trivially copyable T, counts in elements; returns the received elements.
-template <class T>
-void alltoallv(const Communicator& comm, const T* send, const std::vector<int>& send_counts,
-               T* recv, const std::vector<int>& recv_counts) {
+// MPI_Alltoallv of records of record_bytes each, counts in records (so a large exchange counts
+// records, not bytes, in MPI's ints).
+void alltoallv_records(const Communicator& comm, const void* send,
+                       const std::vector<int>& send_counts, void* recv,
+                       const std::vector<int>& recv_counts, std::size_t record_bytes) {
 #ifdef RTMINI_HAVE_MPI
   MPI_Datatype type;
-  MPI_Type_contiguous(static_cast<int>(sizeof(T)), MPI_BYTE, &type);
+  MPI_Type_contiguous(static_cast<int>(record_bytes), MPI_BYTE, &type);
   MPI_Type_commit(&type);
   const auto sd = displacements(send_counts), rd = displacements(recv_counts);
   // Non-blocking plus Communicator::wait, so a rank that failed elsewhere cannot leave the
@@ -50,9 +51,18 @@ void alltoallv(const Communicator& comm, const T* send, const std::vector<int>& 
   MPI_Type_free(&type);
 #else
   (void)comm;
-  for (int i = 0; i < send_counts[0]; ++i) recv[i] = send[i];
   (void)recv_counts;
+  std::copy_n(static_cast<const unsigned char*>(send),
+              static_cast<std::size_t>(send_counts[0]) * record_bytes,
+              static_cast<unsigned char*>(recv));
 #endif
+}
+
+// MPI_Alltoallv of trivially copyable T, counts in elements; returns the received elements.
+template <class T>
+void alltoallv(const Communicator& comm, const T* send, const std::vector<int>& send_counts,
+               T* recv, const std::vector<int>& recv_counts) {
+  alltoallv_records(comm, send, send_counts, recv, recv_counts, sizeof(T));
 }
 
 std::vector<int> exchange_counts(const Communicator& comm, const std::vector<int>& send_counts) {
@@ -269,6 +279,76 @@ std::vector<Vec3f> localise_map(const BakeSceneHost& scene, const MapLayout& lay
       if (layout.keeps(v, j)) local[layout.entry(v, j)] = global[scene.color_offset[v] + j];
   }
   return local;
+}
+
+void move_entry_records(const Communicator& comm, const BakeSceneHost& scene,
+                        const std::vector<Batch>& from, const std::vector<Batch>& to,
+                        const void* mine_records, void* out_records, std::size_t record_bytes) {
+  const int me = comm.rank(), ranks = comm.size();
+  const auto& off = scene.color_offset;
+  // Where each range of `of` starts among `rank`'s records (the last entry: their count).
+  auto first_record = [&](const std::vector<Batch>& of, int rank) {
+    std::vector<std::int64_t> at(1, 0);
+    for (const Batch& b : of)
+      at.push_back(at.back() + (b.rank == rank ? off[b.end] - off[b.begin] : 0));
+    return at;
+  };
+  const std::vector<std::int64_t> from_at = first_record(from, me), to_at = first_record(to, me);
+  const auto* mine = static_cast<const unsigned char*>(mine_records);
+  auto* out = static_cast<unsigned char*>(out_records);
+  // Every overlap of a `from` range and a `to` range, in vertex order (both lists ascending): the
+  // records a sender packs and a receiver unpacks for each pair of ranks, in the same order.
+  struct Overlap {
+    std::int64_t begin, end;
+    int from_rank, to_rank;
+    std::int64_t from_record, to_record;  // the overlap's first record on either side
+  };
+  std::vector<Overlap> overlaps;
+  for (std::size_t i = 0, j = 0; i < from.size() && j < to.size();) {
+    const std::int64_t b = std::max(from[i].begin, to[j].begin);
+    const std::int64_t e = std::min(from[i].end, to[j].end);
+    if (b < e)
+      overlaps.push_back({b, e, from[i].rank, to[j].rank, from_at[i] + off[b] - off[from[i].begin],
+                          to_at[j] + off[b] - off[to[j].begin]});
+    if (from[i].end <= to[j].end)
+      ++i;
+    else
+      ++j;
+  }
+  std::vector<int> send(ranks, 0), recv(ranks, 0);
+  std::vector<unsigned char> packed;
+  for (const Overlap& o : overlaps) {
+    const std::size_t bytes = static_cast<std::size_t>(off[o.end] - off[o.begin]) * record_bytes;
+    if (o.from_rank == me && o.to_rank == me) {
+      std::copy_n(mine + o.from_record * record_bytes, bytes, out + o.to_record * record_bytes);
+    } else if (o.from_rank == me) {
+      send[o.to_rank] += checked_int(off[o.end] - off[o.begin]);
+    } else if (o.to_rank == me) {
+      recv[o.from_rank] += checked_int(off[o.end] - off[o.begin]);
+    }
+  }
+  // Packed by destination rank, each rank's overlaps in vertex order.
+  std::vector<int> pos = displacements(send);
+  packed.resize(static_cast<std::size_t>(pos.back() + send.back()) * record_bytes);
+  for (const Overlap& o : overlaps) {
+    if (o.from_rank != me || o.to_rank == me) continue;
+    const std::int64_t n = off[o.end] - off[o.begin];
+    std::copy_n(mine + o.from_record * record_bytes, n * record_bytes,
+                packed.data() + static_cast<std::size_t>(pos[o.to_rank]) * record_bytes);
+    pos[o.to_rank] += static_cast<int>(n);
+  }
+  const std::vector<int> recv_at = displacements(recv);
+  std::vector<unsigned char> received(static_cast<std::size_t>(recv_at.back() + recv.back()) *
+                                      record_bytes);
+  alltoallv_records(comm, packed.data(), send, received.data(), recv, record_bytes);
+  pos = recv_at;
+  for (const Overlap& o : overlaps) {
+    if (o.to_rank != me || o.from_rank == me) continue;
+    const std::int64_t n = off[o.end] - off[o.begin];
+    std::copy_n(received.data() + static_cast<std::size_t>(pos[o.from_rank]) * record_bytes,
+                n * record_bytes, out + o.to_record * record_bytes);
+    pos[o.from_rank] += static_cast<int>(n);
+  }
 }
 
 }  // namespace rtmini::bake

@@ -9,9 +9,11 @@
 // every reader scatters them into place. A remote vertex keeps only the viewpoints this rank's
 // lookups read (SparseColors, map_reader.hpp), so a rank's map is what it owns plus what it reads.
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "bake_scene.hpp"
+#include "kitchen.hpp"
 #include "map_reader.hpp"
 #include "rtmini/parallel/communicator.hpp"
 
@@ -103,5 +105,25 @@ std::vector<Vec3f> gather_global_map(const Communicator& comm, const BakeSceneHo
 // The entries of `layout` copied out of a map in the global order (a restart).
 std::vector<Vec3f> localise_map(const BakeSceneHost& scene, const MapLayout& layout,
                                 const std::vector<Vec3f>& global);
+
+// Moves one record per colour entry from the ownership `from` to the ownership `to` (collective;
+// both ascending vertex ranges over all vertices, as make_batches returns them): `mine` holds
+// this rank's records of its `from` ranges in vertex order; returns those of its `to` ranges, in
+// vertex order. Records that stay on a rank are copied, not sent.
+void move_entry_records(const Communicator& comm, const BakeSceneHost& scene,
+                        const std::vector<Batch>& from, const std::vector<Batch>& to,
+                        const void* mine, void* out, std::size_t record_bytes);
+template <class T>
+std::vector<T> move_entries(const Communicator& comm, const BakeSceneHost& scene,
+                            const std::vector<Batch>& from, const std::vector<Batch>& to,
+                            const std::vector<T>& mine) {
+  static_assert(std::is_trivially_copyable<T>::value, "records move as bytes");
+  std::int64_t n = 0;
+  for (const Batch& b : to)
+    if (b.rank == comm.rank()) n += scene.color_offset[b.end] - scene.color_offset[b.begin];
+  std::vector<T> out(static_cast<std::size_t>(n));
+  move_entry_records(comm, scene, from, to, mine.data(), out.data(), sizeof(T));
+  return out;
+}
 
 }  // namespace rtmini::bake

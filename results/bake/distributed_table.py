@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Tabulates the summaries written by run_distributed.sh (argument: its OUT_DIR): bake time
 (base + map + iterate), speed-up and efficiency against the first run of each group, peak RSS
-per rank (max, min), the map each rank holds, remote-read fraction and exchange bytes."""
+per rank (max, min), the map each rank holds, remote-read fraction and exchange bytes; then the
+balance of each run: the phases, the slowest rank's mirror iteration against the mean (timings
+.h5, when h5py is there) and the max / mean over ranks of the counted work (summary scene.work)."""
 import glob
 import json
 import os
@@ -44,11 +46,50 @@ def table(title, found, weak):
               f"{100 * r['remote']:.1f} % | {r['bytes'] / 1e6:.2f} | {r['hash']} |")
 
 
+def balance(out, prefixes):
+    """Per run: phases (max over ranks), slowest / mean rank of the mirror iterations that read the
+    hit cache (iterations 2..K, median over them), and max / mean of the counted work."""
+    try:
+        import h5py
+        import numpy as np
+    except ImportError:
+        h5py = None
+    print("\n### Balance: phases (s, max over ranks) and max / mean over ranks\n")
+    print("| run | setup | map | halo | iterate | cached iteration slowest / mean (s) | "
+          "trace nodes | iteration cost | lookups | items | remote reads | hits moved |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for prefix in prefixes:
+        for path in sorted(glob.glob(os.path.join(out, prefix + "_*.json"))):
+            s = json.load(open(path))
+            name, p = os.path.basename(path)[:-5], s["phases"]
+            w = s["scene"].get("work")
+            if not w or s["ranks"] == 1:
+                continue
+            it = "-"
+            h5 = path[:-5] + ".h5"
+            if h5py is not None and os.path.exists(h5):
+                t = h5py.File(h5, "r")["iterations/trace_time"][:]
+                if t.shape[1] > 2:
+                    per_rank = np.median(t[:, 2:], axis=1)
+                    it = f"{per_rank.max():.3f} / {per_rank.mean():.3f} ({per_rank.max() / per_rank.mean():.2f}x)"
+            ratio = lambda k: f"{w[k]['max_over_mean']:.3f}" if k in w else "-"
+            moved = sum(w["moved_hits"]["per_rank"]) / max(1, sum(w["items"]["per_rank"]))
+            print(f"| {name} | {p.get('setup', 0):.3f} | {p.get('map', 0):.3f} | {p.get('halo', 0):.3f} | "
+                  f"{p.get('iterate', 0):.3f} | {it} | {ratio('trace_nodes')} | {ratio('iteration_cost')} | "
+                  f"{ratio('lookups')} | {ratio('items')} | {ratio('remote_reads')} | {100 * moved:.1f} % |")
+
+
 out = sys.argv[1]
 table("Strong scaling (bunny_room, N=300, K=4)", rows(out, "strong"), False)
 spatial = rows(out, "spatial")
 if spatial:
     strong = rows(out, "strong")
     table("Strong scaling, --balance spatial (speed-up against strong_1x1)", strong[:1] + spatial, False)
+pilot = rows(out, "pilot")
+if pilot:
+    strong = rows(out, "strong")
+    table("Strong scaling, --balance pilot (the cut before the recount; against strong_1x1)",
+          strong[:1] + pilot, False)
+balance(out, ["strong", "pilot", "spatial"])
 table("Weak scaling (two sheets, side 150 sqrt(P), N=200, K=3)", rows(out, "weak"), True)
 table("1M vertices, N=1000, K=2", rows(out, "big"), True)

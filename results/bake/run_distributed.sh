@@ -1,7 +1,9 @@
 #!/bin/bash
 # The distributed-map measurements of results/bake/distributed.md (issue 19) on one 16-core host:
 #   strong scaling, bunny_room N=300 K=4 .bsb: 1x1 1x16 2x8 4x4 8x2 16x1 (ranks x threads,
-#     --map-by slot:PE=t --bind-to core), and 2x8 4x4 16x1 again with --balance spatial;
+#     --map-by slot:PE=t --bind-to core), 4x4 16x1 again with --balance pilot (the cut before
+#     the counted recut) and 2x8 4x4 16x1 with --balance spatial; table.md ends with the balance
+#     of each run (phases, slowest rank's iteration, max / mean of the counted work);
 #   weak scaling, 1..16 ranks x 1 thread on the two-sheet scene (make_sheets_scene.py) grown
 #     with the ranks (side 150 sqrt(P)), N=200 K=3;
 #   one bake that does not fit replicated: 1,008,204 vertices (side 710) at N=1000 K=2 on 16x1.
@@ -40,6 +42,10 @@ if [ "$what" = strong ] || [ "$what" = all ]; then
   for pt in 1x1 1x16 2x8 4x4 8x2 16x1; do
     run "strong_$pt" "${pt%x*}" "${pt#*x}" "$out/bunny_room.bs" -o "$out/strong.bsb" \
       --viewpoints 300 --iterations 4
+  done
+  for pt in 4x4 16x1; do  # the pilot's cut: no recount after the mirror trace
+    run "pilot_$pt" "${pt%x*}" "${pt#*x}" "$out/bunny_room.bs" -o "$out/strong.bsb" \
+      --viewpoints 300 --iterations 4 --balance pilot
   done
   for pt in 2x8 4x4 16x1; do  # the same with spatial (Morton-block) ownership
     run "spatial_$pt" "${pt%x*}" "${pt#*x}" "$out/bunny_room.bs" -o "$out/strong.bsb" \

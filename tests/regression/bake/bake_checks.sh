@@ -98,12 +98,20 @@ case $case_name in
     run "$ranks" "${args[@]}" -o many.bs --summary many.json >log2.txt 2>&1 ||
       { cat log2.txt; fail "$ranks-rank bake failed"; }
     cmp one.bs many.bs || fail "outputs differ between 1 and $ranks ranks"
-    grep "map per rank" log2.txt
+    grep -E "map per rank|work per rank" log2.txt
+    # The pilot's cut (no recut after the trace, no hits moved) gives the same bytes.
+    run "$ranks" "${args[@]}" -o pilot.bs --balance pilot --summary pilot.json >log5.txt 2>&1 ||
+      { cat log5.txt; fail "$ranks-rank bake with --balance pilot failed"; }
+    cmp one.bs pilot.bs || fail "--balance pilot differs from 1 rank"
     run "$ranks" "${args[@]}" -o part.bs --checkpoint cp.h5 --stop-after-iteration 1 >log3.txt 2>&1
     [ $? -eq 4 ] || { cat log3.txt; fail "stop after iteration 1 did not exit 4"; }
     run "$other" "${args[@]}" -o part.bs --checkpoint cp.h5 --restart cp.h5 --balance spatial \
       --progress >log4.txt 2>&1 || { cat log4.txt; fail "restart on $other ranks failed"; }
     cmp one.bs part.bs || fail "checkpoint of $ranks ranks restarted on $other (spatial) differs"
+    # The same restart with the default cut: it recuts after the trace and moves the hits.
+    run "$other" "${args[@]}" -o part2.bs --restart cp.h5 >log6.txt 2>&1 ||
+      { cat log6.txt; fail "restart on $other ranks (cost) failed"; }
+    cmp one.bs part2.bs || fail "checkpoint of $ranks ranks restarted on $other (cost) differs"
     /usr/bin/python3 - "$ranks" <<'PY' || fail "summary"
 import json, sys
 r = int(sys.argv[1])
@@ -118,6 +126,15 @@ if r > 1:
     assert m["halo"] == "traced", m
     assert m["local_colors_max"] < colors, (m, colors)
     assert m["exchange_bytes_per_iteration"] > 0
+# Work counters: every rank's, and the counted cut balances the modelled iteration cost at least
+# as well as the pilot's estimate (both are deterministic for this input).
+pilot = json.load(open("pilot.json"))
+w, wp = many["scene"]["work"], pilot["scene"]["work"]
+for k in ("items", "trace_nodes", "lookups", "remote_reads", "iteration_cost"):
+    assert len(w[k]["per_rank"]) == r, (k, w[k])
+    print("work", k, "max/mean: cost %.3f, pilot %.3f" % (w[k]["max_over_mean"], wp[k]["max_over_mean"]))
+assert sum(w["items"]["per_rank"]) == sum(wp["items"]["per_rank"]) == colors
+assert w["iteration_cost"]["max_over_mean"] <= wp["iteration_cost"]["max_over_mean"] + 1e-9, (w, wp)
 PY
     echo "owner-computes map: identical on 1 and $ranks ranks, restart on $other ranks"
     ;;

@@ -74,5 +74,22 @@ TEST(BakeBatches, LookupHitsShiftTheCuts) {
   EXPECT_LT(b[2].end, 500);  // three of the four ranks share the expensive half
 }
 
+// The mirror trace's cut weighs the BVH nodes the rays visit: with the first quarter of the
+// vertices tracing into a deep part of the tree (86 % of the nodes), three of four ranks share
+// that quarter.
+TEST(BakeBatches, TraceNodesCutTheTraceRanges) {
+  const BakeSceneHost s = scene_with(1000, 0, 10);
+  std::vector<float> nodes(1000, 100.f);
+  for (int v = 0; v < 250; ++v) nodes[v] = 2000.f;
+  const std::vector<double> cost = mirror_trace_cost(s, nodes);
+  EXPECT_DOUBLE_EQ(cost[0], 10.0 + 2000.0);
+  EXPECT_DOUBLE_EQ(cost[999], 10.0 + 100.0);
+  const auto b = make_batches(s, 4, Balance::kCost, 0, cost);
+  expect_tiling(b, 1000, 4);
+  ASSERT_EQ(b.size(), 4u);
+  EXPECT_LT(b[2].end, 250);
+  EXPECT_GT(b[2].end, 200);  // at 3/4 of the cost: 219 vertices of 2010
+}
+
 }  // namespace
 }  // namespace rtmini::bake
