@@ -267,8 +267,10 @@ struct WideRay {
         neg_x(inv.x < 0),
         neg_y(inv.y < 0),
         neg_z(inv.z < 0) {
-    const Real m =
-        math::fmax(math::fabs(org_inv.x), math::fmax(math::fabs(org_inv.y), math::fabs(org_inv.z)));
+    // Plain comparisons, not fmax (a libm call per use here: measurable on short rays).
+    const Real ax = math::fabs(org_inv.x), ay = math::fabs(org_inv.y), az = math::fabs(org_inv.z);
+    const Real axy = ax > ay ? ax : ay;
+    const Real m = az > axy ? az : axy;
     slack = kFmaSlackPerOrgInv * m + kFmaSlackFloor;
   }
   // Relative 4u and the subnormal floor of the proof below (float).
@@ -333,8 +335,10 @@ static_assert(double(WideRay::kFmaSlackPerOrgInv) >=
 // directions fall back to the robust test).
 inline bool fma_box_test_pays(const Ray& ray, const WideRay& r) {
   const Real ax = std::fabs(r.inv.x), ay = std::fabs(r.inv.y), az = std::fabs(r.inv.z);
-  const Real hi = std::fmax(ax, std::fmax(ay, az)), lo = std::fmin(ax, std::fmin(ay, az));
+  const Real hi_xy = ax > ay ? ax : ay, lo_xy = ax < ay ? ax : ay;
+  const Real hi = az > hi_xy ? az : hi_xy, lo = az < lo_xy ? az : lo_xy;
   constexpr Real kMaxOrgInv = Real(1e30);
+  // (A NaN direction gives a NaN org_inv, which fails its bound.)
   return ray.tmin >= 0 && ray.tmax <= Real(1e30) && hi <= Real(1024) * lo &&
          std::fabs(r.org_inv.x) <= kMaxOrgInv && std::fabs(r.org_inv.y) <= kMaxOrgInv &&
          std::fabs(r.org_inv.z) <= kMaxOrgInv;
