@@ -209,6 +209,64 @@ TEST(Bvh, TinyAndDegenerateInputs) {
   }
 }
 
+// Rays grazing the faces of `tris`: aimed at a vertex or an edge point of a random triangle, with
+// a direction almost in its plane (the normal component 1-2 thousandths), from 0.01-3 `reach`
+// away; a third end exactly at the target (tmax = its distance).
+Kokkos::View<Ray*, TestMemSpace> grazing_rays(Kokkos::View<const Triangle*, TestMemSpace> tris,
+                                              Real reach, int n, std::uint64_t seed) {
+  Kokkos::View<Ray*, TestMemSpace> rays("rays", n);
+  const int nt = static_cast<int>(tris.extent(0));
+  Kokkos::parallel_for(
+      "test::grazing_rays", Policy(0, n), KOKKOS_LAMBDA(int i) {
+        const Rng rng(seed, std::uint64_t(i), 0);
+        const auto a = rng.block(0), b = rng.block(1);
+        const Triangle t = tris(int(a.v[0] % std::uint32_t(nt)));
+        const Real s = Rng::to_unit(a.v[1]);
+        const int kind = int(a.v[2] % 3u);
+        const Vec3 target =
+            kind == 0 ? t.b : (kind == 1 ? t.a + (t.b - t.a) * s : t.b + (t.c - t.b) * s);
+        const Vec3 normal = normalize(cross(t.b - t.a, t.c - t.a));
+        const Vec3 along = uniform_sphere(Rng::to_unit(b.v[0]), Rng::to_unit(b.v[1]));
+        const Vec3 tangent = normalize(along - normal * dot(along, normal));
+        const Real lift = Real(0.001) * (1 + Rng::to_unit(b.v[2]));
+        Ray r;
+        r.dir = normalize(tangent + normal * (b.v[3] % 2u ? lift : -lift));
+        r.org = target - r.dir * (reach * (Real(0.01) + 3 * Rng::to_unit(a.v[3])));
+        r.tmin = 0;
+        r.tmax = i % 3 == 0 ? length(target - r.org) : Real(1e30);
+        rays(i) = r;
+      });
+  return rays;
+}
+
+// The box test is conservative by a margin that depends on the coordinates' magnitude (the FMA
+// test of traverse.hpp): rays grazing the faces, edges and corners of touching boxes, at large
+// and small scales far from the origin, find exactly what brute force finds.
+TEST(Bvh, GrazingRaysAtManyScalesMatchBruteForce) {
+  struct Placement {
+    const char* name;
+    double scale, offset;
+  };
+  const Placement placements[] = {
+      {"unit", 1, 0}, {"far", 1, 1e3}, {"small-far", 1e-2, 1e3}, {"far-huge", 1e3, 1e4}};
+  for (const Placement& p : placements) {
+    Mesh m;
+    const Vec3d origin(p.offset, -0.5 * p.offset, 0.25 * p.offset);
+    for (int i = 0; i < 27; ++i) {  // a 3x3x3 block of touching boxes
+      const Vec3d lo = origin + Vec3d(i % 3, i / 3 % 3, i / 9) * p.scale;
+      append_box(m, lo, lo + Vec3d(p.scale, p.scale, p.scale), -1, 0);
+    }
+    auto tris = upload_triangles(m);
+    const bvh::BruteForce<TestMemSpace> ref{tris};
+    const auto rays = grazing_rays(tris, Real(p.scale), 20000, 23);
+    for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah}) {
+      const auto accel = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, q);
+      expect_same_hits(accel, ref, rays,
+                       std::string("grazing, ") + p.name + " " + bvh::to_string(q));
+    }
+  }
+}
+
 TEST(Bvh, QualityReportIsConsistent) {
   const Mesh mesh = load_scene("teapot.obj");
   auto tris = upload_triangles(mesh);

@@ -2,6 +2,7 @@
 // Iterative BVH traversal with a short fixed stack (no recursion, GPU-safe):
 // closest hit with a deterministic tie-break (equal t -> lower triangle id, so
 // results match the brute-force reference exactly) and any hit for shadow/AO.
+#include <cmath>
 #include <cstddef>
 #include <cstring>
 #include <type_traits>
@@ -252,6 +253,141 @@ KOKKOS_INLINE_FUNCTION int wide_box_test(const WideNode& nd, bool neg_x, bool ne
 }
 #endif
 
+// The ray's constants for the wide box tests, computed once per ray.
+struct WideRay {
+  Vec3 inv;      // safe reciprocal of the direction
+  Vec3 org;      // origin (robust test)
+  Vec3 org_inv;  // fl(org * inv) per axis (FMA test)
+  Real slack;    // S of the FMA test: its absolute widening of far, in t
+  bool neg_x, neg_y, neg_z;
+  KOKKOS_INLINE_FUNCTION explicit WideRay(const Ray& ray)
+      : inv(safe_reciprocal(ray.dir.x), safe_reciprocal(ray.dir.y), safe_reciprocal(ray.dir.z)),
+        org(ray.org),
+        org_inv(ray.org.x * inv.x, ray.org.y * inv.y, ray.org.z * inv.z),
+        neg_x(inv.x < 0),
+        neg_y(inv.y < 0),
+        neg_z(inv.z < 0) {
+    // Plain comparisons, not fmax (a libm call per use here: measurable on short rays).
+    const Real ax = math::fabs(org_inv.x), ay = math::fabs(org_inv.y), az = math::fabs(org_inv.z);
+    const Real axy = ax > ay ? ax : ay;
+    const Real m = az > axy ? az : axy;
+    slack = kFmaSlackPerOrgInv * m + kFmaSlackFloor;
+  }
+  // Relative 4u and the subnormal floor of the proof below (float).
+  static constexpr Real kFmaSlackPerOrgInv = Real(2.384185791015625e-7);  // 2^-22
+  static constexpr Real kFmaSlackFloor = Real(1.1754943508222875e-38);    // 2^-126
+};
+
+// ---- The FMA box test (host, AVX + FMA, float) -------------------------------------------------
+// The robust test above takes a subtraction and a multiplication per plane, (p - o) * inv, and
+// widens far by w = slab_widening(). Embree's takes one fused multiply-subtract on the ray's
+// precomputed o * inv. That form is not relative-accurate (p close to o, |o| large: cancellation),
+// so it gets its own widening: far' = fma(far, W, S), with W a constant and S a per-ray bound.
+// Claim: every box (and every closest-hit cull, lanes_not_after) the robust test accepts, the FMA
+// test accepts too, so every guarantee of the robust test (issue 7: nothing the watertight
+// triangle test hits is lost) carries over. Proof, u = 2^-24 (unit roundoff), gamma2 = 2u/(1-2u),
+// one plane p of axis k, inv = the ray's (rounded) reciprocal, tau = (p - o) * inv exactly:
+//   robust: a_o = fl(fl(p - o) * inv)          => |a_o - tau| <= gamma2 |tau|
+//   FMA:    a_n = fl(p * inv - fl(o * inv))     => |a_n - tau| <= u |tau| + mu,
+//           mu = u (1 + u) max_k |o_k inv_k|   (the rounding of o * inv, absolute: the
+//           cancellation)
+// From these, with c1 = (u + gamma2) / (1 - gamma2) (~3u): a_n <= a_o + c1 |a_o| + mu and
+// a_n >= a_o - c1 |a_o| - mu (split on the sign of tau). x +- c1 |x| is increasing, so the max
+// and min over the three axes keep the bounds: near_n <= near_o (1 + c1) + mu (near_o >= tmin >= 0)
+// and m_n >= m_o (1 - c1) - mu for the far planes' minimum (m_o >= 0 where the robust test can
+// accept at all). The robust test accepts when near_o <= min(fl(m_o w), fl(tmax w)), so
+// m_o and tmax are both >= near_o / (w (1 + u)). The FMA test accepts when
+// near_n <= fma(min(m_n, tmax), W, S) (one rounding: >= exact (1 - u)); it suffices that
+//   W >= w (1 + u) (1 + c1) / ((1 - u) (1 - c1))   (~1 + 14u; W = 1 + 16u, checked below), and
+//   S >= mu (W + 1 / (1 - u))                       (~2u max |o_k inv_k|; S = 4u max |fl(o_k
+//   inv_k)|),
+// plus 2^-126 for roundings in the subnormal range (each adds <= 2^-150 absolute). Overflow: a
+// plane value that overflows the FMA form lies beyond ~3e38 >> tmax, where the robust test rejects
+// as well; hence the ray's conditions: tmin >= 0, tmax <= 1e30, max |o_k inv_k| <= 1e30.
+// S is an absolute slack in t, ~4u |o_k| / |d_k|: small unless one direction component is tiny
+// against the others (then nearly every box would pass), so such rays keep the robust test
+// (fma_box_test_pays): the choice is speed only, both tests are conservative.
+#if defined(__GNUC__) && !defined(__CUDACC__) && defined(__AVX__) && defined(__FMA__)
+#define RTMINI_FMA_BOX_TEST 1
+#else
+#define RTMINI_FMA_BOX_TEST 0
+#endif
+
+// W of the proof: 1 + 16u.
+inline constexpr Real kFmaBoxWidening = Real(1) + Real(9.5367431640625e-7);
+
+#if RTMINI_FMA_BOX_TEST
+namespace fma_box_check {
+constexpr double u = 5.9604644775390625e-8;  // 2^-24
+constexpr double gamma2 = 2 * u / (1 - 2 * u);
+constexpr double c1 = (u + gamma2) / (1 - gamma2);
+static_assert(sizeof(Real) == 4, "the FMA box test's constants are for float");
+static_assert(double(kFmaBoxWidening) >=
+                  double(slab_widening()) * (1 + u) * (1 + c1) / ((1 - u) * (1 - c1)),
+              "W must cover the robust test's widening and both tests' rounding (proof above)");
+static_assert(double(WideRay::kFmaSlackPerOrgInv) >=
+                  u * (1 + u) / (1 - u) * (double(kFmaBoxWidening) + 1 / (1 - u)) / (1 - u),
+              "S must cover the rounding of o * inv (proof above)");
+}  // namespace fma_box_check
+
+// The FMA test applies (see the proof's conditions) and its slack stays small: no direction
+// component below 1/1024 of the largest (S <= 2^-12 |o| / max |d_k|; ~0.2 % of uniformly random
+// directions fall back to the robust test).
+inline bool fma_box_test_pays(const Ray& ray, const WideRay& r) {
+  const Real ax = std::fabs(r.inv.x), ay = std::fabs(r.inv.y), az = std::fabs(r.inv.z);
+  const Real hi_xy = ax > ay ? ax : ay, lo_xy = ax < ay ? ax : ay;
+  const Real hi = az > hi_xy ? az : hi_xy, lo = az < lo_xy ? az : lo_xy;
+  constexpr Real kMaxOrgInv = Real(1e30);
+  // (A NaN direction gives a NaN org_inv, which fails its bound.)
+  return ray.tmin >= 0 && ray.tmax <= Real(1e30) && hi <= Real(1024) * lo &&
+         std::fabs(r.org_inv.x) <= kMaxOrgInv && std::fabs(r.org_inv.y) <= kMaxOrgInv &&
+         std::fabs(r.org_inv.z) <= kMaxOrgInv;
+}
+
+// Eight children's boxes, six fused multiply-subtracts, far widened by fma(far, W, S).
+__attribute__((always_inline)) inline int fma_box_test(const WideNode& nd, const WideRay& r,
+                                                       Real tmin, Real tmax, Real* tn) {
+  const __m256 ix = _mm256_set1_ps(r.inv.x), iy = _mm256_set1_ps(r.inv.y),
+               iz = _mm256_set1_ps(r.inv.z);
+  const __m256 qx = _mm256_set1_ps(r.org_inv.x), qy = _mm256_set1_ps(r.org_inv.y),
+               qz = _mm256_set1_ps(r.org_inv.z);
+  const __m256 a = _mm256_fmsub_ps(_mm256_load_ps(r.neg_x ? nd.hi_x : nd.lo_x), ix, qx);
+  const __m256 b = _mm256_fmsub_ps(_mm256_load_ps(r.neg_y ? nd.hi_y : nd.lo_y), iy, qy);
+  const __m256 c = _mm256_fmsub_ps(_mm256_load_ps(r.neg_z ? nd.hi_z : nd.lo_z), iz, qz);
+  const __m256 d = _mm256_fmsub_ps(_mm256_load_ps(r.neg_x ? nd.lo_x : nd.hi_x), ix, qx);
+  const __m256 e = _mm256_fmsub_ps(_mm256_load_ps(r.neg_y ? nd.lo_y : nd.hi_y), iy, qy);
+  const __m256 f = _mm256_fmsub_ps(_mm256_load_ps(r.neg_z ? nd.lo_z : nd.hi_z), iz, qz);
+  const __m256 near = _mm256_max_ps(_mm256_max_ps(a, b), _mm256_max_ps(c, _mm256_set1_ps(tmin)));
+  const __m256 far =
+      _mm256_fmadd_ps(_mm256_min_ps(_mm256_min_ps(d, e), _mm256_min_ps(f, _mm256_set1_ps(tmax))),
+                      _mm256_set1_ps(kFmaBoxWidening), _mm256_set1_ps(r.slack));
+  _mm256_storeu_ps(tn, near);
+  return _mm256_movemask_ps(_mm256_cmp_ps(near, far, _CMP_LE_OQ));
+}
+#endif
+
+// The node's hit lanes by the test chosen for this ray (entry distances in tn).
+template <bool kFma>
+KOKKOS_FORCEINLINE_FUNCTION int box_test(const WideNode& nd, const WideRay& r, Real tmin, Real tmax,
+                                         Real* tn) {
+#if RTMINI_FMA_BOX_TEST
+  if constexpr (kFma) return fma_box_test(nd, r, tmin, tmax, tn);
+#endif
+  return wide_box_test(nd, r.neg_x, r.neg_y, r.neg_z, r.org.x, r.org.y, r.org.z, r.inv, tmin, tmax,
+                       tn);
+}
+
+// The entry distance up to which a child found by box_test<kFma> may still hold a hit closer
+// than tmax (the same widening as that test's far).
+template <bool kFma>
+KOKKOS_FORCEINLINE_FUNCTION Real cull_limit(Real tmax, const WideRay& r) {
+#if RTMINI_FMA_BOX_TEST
+  if constexpr (kFma) return std::fma(tmax, kFmaBoxWidening, r.slack);
+#endif
+  (void)r;
+  return tmax * slab_widening();
+}
+
 KOKKOS_INLINE_FUNCTION Triangle lane_triangle(const TriangleLanes& l, int k) {
   return {Vec3(l.ax[k], l.ay[k], l.az[k]), Vec3(l.bx[k], l.by[k], l.bz[k]),
           Vec3(l.cx[k], l.cy[k], l.cz[k])};
@@ -355,14 +491,11 @@ KOKKOS_FORCEINLINE_FUNCTION int lanes_not_after(const Real* tn, Real limit) {
 // Wide traversal for host memory: the lane loops below vectorise. The near
 // plane of each axis is chosen by the ray's direction sign, so an inverted
 // (empty) box always has near > far and unused lanes never hit.
-template <class BvhT, bool kAnyHit, bool kStats>
-KOKKOS_INLINE_FUNCTION bool traverse_wide(const BvhT& bvh, const Ray& ray, Hit& hit,
-                                          TraversalStats* stats) {
+template <class BvhT, bool kAnyHit, bool kStats, bool kFma>
+KOKKOS_INLINE_FUNCTION bool traverse_wide_with(const BvhT& bvh, const Ray& ray,
+                                               const WideRay& box_ray, Hit& hit,
+                                               TraversalStats* stats) {
   const WatertightRay wr(ray.org, ray.dir);
-  const Vec3 inv(safe_reciprocal(ray.dir.x), safe_reciprocal(ray.dir.y),
-                 safe_reciprocal(ray.dir.z));
-  const bool neg_x = inv.x < 0, neg_y = inv.y < 0, neg_z = inv.z < 0;
-  const Real ox = ray.org.x, oy = ray.org.y, oz = ray.org.z;
   Real tmax = ray.tmax;
   constexpr int kWideStack = (kWidth - 1) * kStackSize;  // pending siblings along one path
   std::uint32_t stack[kWideStack];
@@ -373,7 +506,7 @@ KOKKOS_INLINE_FUNCTION bool traverse_wide(const BvhT& bvh, const Ray& ray, Hit& 
     const WideNode& nd = bvh.wide(node);
     if (kStats) ++stats->nodes;
     Real tn[kWidth];
-    const int hitmask = wide_box_test(nd, neg_x, neg_y, neg_z, ox, oy, oz, inv, ray.tmin, tmax, tn);
+    const int hitmask = box_test<kFma>(nd, box_ray, ray.tmin, tmax, tn);
     const int leaves = leaf_lanes(nd);
     // Leaves first: a closer hit shrinks tmax before inner children are ordered.
     for (int m = hitmask & leaves; m != 0; m &= m - 1) {
@@ -385,7 +518,7 @@ KOKKOS_INLINE_FUNCTION bool traverse_wide(const BvhT& bvh, const Ray& ray, Hit& 
     }
     // Inner children still within tmax (any hit: tmax has not moved since the box test).
     int inner = hitmask & ~leaves;
-    if (!kAnyHit && inner != 0) inner &= lanes_not_after(tn, tmax * slab_widening());
+    if (!kAnyHit && inner != 0) inner &= lanes_not_after(tn, cull_limit<kFma>(tmax, box_ray));
     if (inner == 0) {
       if (sp == 0) break;
       node = stack[--sp];
@@ -432,6 +565,18 @@ KOKKOS_INLINE_FUNCTION bool traverse_wide(const BvhT& bvh, const Ray& ray, Hit& 
     node = ids[n - 1];
   }
   return found;
+}
+
+// The wide traversal with the box test this ray can take (the FMA test where it pays).
+template <class BvhT, bool kAnyHit, bool kStats>
+KOKKOS_INLINE_FUNCTION bool traverse_wide(const BvhT& bvh, const Ray& ray, Hit& hit,
+                                          TraversalStats* stats) {
+  const WideRay box_ray(ray);
+#if RTMINI_FMA_BOX_TEST
+  if (fma_box_test_pays(ray, box_ray))
+    return traverse_wide_with<BvhT, kAnyHit, kStats, true>(bvh, ray, box_ray, hit, stats);
+#endif
+  return traverse_wide_with<BvhT, kAnyHit, kStats, false>(bvh, ray, box_ray, hit, stats);
 }
 
 template <class BvhT, bool kAnyHit, bool kStats>
