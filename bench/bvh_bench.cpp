@@ -41,6 +41,8 @@ struct Options {
   std::string peer;
   std::string camera = "framed";
   std::string spatial_splits = bvh::to_string(bvh::kDefaultSpatialSplits);
+  std::string time_builds = "lbvh,ploc,sah";
+  bool build_phases = false;
   double split_budget = bvh::kDefaultSplitBudget;
   int samples_per_face = 3;
   int rays = 64;
@@ -313,6 +315,96 @@ void print_wide_layout(const bvh::Bvh<Mem>& accel) {
               leaves, double(tris) / std::max<std::size_t>(1, leaves), bytes / (1 << 20));
 }
 
+// Which builders the benchmark times (--time-builds): the host SAH build of 10M triangles takes
+// seconds, so device runs at that size leave it out.
+struct TimedBuilds {
+  bool lbvh = false, ploc = false, sah = false;
+};
+
+TimedBuilds parse_time_builds(const std::string& list) {
+  TimedBuilds t;
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t end = std::min(list.find(',', start), list.size());
+    const std::string name = list.substr(start, end - start);
+    bvh::BuildQuality q;
+    if (!bvh::parse_build_quality(name, q))
+      throw InputError("--time-builds: expected a list of lbvh, ploc and sah, got '" + list + "'");
+    if (q == bvh::BuildQuality::kLbvh)
+      t.lbvh = true;
+    else if (q == bvh::BuildQuality::kPloc)
+      t.ploc = true;
+    else
+      t.sah = true;
+    start = end + 1;
+  }
+  return t;
+}
+
+std::string build_ms(const char* name, bool timed, double seconds) {
+  if (!timed) return "";
+  char text[64];
+  std::snprintf(text, sizeof text, " %s %.2f ms", name, seconds * 1e3);
+  return text;
+}
+
+// Each device builder's phases (every phase fenced, so their sum is a little above the plain
+// build time): the phases of the fastest of `repeats` builds.
+void print_build_phases(const Kokkos::View<Triangle*, Mem>& tris, int repeats) {
+  bvh::LbvhPhaseTimes lbvh;
+  bvh::PlocPhaseTimes ploc;
+  double lbvh_total = 1e300, ploc_total = 1e300;
+  for (int rep = 0; rep < repeats; ++rep) {
+    bvh::LbvhPhaseTimes l;
+    bvh::build_lbvh<Exec, Mem>(Exec(), tris, &l);
+    const double lt = l.bounds + l.morton + l.sort + l.hierarchy;
+    if (lt < lbvh_total) {
+      lbvh_total = lt;
+      lbvh = l;
+    }
+    bvh::PlocPhaseTimes p;
+    bvh::build_ploc<Exec, Mem>(Exec(), tris, &p);
+    const double pt = p.front + p.cluster + p.emit;
+    if (pt < ploc_total) {
+      ploc_total = pt;
+      ploc = p;
+    }
+  }
+  std::printf(
+      "lbvh phases (fastest of %d): bounds %.3f ms, morton %.3f ms, sort %.3f ms, hierarchy+refit "
+      "%.3f ms; sum %.3f ms\n",
+      repeats, lbvh.bounds * 1e3, lbvh.morton * 1e3, lbvh.sort * 1e3, lbvh.hierarchy * 1e3,
+      lbvh_total * 1e3);
+  std::printf(
+      "ploc phases (fastest of %d): bounds+morton+sort %.3f ms, clustering %.3f ms (%d rounds, "
+      "radius %d), layout %.3f ms; sum %.3f ms\n",
+      repeats, ploc.front * 1e3, ploc.cluster * 1e3, ploc.rounds, bvh::kPlocRadius, ploc.emit * 1e3,
+      ploc_total * 1e3);
+}
+
+// SAH cost (quality.hpp) of each timed builder's finished tree, the one traversal would get.
+void print_sah_costs(const Kokkos::View<Triangle*, Mem>& tris, const TimedBuilds& timed,
+                     double split_budget, bvh::SpatialSplits spatial) {
+  std::printf("sah cost:");
+  double sah = 0;
+  if (timed.sah) {
+    sah = bvh::measure_quality(bvh::build<Exec, Mem>(Exec(), tris, bvh::BuildQuality::kSah,
+                                                     bvh::QuantizedWide::kNever, split_budget,
+                                                     spatial))
+              .sah_cost;
+    std::printf(" sah %.3f", sah);
+  }
+  for (const auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kPloc}) {
+    if (!(q == bvh::BuildQuality::kLbvh ? timed.lbvh : timed.ploc)) continue;
+    const auto b = bvh::build<Exec, Mem>(Exec(), tris, q, bvh::QuantizedWide::kNever);
+    const double c = bvh::measure_quality(b).sah_cost;
+    std::printf(" %s %.3f", bvh::to_string(q), c);
+    if (b.quality != q) std::printf(" (too deep: built as %s)", bvh::to_string(b.quality));
+    if (sah > 0) std::printf(" (%+.1f %% vs sah)", 100.0 * (c / sah - 1));
+  }
+  std::printf("\n");
+}
+
 // What the benchmark allocates after loading the mesh (report/memory_check.hpp): the uploaded
 // mesh and BVH, the two timed rebuilds (LBVH and SAH) alive at once, the rays and their results
 // (secondary workloads keep their primary rays), the peer's host copy of the rays.
@@ -336,12 +428,9 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
   const MemoryPeak peak = require_memory(comm, bench_memory_need(mesh, o), limit);
   report.scene["memory_estimate_bytes"] = comm.max(peak.host + peak.device);
   bvh::BuildQuality quality;
-  if (o.quality == "lbvh")
-    quality = bvh::BuildQuality::kLbvh;
-  else if (o.quality == "sah")
-    quality = bvh::BuildQuality::kSah;
-  else
-    throw InputError("--quality must be lbvh or sah, got '" + o.quality + "'");
+  if (!bvh::parse_build_quality(o.quality, quality))
+    throw InputError("--quality must be lbvh, ploc or sah, got '" + o.quality + "'");
+  const TimedBuilds timed = parse_time_builds(o.time_builds);
   bvh::SpatialSplits spatial;
   if (!bvh::parse_spatial_splits(o.spatial_splits, spatial))
     throw InputError("--spatial-splits must be off, on or auto, got '" + o.spatial_splits + "'");
@@ -357,31 +446,47 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
                                      o.split_budget, spatial);
   const int repeats = std::max(1, o.repeats);
   Peer peer(o.peer, dm.tris);
-  // Build timings: the best of several builds of the already-uploaded triangles, each repeat
-  // followed by the peer's build of the same triangles.
-  double lbvh_s = 1e300;
+  // Build timings: the best of several builds of the already-uploaded triangles (the raw LBVH
+  // and PLOC builders; the SAH build whole, as it runs on the host), each repeat followed by the
+  // peer's build of the same triangles. One rebuild is alive at a time.
+  if (peer.active() && !timed.sah) throw InputError("--peer needs sah in --time-builds");
+  double lbvh_s = 1e300, ploc_s = 1e300;
   std::vector<double> sah_s, peer_build_s, sah_cpu, peer_build_cpu;
   for (int rep = 0; rep < repeats; ++rep) {
-    auto t0 = Clock::now();
-    auto b1 = bvh::build_lbvh<Exec, Mem>(Exec(), dm.tris);
-    Kokkos::fence();
-    lbvh_s = std::min(lbvh_s, seconds_since(t0));
-    t0 = Clock::now();
-    double c0 = cpu_seconds();
-    auto b2 = bvh::build<Exec, Mem>(Exec(), dm.tris, bvh::BuildQuality::kSah,
-                                    bvh::QuantizedWide::kOnDevices, o.split_budget, spatial);
-    Kokkos::fence();
-    sah_s.push_back(seconds_since(t0));
-    sah_cpu.push_back(cpu_seconds() - c0);
-    if (peer.active()) {
-      c0 = cpu_seconds();
-      peer_build_s.push_back(peer.build());
-      peer_build_cpu.push_back(cpu_seconds() - c0);
+    if (timed.lbvh) {
+      const auto t0 = Clock::now();
+      const auto b = bvh::build_lbvh<Exec, Mem>(Exec(), dm.tris);
+      Kokkos::fence();
+      lbvh_s = std::min(lbvh_s, seconds_since(t0));
+    }
+    if (timed.ploc) {
+      const auto t0 = Clock::now();
+      const auto b = bvh::build_ploc<Exec, Mem>(Exec(), dm.tris);
+      Kokkos::fence();
+      ploc_s = std::min(ploc_s, seconds_since(t0));
+    }
+    if (timed.sah) {
+      const auto t0 = Clock::now();
+      double c0 = cpu_seconds();
+      const auto b = bvh::build<Exec, Mem>(Exec(), dm.tris, bvh::BuildQuality::kSah,
+                                           bvh::QuantizedWide::kOnDevices, o.split_budget, spatial);
+      Kokkos::fence();
+      sah_s.push_back(seconds_since(t0));
+      sah_cpu.push_back(cpu_seconds() - c0);
+      if (peer.active()) {
+        c0 = cpu_seconds();
+        peer_build_s.push_back(peer.build());
+        peer_build_cpu.push_back(cpu_seconds() - c0);
+      }
     }
   }
   const auto q = bvh::measure_quality(dm.accel);
-  std::printf("build: lbvh %.2f ms, sah %.2f ms; traced with %s: %s\n", lbvh_s * 1e3,
-              best_of(sah_s) * 1e3, bvh::to_string(quality), q.to_string().c_str());
+  std::printf("build:%s%s%s; traced with %s: %s\n", build_ms("lbvh", timed.lbvh, lbvh_s).c_str(),
+              build_ms("ploc", timed.ploc, ploc_s).c_str(),
+              build_ms("sah", timed.sah, timed.sah ? best_of(sah_s) : 0).c_str(),
+              bvh::to_string(quality), q.to_string().c_str());
+  if (o.build_phases) print_build_phases(dm.tris, repeats);
+  print_sah_costs(dm.tris, timed, o.split_budget, spatial);
 
   std::printf("sah splits: spatial %s, budget %g; %d leaf triangles (%d input)\n",
               o.spatial_splits.c_str(), o.split_budget, dm.accel.num_prims, int(dm.tris.extent(0)));
@@ -562,8 +667,13 @@ int bench_main(Communicator& comm, int argc, char** argv) {
   add_common_options(app, common);
   app.add_option("mesh", o.mesh, "OBJ or .bs mesh, or icosphere:L (20*4^L triangles)")->required();
   app.add_option("--workload", o.workload, "primary, shadow, ao or diffuse")->capture_default_str();
-  app.add_option("--quality", o.quality, "BVH build used for tracing: lbvh or sah")
+  app.add_option("--quality", o.quality, "BVH build used for tracing: lbvh, ploc or sah")
       ->capture_default_str();
+  app.add_option("--time-builds", o.time_builds,
+                 "builders whose build time and SAH cost are measured (comma-separated)")
+      ->capture_default_str();
+  app.add_flag("--build-phases", o.build_phases,
+               "print the LBVH and PLOC phase times (each phase fenced)");
   app.add_option("--samples-per-face", o.samples_per_face, "AO sample points per triangle")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
@@ -598,6 +708,7 @@ int bench_main(Communicator& comm, int argc, char** argv) {
   report.parameters = {{"mesh", o.mesh},
                        {"workload", o.workload},
                        {"quality", o.quality},
+                       {"time_builds", o.time_builds},
                        {"repeats", o.repeats},
                        {"camera", o.camera},
                        {"seed", o.seed},

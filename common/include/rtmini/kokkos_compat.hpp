@@ -74,6 +74,34 @@ void sort(const ExecSpace& space, const ViewType& view) {
 #endif
 }
 
+// Sorts `keys` ascending on `space` and permutes `values` with them; equal keys keep their
+// values in ascending order when `values` start ascending (as the Morton sort's indices do), so
+// the order is the same on every backend. 4.3+ has Kokkos::Experimental::sort_by_key (a stable
+// radix sort of 32-bit keys on CUDA: four passes instead of eight for a 64-bit key); 3.4 has
+// none, so the pair is packed into one 64-bit key (key high, value low) and sorted whole.
+template <class ExecSpace, class MemorySpace>
+void sort_by_key(const ExecSpace& space, const Kokkos::View<std::uint32_t*, MemorySpace>& keys,
+                 const Kokkos::View<std::uint32_t*, MemorySpace>& values) {
+#if KOKKOS_VERSION >= 40300
+  Kokkos::Experimental::sort_by_key(space, keys, values);
+#else
+  const std::int64_t n = static_cast<std::int64_t>(keys.extent(0));
+  using Policy = Kokkos::RangePolicy<ExecSpace, Kokkos::IndexType<std::int64_t> >;
+  Kokkos::View<std::uint64_t*, MemorySpace> packed(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::compat::sort_by_key"), n);
+  Kokkos::parallel_for(
+      "rtmini::compat::sort_by_key::pack", Policy(space, 0, n),
+      KOKKOS_LAMBDA(std::int64_t i) { packed(i) = std::uint64_t(keys(i)) << 32 | values(i); });
+  sort(space, packed);
+  Kokkos::parallel_for(
+      "rtmini::compat::sort_by_key::unpack", Policy(space, 0, n), KOKKOS_LAMBDA(std::int64_t i) {
+        keys(i) = static_cast<std::uint32_t>(packed(i) >> 32);
+        values(i) = static_cast<std::uint32_t>(packed(i) & 0xffffffffu);
+      });
+  space.fence();
+#endif
+}
+
 // Bit-level reinterpretation usable in device code (std::bit_cast is C++20).
 template <class To, class From>
 KOKKOS_INLINE_FUNCTION To bit_cast(const From& from) {

@@ -1,5 +1,5 @@
 // BVH against the brute-force reference: every hit distance and triangle id
-// equal, for both builders, on the bundled meshes and on degenerate inputs.
+// equal, for every builder, on the bundled meshes and on degenerate inputs.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -138,7 +138,7 @@ TEST_P(BvhVsBruteForce, EveryHitEqual) {
   for (const auto& p : mesh.positions) box.expand(Vec3(p));
   auto rays = random_rays(tris, box, 100000, 7);
   const Answers ref = trace_all(bvh::BruteForce<TestMemSpace>{tris}, rays);
-  for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah}) {
+  for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah, bvh::BuildQuality::kPloc}) {
     const auto accel = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, q);
     expect_same(trace_all(accel, rays), ref, GetParam() + " " + bvh::to_string(q));
   }
@@ -169,6 +169,42 @@ TEST_P(BvhLargeMesh, BuildersAgreeAndMatchBruteForce) {
   const bvh::BruteForce<TestMemSpace> ref{tris};
   expect_same_hits(sah, ref, random_rays(tris, sah.bounds, 5000, 13),
                    GetParam() + " sah vs brute force");
+  const auto ploc =
+      bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, bvh::BuildQuality::kPloc);
+  expect_same_hits(ploc, sah, random_rays(tris, sah.bounds, 200000, 29),
+                   GetParam() + " ploc vs sah");
+  expect_same_hits(ploc, ref, random_rays(tris, sah.bounds, 5000, 31),
+                   GetParam() + " ploc vs brute force");
+}
+
+// The device builders lay every input triangle out exactly once, with its id (prim) pointing
+// back at it, and give trees no deeper than traversal's stack.
+TEST(Bvh, DeviceBuildersKeepEveryTriangleOnce) {
+  const Mesh mesh = load_scene("stanford-bunny.obj");
+  auto tris = upload_triangles(mesh);
+  const auto input = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), tris);
+  const int n = static_cast<int>(tris.extent(0));
+  for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kPloc}) {
+    // The raw builders: build() would turn zero-area triangles into points.
+    const auto accel = q == bvh::BuildQuality::kLbvh
+                           ? bvh::build_lbvh<TestExecSpace, TestMemSpace>(TestExecSpace(), tris)
+                           : bvh::build_ploc<TestExecSpace, TestMemSpace>(TestExecSpace(), tris);
+    EXPECT_EQ(accel.quality, q);
+    const auto prim = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), accel.prim);
+    const auto laid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), accel.tris);
+    std::vector<int> seen(n, 0);
+    int moved = 0;
+    for (int i = 0; i < n; ++i) {
+      ++seen[prim(i)];
+      const Triangle& a = laid(i);
+      const Triangle& b = input(prim(i));
+      for (const auto& [u, v] : {std::pair(a.a, b.a), std::pair(a.b, b.b), std::pair(a.c, b.c)})
+        moved += !(u.x == v.x && u.y == v.y && u.z == v.z);
+    }
+    EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), n) << bvh::to_string(q);
+    EXPECT_EQ(moved, 0) << bvh::to_string(q);
+    EXPECT_LT(bvh::measure_quality(accel).max_depth, bvh::kStackSize) << bvh::to_string(q);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(LargeMeshes, BvhLargeMesh,
@@ -193,7 +229,7 @@ TEST(Bvh, TinyAndDegenerateInputs) {
     Aabb box;
     box.expand(Vec3(-1, -1, -1));
     box.expand(Vec3(2, 2, Real(count + 1)));
-    for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah}) {
+    for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah, bvh::BuildQuality::kPloc}) {
       const auto accel = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, q);
       if (count == 0) continue;
       auto rays = axis_rays(2000);
@@ -270,7 +306,7 @@ TEST(Bvh, GrazingRaysAtManyScalesMatchBruteForce) {
 TEST(Bvh, QualityReportIsConsistent) {
   const Mesh mesh = load_scene("teapot.obj");
   auto tris = upload_triangles(mesh);
-  for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah}) {
+  for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah, bvh::BuildQuality::kPloc}) {
     const auto accel = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, q);
     const auto r = bvh::measure_quality(accel);
     int prims = 0;
@@ -285,6 +321,9 @@ TEST(Bvh, QualityReportIsConsistent) {
   const auto sa = bvh::measure_quality(
       bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, bvh::BuildQuality::kSah));
   EXPECT_LT(sa.sah_cost, lb.sah_cost) << "the SAH build must have the lower SAH cost";
+  const auto pl = bvh::measure_quality(
+      bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, bvh::BuildQuality::kPloc));
+  EXPECT_LT(pl.sah_cost, lb.sah_cost) << "PLOC must beat the LBVH's SAH cost";
 }
 
 // The compressed 8-wide layout (built on devices by default) asked for explicitly, so the host
@@ -326,7 +365,7 @@ TEST_P(QuantizedWideVsBruteForce, EveryHitEqual) {
   for (const auto& p : mesh.positions) box.expand(Vec3(p));
   auto rays = random_rays(tris, box, 30000, 17);
   const Answers ref = trace_all(bvh::BruteForce<TestMemSpace>{tris}, rays);
-  for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah}) {
+  for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah, bvh::BuildQuality::kPloc}) {
     const auto accel =
         with_quantized_wide(bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, q));
     ASSERT_GT(accel.qwide.extent(0), 0u);
@@ -342,7 +381,7 @@ INSTANTIATE_TEST_SUITE_P(SmallMeshes, QuantizedWideVsBruteForce,
 TEST(QuantizedWide, DragonMatchesBinaryAndBruteForce) {
   const Mesh mesh = load_scene("dragon.obj");
   auto tris = upload_triangles(mesh);
-  for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah}) {
+  for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah, bvh::BuildQuality::kPloc}) {
     auto binary = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, q);
     const auto wide = with_quantized_wide(binary);
     binary.qwide = {};  // on devices build() adds it: trace the binary tree itself
@@ -370,7 +409,7 @@ TEST(QuantizedWide, TinyAndDegenerateInputs) {
       m.faces.push_back(f);
     }
     auto tris = upload_triangles(m);
-    for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah}) {
+    for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah, bvh::BuildQuality::kPloc}) {
       const auto accel =
           with_quantized_wide(bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, q));
       auto ids = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), accel.qwide_prim);

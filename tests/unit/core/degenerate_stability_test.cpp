@@ -142,7 +142,7 @@ HostAnswers to_host(const std::string& name, const Answers& a) {
 std::vector<HostAnswers> trace_everything(TriView tris, RayView rays) {
   std::vector<HostAnswers> all;
   all.push_back(to_host("brute force", trace(bvh::BruteForce<TestMemSpace>{tris}, rays)));
-  for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah}) {
+  for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah, bvh::BuildQuality::kPloc}) {
     auto accel = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, q);
     const bool has_wide = accel.wide.extent(0) > 0;
     const std::string name = bvh::to_string(q);

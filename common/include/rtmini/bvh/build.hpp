@@ -1,9 +1,10 @@
 #pragma once
-// One entry point for both builders.
+// One entry point for the builders (LBVH, PLOC, host SAH).
 #include <algorithm>
 #include <vector>
 
 #include "rtmini/bvh/build_lbvh.hpp"
+#include "rtmini/bvh/build_ploc.hpp"
 #include "rtmini/bvh/build_sah.hpp"
 #include "rtmini/bvh/finish.hpp"
 #include "rtmini/bvh/gpu_collapse.hpp"
@@ -96,7 +97,8 @@ Bvh<MemorySpace> build(const ExecSpace& space, Kokkos::View<const Triangle*, Mem
   if (quality == BuildQuality::kSah) {
     out = build_sah<MemorySpace>(tris, split_budget, spatial_splits);
   } else {
-    out = build_lbvh<ExecSpace, MemorySpace>(space, tris);
+    out = quality == BuildQuality::kPloc ? build_ploc<ExecSpace, MemorySpace>(space, tris)
+                                         : build_lbvh<ExecSpace, MemorySpace>(space, tris);
     collapse_zero_area(space, out);
     pad_node_boxes(space, out);
     add_wide_nodes(out);

@@ -1,9 +1,13 @@
 #pragma once
-// Parallel linear BVH build on any Kokkos execution space:
-// Morton codes of centroids -> sort -> Karras hierarchy ("Maximizing Parallelism
-// in the Construction of BVHs, Octrees, and k-d Trees", HPG 2012) -> bottom-up
-// boxes with atomic counters -> SAH-driven collapse of small subtrees into leaves
-// (contiguous in Morton order, so a collapsed subtree is a plain index range).
+// Parallel linear BVH build on any Kokkos execution space, in four passes: scene and centroid
+// bounds (one fused reduction) -> Morton codes of the centroids -> sort by code -> hierarchy,
+// boxes, SAH-driven collapse of small subtrees into leaves and the node records, all in one
+// bottom-up pass (Apetrei, "Fast and Simple Agglomerative LBVH Construction", 2014): each
+// triangle's thread climbs while it is the second child to arrive at a node. The tree is
+// Karras' radix tree over the sorted codes (HPG 2012), built without its top-down split search.
+// Collapsed subtrees are contiguous in Morton order, so a leaf is a plain index range.
+#include <Kokkos_Timer.hpp>
+
 #include "rtmini/bvh/bvh.hpp"
 
 namespace rtmini::bvh {
@@ -21,33 +25,30 @@ KOKKOS_INLINE_FUNCTION std::uint64_t spread_bits_21(std::uint64_t x) {
   return x;
 }
 
-// 30-bit Morton code (10 bits per axis) of a point in the unit cube. The sort
-// key puts it above the 32-bit primitive index, so keys are unique and the
-// Karras split search never meets equal keys.
-KOKKOS_INLINE_FUNCTION std::uint64_t morton_key(const Vec3& unit, std::uint32_t index) {
+// 30-bit Morton code (10 bits per axis) of a point in the unit cube.
+KOKKOS_INLINE_FUNCTION std::uint32_t morton_code(const Vec3& unit) {
   auto q = [](Real x) {
     const Real c = x < Real(0) ? Real(0) : (x > Real(1) ? Real(1) : x);
     return static_cast<std::uint64_t>(c * Real(1023));
   };
-  const std::uint64_t m =
-      spread_bits_21(q(unit.x)) << 2 | spread_bits_21(q(unit.y)) << 1 | spread_bits_21(q(unit.z));
-  return m << 32 | index;
+  return static_cast<std::uint32_t>(spread_bits_21(q(unit.x)) << 2 |
+                                    spread_bits_21(q(unit.y)) << 1 | spread_bits_21(q(unit.z)));
 }
 
-KOKKOS_INLINE_FUNCTION int clz64(std::uint64_t x) {
-  int n = 0;
-  if (x == 0) return 64;
-  while (!(x & 0x8000000000000000ULL)) {
-    x <<= 1;
-    ++n;
-  }
-  return n;
+// The Morton code above a 32-bit index: a unique sort key (the host-side block ordering in
+// bake's kitchen sorts these).
+KOKKOS_INLINE_FUNCTION std::uint64_t morton_key(const Vec3& unit, std::uint32_t index) {
+  return std::uint64_t(morton_code(unit)) << 32 | index;
 }
 
-template <class KeyView>
-KOKKOS_INLINE_FUNCTION int delta(const KeyView& keys, int n, int i, int j) {
-  if (j < 0 || j >= n) return -1;
-  return clz64(keys(i) ^ keys(j));
+// How high in the radix tree the split between sorted positions i and i + 1 sits: the larger,
+// the higher (Apetrei 2014 compares the codes' XOR instead of Karras' common-prefix length).
+// Equal codes are told apart by their positions, below every real code difference, so every
+// split has its own level and the tree is unique.
+template <class CodeView>
+KOKKOS_INLINE_FUNCTION std::uint64_t split_level(const CodeView& codes, int i) {
+  return std::uint64_t(codes(i) ^ codes(i + 1)) << 32 |
+         (static_cast<std::uint32_t>(i) ^ static_cast<std::uint32_t>(i + 1));
 }
 
 }  // namespace detail
@@ -95,52 +96,51 @@ LbvhBounds scene_and_centroid_bounds(const ExecSpace& space,
   return b;
 }
 
-// Morton keys of the centroids on the centroid box's grid, sorted.
+// The triangles' Morton codes on the centroid box's grid, sorted, and the input index of each
+// (ascending among equal codes).
+template <class MemorySpace>
+struct MortonOrder {
+  Kokkos::View<std::uint32_t*, MemorySpace> codes, index;
+};
+
 template <class ExecSpace, class MemorySpace>
-Kokkos::View<std::uint64_t*, MemorySpace> sorted_morton_keys(
-    const ExecSpace& space, Kokkos::View<const Triangle*, MemorySpace> input,
-    const Aabb& centroids) {
+MortonOrder<MemorySpace> morton_order(const ExecSpace& space,
+                                      Kokkos::View<const Triangle*, MemorySpace> input,
+                                      const Aabb& centroids) {
   const int n = static_cast<int>(input.extent(0));
   const Vec3 lo = centroids.lo, ext = centroids.hi - centroids.lo;
   const Vec3 inv_ext(ext.x > 0 ? 1 / ext.x : 0, ext.y > 0 ? 1 / ext.y : 0,
                      ext.z > 0 ? 1 / ext.z : 0);
-  Kokkos::View<std::uint64_t*, MemorySpace> keys(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::keys"), n);
+  MortonOrder<MemorySpace> out;
+  out.codes = Kokkos::View<std::uint32_t*, MemorySpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::codes"), n);
+  out.index = Kokkos::View<std::uint32_t*, MemorySpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::order"), n);
+  const auto codes = out.codes;
+  const auto index = out.index;
   Kokkos::parallel_for(
       "rtmini::bvh::build::morton", Kokkos::RangePolicy<ExecSpace>(space, 0, n),
       KOKKOS_LAMBDA(int i) {
         const Triangle& t = input(i);
         const Vec3 c = (t.a + t.b + t.c) * (Real(1) / Real(3));
-        keys(i) = detail::morton_key((c - lo) * inv_ext, static_cast<std::uint32_t>(i));
+        codes(i) = detail::morton_code((c - lo) * inv_ext);
+        index(i) = static_cast<std::uint32_t>(i);
       });
-  compat::sort(space, keys);
-  return keys;
-}
-
-// The triangles and their ids in key order (the order leaves index).
-template <class ExecSpace, class MemorySpace>
-void reorder_by_keys(const ExecSpace& space, Kokkos::View<const Triangle*, MemorySpace> input,
-                     Kokkos::View<const std::uint64_t*, MemorySpace> keys, Bvh<MemorySpace>& bvh) {
-  auto tris = bvh.tris;
-  auto prim = bvh.prim;
-  Kokkos::parallel_for(
-      "rtmini::bvh::build::reorder",
-      Kokkos::RangePolicy<ExecSpace>(space, 0, static_cast<int>(keys.extent(0))),
-      KOKKOS_LAMBDA(int i) {
-        const int p = static_cast<int>(keys(i) & 0xffffffffULL);
-        prim(i) = p;
-        tris(i) = input(p);
-      });
+  return out;
 }
 
 // A one-triangle tree: the root's second slot is empty.
 template <class ExecSpace, class MemorySpace>
-void emit_single_leaf(const ExecSpace& space, Bvh<MemorySpace>& bvh) {
+void emit_single_leaf(const ExecSpace& space, Kokkos::View<const Triangle*, MemorySpace> input,
+                      Bvh<MemorySpace>& bvh) {
   auto tris = bvh.tris;
+  auto prim = bvh.prim;
   auto nodes = bvh.nodes;
   Kokkos::parallel_for(
       "rtmini::bvh::build::single", Kokkos::RangePolicy<ExecSpace>(space, 0, 1),
       KOKKOS_LAMBDA(int) {
+        tris(0) = input(0);
+        prim(0) = 0;
         Aabb box;
         box.expand(tris(0).a);
         box.expand(tris(0).b);
@@ -150,174 +150,157 @@ void emit_single_leaf(const ExecSpace& space, Bvh<MemorySpace>& bvh) {
       });
 }
 
-// The binary radix tree over sorted keys (Karras 2012): internal node i covers sorted range
-// [range(i, 0), range(i, 1)]; children are node ids, internal j -> j, leaf k -> (n - 1) + k.
-template <class MemorySpace>
-struct RadixTree {
-  Kokkos::View<int*[2], MemorySpace> kids, range;
-  Kokkos::View<int*, MemorySpace> parent;  // of every node id
-};
-
-template <class ExecSpace, class MemorySpace>
-RadixTree<MemorySpace> karras_hierarchy(const ExecSpace& space,
-                                        Kokkos::View<const std::uint64_t*, MemorySpace> keys) {
-  const int n = static_cast<int>(keys.extent(0)), ni = n - 1;
-  RadixTree<MemorySpace> tree;
-  tree.kids = Kokkos::View<int* [2], MemorySpace>(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::children"), ni);
-  tree.range = Kokkos::View<int* [2], MemorySpace>(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::range"), ni);
-  tree.parent = Kokkos::View<int*, MemorySpace>(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::parent"), ni + n);
-  const auto kids = tree.kids;
-  const auto range = tree.range;
-  const auto parent = tree.parent;
-  Kokkos::parallel_for(
-      "rtmini::bvh::build::hierarchy", Kokkos::RangePolicy<ExecSpace>(space, 0, ni),
-      KOKKOS_LAMBDA(int i) {
-        const int d = detail::delta(keys, n, i, i + 1) > detail::delta(keys, n, i, i - 1) ? 1 : -1;
-        const int dmin = detail::delta(keys, n, i, i - d);
-        int lmax = 2;
-        while (detail::delta(keys, n, i, i + lmax * d) > dmin) lmax *= 2;
-        int l = 0;
-        for (int t = lmax / 2; t >= 1; t /= 2)
-          if (detail::delta(keys, n, i, i + (l + t) * d) > dmin) l += t;
-        const int j = i + l * d;
-        const int dnode = detail::delta(keys, n, i, j);
-        int s = 0;
-        for (int t = (l + 1) / 2;; t = (t + 1) / 2) {
-          if (detail::delta(keys, n, i, i + (s + t) * d) > dnode) s += t;
-          if (t == 1) break;
-        }
-        const int gamma = i + s * d + (d < 0 ? -1 : 0);
-        const int first = i < j ? i : j, last = i < j ? j : i;
-        const int left = first == gamma ? ni + gamma : gamma;
-        const int right = last == gamma + 1 ? ni + gamma + 1 : gamma + 1;
-        kids(i, 0) = left;
-        kids(i, 1) = right;
-        range(i, 0) = first;
-        range(i, 1) = last;
-        parent(left) = i;
-        parent(right) = i;
-      });
-  return tree;
+// SAH cost (Ct = Ci = 1) of a finished node of `count` triangles whose children cost `left` and
+// `right` (magnitudes: a negative cost marks a subtree cheaper as one leaf).
+KOKKOS_INLINE_FUNCTION Real subtree_cost(Real area, int count, Real left, Real right) {
+  constexpr Real kTraversalCost = 1, kTriangleCost = 1;
+  const Real split = kTraversalCost * area + math::fabs(left) + math::fabs(right);
+  const Real leaf = kTriangleCost * Real(count) * area;
+  return (count <= kMaxLeafSize && leaf <= split) ? -leaf : split;
 }
 
-// Boxes and SAH costs of every node id, bottom up; the second child to arrive at a node
-// finishes it (the first one stops), so every node is done exactly once. A negative cost marks
-// a subtree cheaper as one leaf (the magnitude is the cost).
-template <class MemorySpace>
-struct SubtreeCosts {
-  Kokkos::View<Aabb*, MemorySpace> box;
-  Kokkos::View<Real*, MemorySpace> cost;
-};
+KOKKOS_INLINE_FUNCTION Aabb triangle_box(const Triangle& t) {
+  Aabb b;
+  b.expand(t.a);
+  b.expand(t.b);
+  b.expand(t.c);
+  return b;
+}
 
+// The hierarchy, boxes, costs and node records in one bottom-up pass. Internal node i is the
+// split between sorted positions i and i + 1; a node covering [lo, hi] hangs below whichever of
+// its bounding splits (lo - 1 or hi) is lower in the tree. Its thread writes its box, cost and
+// id, then swaps its outer endpoint into the parent: the first to arrive stops there, the second
+// learns the parent's whole range and finishes it, so every node is finished exactly once, after
+// both children. Node ids: internal i, leaf k -> (n - 1) + k. Traversal starts at node record 0,
+// so the root's record goes there and internal node i's to record i + 1 (the root's own record
+// slot holds a copy of it): n records. Collapsed subtrees become leaf ranges; records inside them
+// are written too but never reached.
 template <class ExecSpace, class MemorySpace>
-SubtreeCosts<MemorySpace> refit_with_costs(const ExecSpace& space, const Bvh<MemorySpace>& bvh,
-                                           const RadixTree<MemorySpace>& tree) {
-  const int n = bvh.num_prims, ni = n - 1;
-  SubtreeCosts<MemorySpace> out;
-  out.box = Kokkos::View<Aabb*, MemorySpace>(
+void build_hierarchy(const ExecSpace& space, Kokkos::View<const Triangle*, MemorySpace> input,
+                     const MortonOrder<MemorySpace>& order, Bvh<MemorySpace>& bvh) {
+  const int n = bvh.num_prims, ni = n - 1;  // n >= 2
+  Kokkos::View<Aabb*, MemorySpace> box(
       Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::boxes"), ni + n);
-  out.cost = Kokkos::View<Real*, MemorySpace>(
+  Kokkos::View<Real*, MemorySpace> cost(
       Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::cost"), ni + n);
-  Kokkos::View<int*, MemorySpace> arrivals("rtmini::bvh::build::arrivals", ni);
-  const auto box = out.box;
-  const auto cost = out.cost;
+  Kokkos::View<int* [2], MemorySpace> kids(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::children"), ni);
+  Kokkos::View<int* [2], MemorySpace> range(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::range"), ni);
+  Kokkos::View<int*, MemorySpace> handoff(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::handoff"), ni);
+  Kokkos::deep_copy(space, handoff, -1);
+  const auto codes = order.codes;
+  const auto index = order.index;
   const auto tris = bvh.tris;
-  const auto kids = tree.kids;
-  const auto range = tree.range;
-  const auto parent = tree.parent;
+  const auto prim = bvh.prim;
+  const auto nodes = bvh.nodes;
   Kokkos::parallel_for(
-      "rtmini::bvh::build::refit", Kokkos::RangePolicy<ExecSpace>(space, 0, n),
+      "rtmini::bvh::build::hierarchy", Kokkos::RangePolicy<ExecSpace>(space, 0, n),
       KOKKOS_LAMBDA(int k) {
-        constexpr Real kTraversalCost = 1, kTriangleCost = 1;
-        Aabb b;
-        b.expand(tris(k).a);
-        b.expand(tris(k).b);
-        b.expand(tris(k).c);
-        box(ni + k) = b;
-        cost(ni + k) = kTriangleCost * b.surface_area();
-        int node = parent(ni + k);
-        Kokkos::memory_fence();
+        const int p = static_cast<int>(index(k));
+        const Triangle t = input(p);
+        tris(k) = t;
+        prim(k) = p;
+        const Aabb leaf_box = triangle_box(t);
+        int node = ni + k, lo = k, hi = k;
+        box(node) = leaf_box;
+        cost(node) = leaf_box.surface_area();  // Ci = 1
         while (true) {
-          if (Kokkos::atomic_fetch_add(&arrivals(node), 1) == 0) break;
+          const bool left_child = lo == 0 || (hi != ni && detail::split_level(codes, hi) <
+                                                              detail::split_level(codes, lo - 1));
+          const int parent = left_child ? hi : lo - 1;
+          kids(parent, left_child ? 0 : 1) = node;
           Kokkos::memory_fence();
+          const int other = Kokkos::atomic_exchange(&handoff(parent), left_child ? lo : hi);
+          if (other < 0) return;  // the sibling finishes the parent
+          Kokkos::memory_fence();
+          if (left_child)
+            hi = other;
+          else
+            lo = other;
+          node = parent;
+          range(node, 0) = lo;
+          range(node, 1) = hi;
           const int l = kids(node, 0), r = kids(node, 1);
           Aabb nb = box(l);
           nb.expand(box(r));
           box(node) = nb;
-          const Real sa = nb.surface_area();
-          const int count = range(node, 1) - range(node, 0) + 1;
-          const Real split = kTraversalCost * sa + math::fabs(cost(l)) + math::fabs(cost(r));
-          const Real leaf = kTriangleCost * count * sa;
-          cost(node) = (count <= kMaxLeafSize && leaf <= split) ? -leaf : split;
-          Kokkos::memory_fence();
-          if (node == 0) break;
-          node = parent(node);
+          cost(node) = subtree_cost(nb.surface_area(), hi - lo + 1, cost(l), cost(r));
+          BvhNode record;
+          for (int s = 0; s < 2; ++s) {
+            const int c = kids(node, s);
+            std::uint32_t ref;
+            if (c >= ni)
+              ref = make_leaf(static_cast<std::uint32_t>(c - ni), 1);
+            else if (math::signbit(cost(c)))
+              ref = make_leaf(static_cast<std::uint32_t>(range(c, 0)),
+                              static_cast<std::uint32_t>(range(c, 1) - range(c, 0) + 1));
+            else
+              ref = static_cast<std::uint32_t>(c + 1);
+            record.set_child(s, box(c), ref);
+          }
+          nodes(node + 1) = record;
+          if (lo == 0 && hi == ni) {
+            nodes(0) = record;
+            return;
+          }
         }
       });
-  return out;
 }
 
-// Traversal nodes. Collapsed subtrees become leaf ranges; nodes inside collapsed subtrees are
-// written too but never reached.
-template <class ExecSpace, class MemorySpace>
-void emit_binary_nodes(const ExecSpace& space, const RadixTree<MemorySpace>& tree,
-                       const SubtreeCosts<MemorySpace>& sub, Bvh<MemorySpace>& bvh) {
-  const int ni = bvh.num_prims - 1;
-  const auto nodes = bvh.nodes;
-  const auto kids = tree.kids;
-  const auto range = tree.range;
-  const auto box = sub.box;
-  const auto cost = sub.cost;
-  Kokkos::parallel_for(
-      "rtmini::bvh::build::emit", Kokkos::RangePolicy<ExecSpace>(space, 0, ni),
-      KOKKOS_LAMBDA(int i) {
-        for (int k = 0; k < 2; ++k) {
-          const int c = kids(i, k);
-          std::uint32_t ref;
-          if (c >= ni) {
-            ref = make_leaf(static_cast<std::uint32_t>(c - ni), 1);
-          } else if (math::signbit(cost(c))) {
-            ref = make_leaf(static_cast<std::uint32_t>(range(c, 0)),
-                            static_cast<std::uint32_t>(range(c, 1) - range(c, 0) + 1));
-          } else {
-            ref = static_cast<std::uint32_t>(c);
-          }
-          nodes(i).set_child(k, box(c), ref);
-        }
-      });
+// Wall-clock seconds of the LBVH phases (each fenced), when a caller asks for them.
+struct LbvhPhaseTimes {
+  double bounds = 0, morton = 0, sort = 0, hierarchy = 0;
+};
+
+// Runs `phase` and, when `seconds` is given, adds its fenced wall time there.
+template <class ExecSpace, class Fn>
+void timed_phase(const ExecSpace& space, double* seconds, const Fn& phase) {
+  if (!seconds) {
+    phase();
+    return;
+  }
+  Kokkos::Timer timer;
+  phase();
+  space.fence();
+  *seconds += timer.seconds();
 }
 
 template <class ExecSpace, class MemorySpace = typename ExecSpace::memory_space>
 Bvh<MemorySpace> build_lbvh(const ExecSpace& space,
-                            Kokkos::View<const Triangle*, MemorySpace> input) {
+                            Kokkos::View<const Triangle*, MemorySpace> input,
+                            LbvhPhaseTimes* times = nullptr) {
   Kokkos::Profiling::pushRegion("rtmini::bvh::build_lbvh");
   const int n = static_cast<int>(input.extent(0));
   Bvh<MemorySpace> bvh;
   bvh.num_prims = n;
   bvh.quality = BuildQuality::kLbvh;
   bvh.nodes = Kokkos::View<BvhNode*, MemorySpace>(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::nodes"), n > 1 ? n - 1 : 1);
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::nodes"), n > 1 ? n : 1);
   bvh.tris = Kokkos::View<Triangle*, MemorySpace>(
       Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::tris"), n);
   bvh.prim = Kokkos::View<int*, MemorySpace>(
       Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::prim"), n);
+  LbvhBounds bounds;
   if (n > 0) {
-    const LbvhBounds bounds = scene_and_centroid_bounds(space, input);
+    timed_phase(space, times ? &times->bounds : nullptr,
+                [&] { bounds = scene_and_centroid_bounds(space, input); });
     bvh.bounds = bounds.scene;
-    const auto keys = sorted_morton_keys(space, input, bounds.centroids);
-    reorder_by_keys<ExecSpace, MemorySpace>(space, input, keys, bvh);
-    if (n == 1) {
-      emit_single_leaf(space, bvh);
-    } else {
-      const auto tree = karras_hierarchy<ExecSpace, MemorySpace>(space, keys);
-      const auto sub = refit_with_costs(space, bvh, tree);
-      emit_binary_nodes(space, tree, sub, bvh);
-    }
-    space.fence();
   }
+  if (n == 1) {
+    emit_single_leaf(space, input, bvh);
+  } else if (n > 1) {
+    MortonOrder<MemorySpace> order;
+    timed_phase(space, times ? &times->morton : nullptr,
+                [&] { order = morton_order(space, input, bounds.centroids); });
+    timed_phase(space, times ? &times->sort : nullptr,
+                [&] { compat::sort_by_key(space, order.codes, order.index); });
+    timed_phase(space, times ? &times->hierarchy : nullptr,
+                [&] { build_hierarchy(space, input, order, bvh); });
+  }
+  space.fence();
   Kokkos::Profiling::popRegion();
   return bvh;
 }

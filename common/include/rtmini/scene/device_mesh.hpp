@@ -37,14 +37,16 @@ inline DeviceMaterial to_device(const Material& m) {
 
 // Bytes upload_mesh takes at its peak for `triangles` triangles over `vertices` vertices:
 // the mesh tables and the BVH (bvh_bytes: up to 2 nodes per triangle, the triangles again in
-// leaf order, plus the build's temporaries - Morton keys, children, ranges, parents, boxes,
-// costs - freed after the build but counted towards the peak). For the up-front memory check
-// (report/memory_check.hpp), before anything is uploaded.
+// leaf order, plus the largest device build's temporaries, PLOC's - per node a box, cost,
+// count, parent and children; per cluster two ids, two boxes, a neighbour and a scan slot;
+// Morton codes and order - freed after the build but counted towards the peak). For the
+// up-front memory check (report/memory_check.hpp), before anything is uploaded.
 inline double bvh_bytes(std::size_t triangles) {
   const double nt = static_cast<double>(triangles);
   const double bvh = 2 * nt * sizeof(bvh::BvhNode) + nt * (sizeof(Triangle) + sizeof(int));
   const double build =
-      2 * nt * (sizeof(std::uint64_t) + 5 * sizeof(int) + sizeof(Aabb) + sizeof(Real));
+      2 * nt * (sizeof(Aabb) + sizeof(Real) + 4 * sizeof(int)) +
+      nt * (3 * sizeof(int) + 2 * sizeof(Aabb) + sizeof(std::uint64_t) + 2 * sizeof(std::uint32_t));
   return bvh + build;
 }
 inline double device_mesh_bytes(std::size_t triangles, std::size_t vertices) {
