@@ -219,55 +219,88 @@ KOKKOS_INLINE_FUNCTION bool any_hit(const BvhT& bvh, const Ray& ray, TraversalSt
 // thread's batch is traced one ray after another).
 inline constexpr int kPersistentBatch = 4;
 
+namespace detail {
+
+// The drivers as functors rather than lambdas: nvcc's extended lambdas may not sit in a function
+// template instantiated with a caller's local or unnamed-namespace types (the bench's, the tests').
+template <AnyHitKernel K, class BvhT, class RayOf, class Store>
+struct AnyHitEachRay {
+  BvhT bvh;
+  RayOf ray_of;
+  Store store;
+  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t i) const {
+    store(i, any_hit<K>(bvh, ray_of(i)));
+  }
+};
+
+template <int N, class BvhT, class RayOf, class Store, class Counter>
+struct AnyHitPersistent {
+  BvhT bvh;
+  RayOf ray_of;
+  Store store;
+  Counter counter;
+  std::int64_t n;
+
+  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t) const {
+    using Count = typename Counter::value_type;
+    std::uint32_t deep[kStackSize];
+    std::int64_t next = 0, end = 0, current = -1;
+    Ray idle;  // a valid placeholder until the first fetch (no 0 * inf in its setup)
+    idle.dir = Vec3(0, 0, 1);
+    BinaryAnyHitRay<N> r(idle);
+    while (true) {
+      if (current < 0) {  // this lane's ray ended (or none yet): take the next one
+        if (next == end) {
+          next = static_cast<std::int64_t>(
+              Kokkos::atomic_fetch_add(&counter(0), Count(kPersistentBatch)));
+          end = next + kPersistentBatch < n ? next + kPersistentBatch : n;
+          if (next >= n) break;
+        }
+        current = next++;
+        r = BinaryAnyHitRay<N>(ray_of(current));
+      }
+      const AnyHitStep s = r.template step<BvhT, false>(bvh, deep, nullptr);
+      if (s != AnyHitStep::kGoing) {
+        store(current, s == AnyHitStep::kBlocked);
+        current = -1;
+      }
+    }
+  }
+};
+
+template <class Store>
+struct StoreClear {
+  Store store;
+  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t i) const { store(i, false); }
+};
+
+}  // namespace detail
+
 // Any hit of rays 0..n-1 with the kernel K: ray_of(i) is ray i, store(i, blocked) records its
 // answer. `counter` is a one-element View the call resets (the caller keeps it, so timed calls
 // allocate nothing). The persistent kernels run one thread per resident thread of the device
-// (compat::concurrency), each looping until the counter passes n; the others one thread per ray.
+// (the space's concurrency), each looping until the counter passes n; the others one thread per
+// ray.
 template <AnyHitKernel K, class ExecSpace, class BvhT, class RayOf, class Store, class Counter>
 void any_hit_all(const ExecSpace& space, const BvhT& bvh, std::int64_t n, const RayOf& ray_of,
                  const Store& store, const Counter& counter) {
   if constexpr (K != AnyHitKernel::kPersistent8 && K != AnyHitKernel::kPersistent16) {
     (void)counter;
-    Kokkos::parallel_for(
-        "rtmini::bvh::any_hit_all", Kokkos::RangePolicy<ExecSpace>(space, 0, n),
-        KOKKOS_LAMBDA(std::int64_t i) { store(i, any_hit<K>(bvh, ray_of(i))); });
+    Kokkos::parallel_for("rtmini::bvh::any_hit_all", Kokkos::RangePolicy<ExecSpace>(space, 0, n),
+                         detail::AnyHitEachRay<K, BvhT, RayOf, Store>{bvh, ray_of, store});
   } else {
-    constexpr int N = register_stack_entries(K);
-    Kokkos::deep_copy(space, counter, 0);
     if (n == 0 || bvh.num_prims == 0) {
-      Kokkos::parallel_for(
-          "rtmini::bvh::any_hit_all_empty", Kokkos::RangePolicy<ExecSpace>(space, 0, n),
-          KOKKOS_LAMBDA(std::int64_t i) { store(i, false); });
+      Kokkos::parallel_for("rtmini::bvh::any_hit_all_empty",
+                           Kokkos::RangePolicy<ExecSpace>(space, 0, n),
+                           detail::StoreClear<Store>{store});
       return;
     }
+    Kokkos::deep_copy(space, counter, 0);
     const std::int64_t threads = std::max<std::int64_t>(1, space.concurrency());
     Kokkos::parallel_for(
         "rtmini::bvh::any_hit_all_persistent", Kokkos::RangePolicy<ExecSpace>(space, 0, threads),
-        KOKKOS_LAMBDA(std::int64_t) {
-          using Count = typename Counter::value_type;
-          std::uint32_t deep[kStackSize];
-          std::int64_t next = 0, end = 0, current = -1;
-          Ray idle;  // a valid placeholder until the first fetch (no 0 * inf in its setup)
-          idle.dir = Vec3(0, 0, 1);
-          detail::BinaryAnyHitRay<N> r(idle);
-          while (true) {
-            if (current < 0) {  // this lane's ray ended (or none yet): take the next one
-              if (next == end) {
-                next = static_cast<std::int64_t>(
-                    Kokkos::atomic_fetch_add(&counter(0), Count(kPersistentBatch)));
-                end = next + kPersistentBatch < n ? next + kPersistentBatch : n;
-                if (next >= n) break;
-              }
-              current = next++;
-              r = detail::BinaryAnyHitRay<N>(ray_of(current));
-            }
-            const detail::AnyHitStep s = r.template step<BvhT, false>(bvh, deep, nullptr);
-            if (s != detail::AnyHitStep::kGoing) {
-              store(current, s == detail::AnyHitStep::kBlocked);
-              current = -1;
-            }
-          }
-        });
+        detail::AnyHitPersistent<register_stack_entries(K), BvhT, RayOf, Store, Counter>{
+            bvh, ray_of, store, counter, n});
   }
 }
 
