@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "ray_buffer.hpp"
+#include "rtmini/bvh/any_hit_gpu.hpp"
 #include "rtmini/bvh/build.hpp"
 #include "rtmini/bvh/quality.hpp"
 #include "rtmini/bvh/traverse.hpp"
@@ -40,6 +41,8 @@ struct Options {
   std::string quality = "sah";
   std::string peer;
   std::string camera = "framed";
+  std::string gpu_trace = "default";
+  std::string ray_order = "ray";
   std::string spatial_splits = bvh::to_string(bvh::kDefaultSpatialSplits);
   std::string time_builds = "lbvh,ploc,sah";
   bool build_phases = false;
@@ -199,6 +202,67 @@ Kokkos::View<Ray*, Mem> primary_rays(const Camera& cam, int w, int h) {
       "rtmini::bench::gen_primary", Kokkos::RangePolicy<Exec>(0, w * h),
       KOKKOS_LAMBDA(int i) { rays(i) = camera_ray(cam, i % w, i / w, w, h); });
   return rays;
+}
+
+// Which ray the i-th thread (or fetch of a persistent thread) traces: the rays' own order, or for
+// --ray-order coherent (AO) ray k of up to kWarp neighbouring sample points side by side, so a
+// warp's lanes trace from 32 nearby points (triangle order) instead of one point's 32 directions.
+// The same rays either way; only which thread traces which changes.
+struct RayOrder {
+  static constexpr std::int64_t kWarp = 32;
+  std::int64_t points = 0;
+  std::int64_t rays = 1;  // per point
+  bool coherent = false;
+
+  KOKKOS_INLINE_FUNCTION std::int64_t operator()(std::int64_t i) const {
+    if (!coherent) return i;
+    const std::int64_t group = i / (kWarp * rays);  // kWarp points, the last group maybe fewer
+    const std::int64_t base = group * kWarp;
+    const std::int64_t width = points - base < kWarp ? points - base : kWarp;
+    const std::int64_t within = i - group * kWarp * rays;
+    const std::int64_t k = within / width;
+    return (base + (within - k * width)) * rays + k;
+  }
+};
+
+struct RayAt {
+  Kokkos::View<Ray*, Mem> rays;
+  RayOrder order;
+  KOKKOS_INLINE_FUNCTION Ray operator()(std::int64_t i) const { return rays(order(i)); }
+};
+
+struct StoreBlocked {
+  Kokkos::View<int*, Mem> result;
+  RayOrder order;
+  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t i, bool blocked) const {
+    result(order(i)) = blocked ? 1 : 0;
+  }
+};
+
+using RayCounter = Kokkos::View<unsigned long long*, Mem>;
+
+// The timed any-hit pass with the kernel chosen on the command line (--gpu-trace).
+void trace_any(bvh::AnyHitKernel kernel, const bvh::Bvh<Mem>& accel,
+               const Kokkos::View<Ray*, Mem>& rays, const Kokkos::View<int*, Mem>& result,
+               const RayOrder& order, const RayCounter& counter) {
+  const std::int64_t n = static_cast<std::int64_t>(rays.extent(0));
+  const RayAt ray_at{rays, order};
+  const StoreBlocked store{result, order};
+  using K = bvh::AnyHitKernel;
+  switch (kernel) {
+    case K::kDefault:
+      return bvh::any_hit_all<K::kDefault>(Exec(), accel, n, ray_at, store, counter);
+    case K::kStored:
+      return bvh::any_hit_all<K::kStored>(Exec(), accel, n, ray_at, store, counter);
+    case K::kShort8:
+      return bvh::any_hit_all<K::kShort8>(Exec(), accel, n, ray_at, store, counter);
+    case K::kShort16:
+      return bvh::any_hit_all<K::kShort16>(Exec(), accel, n, ray_at, store, counter);
+    case K::kPersistent8:
+      return bvh::any_hit_all<K::kPersistent8>(Exec(), accel, n, ray_at, store, counter);
+    case K::kPersistent16:
+      return bvh::any_hit_all<K::kPersistent16>(Exec(), accel, n, ray_at, store, counter);
+  }
 }
 
 // The fixed AO workload: S samples per triangle at random barycentric points,
@@ -435,6 +499,18 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
   if (!bvh::parse_spatial_splits(o.spatial_splits, spatial))
     throw InputError("--spatial-splits must be off, on or auto, got '" + o.spatial_splits + "'");
   const bool any = o.workload == "ao" || o.workload == "shadow";
+  bvh::AnyHitKernel kernel;
+  if (!bvh::parse_any_hit_kernel(o.gpu_trace, kernel))
+    throw InputError(
+        "--gpu-trace must be default, stored, short8, short16, persistent8 or "
+        "persistent16, got '" +
+        o.gpu_trace + "'");
+  if (kernel != bvh::AnyHitKernel::kDefault && !any)
+    throw InputError("--gpu-trace " + o.gpu_trace + ": only the any-hit workloads (ao, shadow)");
+  if (o.ray_order != "ray" && o.ray_order != "coherent")
+    throw InputError("--ray-order must be ray or coherent, got '" + o.ray_order + "'");
+  if (o.ray_order == "coherent" && o.workload != "ao")
+    throw InputError("--ray-order coherent: only the ao workload");
 
   std::cout << build_banner() << "\n";
   std::cout << "threads " << compat::concurrency() << ", mesh " << o.mesh << ": "
@@ -538,6 +614,13 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
   Kokkos::View<int*, Mem> result(
       Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bench::result"), nr);
   const auto accel = dm.accel;
+  RayOrder order;
+  order.coherent = o.ray_order == "coherent";
+  order.rays = o.rays;
+  order.points = static_cast<std::int64_t>(dm.tris.extent(0)) * o.samples_per_face;
+  const RayCounter counter("rtmini::bench::ray_counter", 1);
+  if (any)
+    std::printf("any-hit kernel %s, ray order %s\n", bvh::to_string(kernel), o.ray_order.c_str());
   std::vector<Ray> host_rays;
   if (peer.active()) {
     auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rays);
@@ -551,9 +634,7 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
     const auto t0 = Clock::now();
     const double c0 = cpu_seconds();
     if (any) {
-      Kokkos::parallel_for(
-          "rtmini::bench::trace_any", Kokkos::RangePolicy<Exec>(0, nr),
-          KOKKOS_LAMBDA(long long i) { result(i) = bvh::any_hit(accel, rays(i)) ? 1 : 0; });
+      trace_any(kernel, accel, rays, result, order, counter);
     } else {
       Kokkos::parallel_for(
           "rtmini::bench::trace_closest", Kokkos::RangePolicy<Exec>(0, nr),
@@ -701,6 +782,14 @@ int bench_main(Communicator& comm, int argc, char** argv) {
                  "SAH build: extra references for slivers, as a fraction of the triangles")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--gpu-trace", o.gpu_trace,
+                 "any-hit kernel (issue 21): default (today's dispatch), stored, short8, short16, "
+                 "persistent8 or persistent16 (bvh/any_hit_gpu.hpp)")
+      ->capture_default_str();
+  app.add_option("--ray-order", o.ray_order,
+                 "ao: which rays a warp traces together: ray (one point's directions) or "
+                 "coherent (ray k of 32 neighbouring points)")
+      ->capture_default_str();
   app.add_option("--peer", o.peer, "trace the identical rays with a peer: embree");
   if (const auto done = parse_command_line(app, argc, argv, common, comm.is_root())) return *done;
   RunReport report;
@@ -711,6 +800,8 @@ int bench_main(Communicator& comm, int argc, char** argv) {
                        {"time_builds", o.time_builds},
                        {"repeats", o.repeats},
                        {"camera", o.camera},
+                       {"gpu_trace", o.gpu_trace},
+                       {"ray_order", o.ray_order},
                        {"seed", o.seed},
                        {"spatial_splits", o.spatial_splits},
                        {"split_budget", o.split_budget}};

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Every any-hit kernel (--gpu-trace) and ray order (--ray-order) of rtmini-bvh-bench traces the
+# same rays to the same answers: the verification hash of each run equals the default's.
+# Usage: same_hash.sh BENCH MESH
+set -euo pipefail
+bench=$1 mesh=$2
+fail=0
+for quality in sah lbvh; do
+  ref=""
+  for kernel in default stored short8 short16 persistent8 persistent16; do
+    for order in ray coherent; do
+      line=$("$bench" "$mesh" --workload ao --quality $quality --samples-per-face 2 --rays 8 \
+        --repeats 1 --threads 2 --gpu-trace $kernel --ray-order $order | grep '^FOM')
+      hash=${line##* }
+      echo "$quality $kernel $order: $hash"
+      ref=${ref:-$hash}
+      [ "$hash" = "$ref" ] || { echo "  differs from default ($ref)"; fail=1; }
+    done
+  done
+done
+# The shadow workload (any hit, camera rays' hits toward a light) through one variant too.
+for kernel in default short8; do
+  line=$("$bench" "$mesh" --workload shadow --width 48 --height 48 --repeats 1 --threads 2 \
+    --gpu-trace $kernel | grep '^FOM')
+  echo "shadow $kernel: ${line##* }"
+  [ $kernel = default ] && ref=${line##* }
+  [ "${line##* }" = "$ref" ] || { echo "  differs from default ($ref)"; fail=1; }
+done
+exit $fail

@@ -1,0 +1,219 @@
+// The device any-hit kernels of bvh/any_hit_gpu.hpp (issue 21) against brute force and against
+// the binary traversal they replace: every kernel, through its own driver (any_hit_all), gives
+// every ray brute force's answer, and visits the binary traversal's nodes and triangles.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "rtmini/bvh/any_hit_gpu.hpp"
+#include "rtmini/bvh/brute_force.hpp"
+#include "rtmini/bvh/build.hpp"
+#include "rtmini/io/obj_reader.hpp"
+#include "rtmini/sampling/rng.hpp"
+#include "rtmini/sampling/sampling.hpp"
+#include "test_space.hpp"
+
+namespace rtmini::test {
+namespace {
+
+using Policy = Kokkos::RangePolicy<TestExecSpace>;
+using Kernel = bvh::AnyHitKernel;
+
+Kokkos::View<Triangle*, TestMemSpace> mesh_triangles(const std::string& name) {
+  const Mesh mesh = read_mesh(std::string(scenes_dir()) + "/" + name);
+  const TriangleList tl = triangulate(mesh);
+  Kokkos::View<Triangle*, TestMemSpace> tris("tris", tl.vertices.size());
+  auto h = Kokkos::create_mirror_view(tris);
+  for (std::size_t t = 0; t < tl.vertices.size(); ++t)
+    h(t) = {Vec3(mesh.positions[tl.vertices[t][0]]), Vec3(mesh.positions[tl.vertices[t][1]]),
+            Vec3(mesh.positions[tl.vertices[t][2]])};
+  Kokkos::deep_copy(tris, h);
+  return tris;
+}
+
+// AO-like rays: from points just off random triangles, cosine directions about the normal,
+// a third of them with a short segment (the any-hit cases that end early and late).
+Kokkos::View<Ray*, TestMemSpace> ao_like_rays(Kokkos::View<const Triangle*, TestMemSpace> tris,
+                                              int n, std::uint64_t seed) {
+  Kokkos::View<Ray*, TestMemSpace> rays("rays", n);
+  const int nt = static_cast<int>(tris.extent(0));
+  Kokkos::parallel_for(
+      "test::ao_like_rays", Policy(0, n), KOKKOS_LAMBDA(int i) {
+        const Rng rng(seed, std::uint64_t(i), 0);
+        const auto b = rng.block(0);
+        const Triangle t = tris(int(b.v[0] % std::uint32_t(nt)));
+        Real u, v;
+        uniform_triangle(Rng::to_unit(b.v[1]), Rng::to_unit(b.v[2]), u, v);
+        Vec3 n = cross(t.b - t.a, t.c - t.a);
+        n = length_squared(n) > Real(0) ? normalize(n) : Vec3(0, 0, 1);
+        const Real scale = length(t.b - t.a) + Real(1e-6);
+        Ray r;
+        r.org = barycentric_point(t.a, t.b, t.c, u, v) + n * (Real(1e-3) * scale);
+        r.dir = Frame(n).to_world(cosine_hemisphere(Rng::to_unit(b.v[3]), rng.uniform(4)));
+        r.tmin = 0;
+        r.tmax = i % 3 == 0 ? Real(20) * scale : Real(1e30);
+        rays(i) = r;
+      });
+  return rays;
+}
+
+// Rays from random points of a box around the mesh in uniform directions.
+Kokkos::View<Ray*, TestMemSpace> box_rays(const Aabb& box, int n, std::uint64_t seed) {
+  Kokkos::View<Ray*, TestMemSpace> rays("rays", n);
+  const Vec3 c = box.center(), e = box.extent() * Real(0.75);
+  Kokkos::parallel_for(
+      "test::box_rays", Policy(0, n), KOKKOS_LAMBDA(int i) {
+        const Rng rng(seed, std::uint64_t(i), 0);
+        const auto a = rng.block(0), b = rng.block(1);
+        Ray r;
+        r.org = c + Vec3(e.x * (2 * Rng::to_unit(a.v[0]) - 1), e.y * (2 * Rng::to_unit(a.v[1]) - 1),
+                         e.z * (2 * Rng::to_unit(a.v[2]) - 1));
+        r.dir = uniform_sphere(Rng::to_unit(b.v[0]), Rng::to_unit(b.v[1]));
+        rays(i) = r;
+      });
+  return rays;
+}
+
+struct RayAt {
+  Kokkos::View<Ray*, TestMemSpace> rays;
+  KOKKOS_INLINE_FUNCTION Ray operator()(std::int64_t i) const { return rays(i); }
+};
+struct StoreAt {
+  Kokkos::View<int*, TestMemSpace> out;
+  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t i, bool blocked) const {
+    out(i) = blocked ? 1 : 0;
+  }
+};
+
+template <Kernel K, class Accel>
+std::vector<int> any_hits(const Accel& accel, const Kokkos::View<Ray*, TestMemSpace>& rays) {
+  const std::int64_t n = static_cast<std::int64_t>(rays.extent(0));
+  Kokkos::View<int*, TestMemSpace> out("any", n);
+  Kokkos::deep_copy(out, -1);  // a ray the driver skipped stays -1
+  const Kokkos::View<unsigned long long*, TestMemSpace> counter("counter", 1);
+  bvh::any_hit_all<K>(TestExecSpace(), accel, n, RayAt{rays}, StoreAt{out}, counter);
+  std::vector<int> h;
+  compat::download(out, h);
+  return h;
+}
+
+// Node visits and triangle tests of every ray, summed (one kernel at a time, per-ray entry).
+template <Kernel K, class Accel>
+std::pair<double, double> work(const Accel& accel, const Kokkos::View<Ray*, TestMemSpace>& rays) {
+  double nodes = 0, tests = 0;
+  Kokkos::parallel_reduce(
+      "test::any_hit_work", Policy(0, int(rays.extent(0))),
+      KOKKOS_LAMBDA(int i, double& nn, double& tt) {
+        bvh::TraversalStats st;
+        bvh::any_hit<K>(accel, rays(i), st);
+        nn += st.nodes;
+        tt += st.tests;
+      },
+      nodes, tests);
+  return {nodes, tests};
+}
+
+template <Kernel K, class Accel>
+void expect_kernel_matches(const Accel& accel, const Kokkos::View<Ray*, TestMemSpace>& rays,
+                           const std::vector<int>& ref, const std::string& what) {
+  const std::vector<int> got = any_hits<K>(accel, rays);
+  ASSERT_EQ(got.size(), ref.size());
+  int mismatches = 0, blocked = 0;
+  for (std::size_t i = 0; i < ref.size(); ++i) {
+    blocked += ref[i];
+    if (got[i] != ref[i] && ++mismatches <= 5)
+      ADD_FAILURE() << what << " " << bvh::to_string(K) << " ray " << i << ": " << got[i]
+                    << " vs reference " << ref[i];
+  }
+  EXPECT_EQ(mismatches, 0) << what << " " << bvh::to_string(K);
+  EXPECT_GT(blocked, int(ref.size()) / 20) << what << ": too few blocked rays to mean much";
+  EXPECT_LT(blocked, int(ref.size()) - int(ref.size()) / 20) << what << ": too few open rays";
+}
+
+template <Kernel... Ks, class Accel>
+void expect_every_kernel_matches(const Accel& accel, const Kokkos::View<Ray*, TestMemSpace>& rays,
+                                 const std::vector<int>& ref, const std::string& what) {
+  (expect_kernel_matches<Ks>(accel, rays, ref, what), ...);
+}
+
+template <class Accel>
+void expect_all_kernels_match(const Accel& accel, const Kokkos::View<Ray*, TestMemSpace>& rays,
+                              const std::vector<int>& ref, const std::string& what) {
+  expect_every_kernel_matches<Kernel::kDefault, Kernel::kStored, Kernel::kShort8, Kernel::kShort16,
+                              Kernel::kPersistent8, Kernel::kPersistent16>(accel, rays, ref, what);
+}
+
+class AnyHitKernelsVsBruteForce : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(AnyHitKernelsVsBruteForce, EveryRayEqual) {
+  auto tris = mesh_triangles(GetParam());
+  const bvh::BruteForce<TestMemSpace> brute{tris};
+  for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah}) {
+    const auto accel = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, q);
+    for (int set = 0; set < 2; ++set) {
+      const auto rays =
+          set == 0 ? ao_like_rays(tris, 20000, 31) : box_rays(accel.bounds, 20000, 37);
+      const std::vector<int> ref = any_hits<Kernel::kDefault>(brute, rays);
+      expect_all_kernels_match(accel, rays, ref,
+                               GetParam() + " " + bvh::to_string(q) + (set ? " box" : " ao"));
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(SmallMeshes, AnyHitKernelsVsBruteForce,
+                         ::testing::Values("teapot.obj", "CornellBox-Original.obj"));
+
+// On the dragon (deep trees: stacks past 16 entries) every kernel gives the binary traversal's
+// answers, visiting exactly its nodes and triangles (same order: near child first).
+TEST(AnyHitKernels, DragonMatchesBinaryTraversal) {
+  auto tris = mesh_triangles("dragon.obj");
+  for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah}) {
+    auto binary = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, q);
+    binary.wide = {};  // the host's 8-wide copy: trace the binary tree itself, as devices do
+    const auto rays = ao_like_rays(tris, 40000, 41);
+    const std::vector<int> ref = any_hits<Kernel::kDefault>(binary, rays);
+    expect_all_kernels_match(binary, rays, ref, std::string("dragon ") + bvh::to_string(q));
+    const auto base = work<Kernel::kDefault>(binary, rays);
+    for (const auto& w : {work<Kernel::kStored>(binary, rays), work<Kernel::kShort8>(binary, rays),
+                          work<Kernel::kShort16>(binary, rays)}) {
+      EXPECT_EQ(w.first, base.first) << "node visits, " << bvh::to_string(q);
+      EXPECT_EQ(w.second, base.second) << "triangle tests, " << bvh::to_string(q);
+    }
+  }
+}
+
+// The short stack is a stack at every depth: registers, spill and refill.
+template <int N>
+void expect_last_in_first_out() {
+  bvh::detail::ShortStack<N> s;
+  std::uint32_t deep[bvh::kStackSize];
+  for (int round = 0; round < 2; ++round) {
+    for (std::uint32_t v = 0; v < 40; ++v) s.push(1000 * round + v, deep);
+    for (std::uint32_t v = 40; v-- > 20;) EXPECT_EQ(s.pop(deep), 1000u * round + v) << "N=" << N;
+    for (std::uint32_t v = 20; v < 30; ++v) s.push(5000 + v, deep);
+    for (std::uint32_t v = 30; v-- > 20;) EXPECT_EQ(s.pop(deep), 5000u + v) << "N=" << N;
+    for (std::uint32_t v = 20; v-- > 0;) EXPECT_EQ(s.pop(deep), 1000u * round + v) << "N=" << N;
+    EXPECT_TRUE(s.empty());
+  }
+}
+
+TEST(AnyHitKernels, ShortStackIsLastInFirstOut) {
+  expect_last_in_first_out<0>();
+  expect_last_in_first_out<8>();
+  expect_last_in_first_out<16>();
+}
+
+TEST(AnyHitKernels, NamesRoundTrip) {
+  for (Kernel k : bvh::kAnyHitKernels) {
+    Kernel back = Kernel::kDefault;
+    EXPECT_TRUE(bvh::parse_any_hit_kernel(bvh::to_string(k), back));
+    EXPECT_EQ(back, k);
+  }
+  Kernel unused;
+  EXPECT_FALSE(bvh::parse_any_hit_kernel("short4", unused));
+}
+
+}  // namespace
+}  // namespace rtmini::test
