@@ -75,7 +75,8 @@ std::int64_t run_kernel(const BakedMapDevice& map, const LookupT& lookup,
                                   fibonacci_radius(map.viewpoints),
                                   Vec3(p.background),
                                   SparseColors{},
-                                  FirstReads{}};
+                                  FirstReads{},
+                                  map.hemisphere};
   const int grid = static_cast<int>(std::sqrt(static_cast<double>(p.spp)) + 1e-9);
   const std::int64_t pixels = static_cast<std::int64_t>(p.width) * p.height;
   const bool shown = progress && progress->enabled();
