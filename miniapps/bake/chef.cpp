@@ -18,9 +18,11 @@ using Exec = Kokkos::DefaultExecutionSpace;
 using Bvh = bvh::Bvh<MemSpace>;
 
 // The viewpoint directions of the map (HemisphereMap, map_reader.hpp): the N shared points, in
-// each vertex's frame when the map stores the front hemisphere only.
-HemisphereMap hemisphere_map(const BakeSceneDevice& s, const BakeConfig& c) {
-  return {s.normal, s.viewpoints, c.hemisphere() ? c.stored_viewpoints() : 0};
+// each vertex's frame when the map stores the front hemisphere only (`mirrored`: the KD-tree
+// lookup's tree of the stored half and its images, Chef::mirrored_).
+HemisphereMap hemisphere_map(const BakeSceneDevice& s, const BakeConfig& c,
+                             const FibonacciKdTree<MemSpace>& mirrored = {}) {
+  return {s.normal, s.viewpoints, c.hemisphere() ? c.stored_viewpoints() : 0, mirrored};
 }
 
 // Rng sample-index streams: shadow samples use [0, S); gather rays start here.
@@ -373,9 +375,10 @@ Chef::Chef(const BakeSceneDevice& scene, const BakeConfig& config, std::int64_t 
   if (config.cache_hits && config.iterations > 1)
     cache_ = Kokkos::View<CachedHit*, MemSpace>("rtmini::bake::hit_cache", local_items);
   order_ = coherent_order(config.viewpoints, config.stored_viewpoints());
-  if (config.lookup == Lookup::kKdTree)
+  if (config.lookup == Lookup::kKdTree) {
     kdtree_ = build_fibonacci_kdtree<MemSpace>(config.viewpoints);
-  else
+    if (config.hemisphere()) mirrored_ = build_mirrored_kdtree<MemSpace>(config.viewpoints);
+  } else
     inverse_ = build_fibonacci_inverse<MemSpace>(config.viewpoints);
 }
 
@@ -428,7 +431,7 @@ ReadCount Chef::trace_mirror_hits(std::int64_t begin, std::int64_t end, std::int
                     cache_offset,
                     scene_.mesh.coordinate_bound};
   k.two_sided = config_.two_sided;
-  k.hemisphere = hemisphere_map(scene_, config_);
+  k.hemisphere = hemisphere_map(scene_, config_, mirrored_);
   ReadCount count;
   count.rays = trace_items("rtmini::bake::trace_mirror_hits", items, k);
   // Which vertices the hits read (flags: any rank writing 1 is enough), and how many are remote.
@@ -507,7 +510,7 @@ void mark_read_items_with(const LookupT& lookup, const BakeSceneDevice& s, const
                           Kokkos::View<TracedHit*, MemSpace> traced, std::int64_t begin,
                           std::int64_t end, std::int64_t cache_offset,
                           Kokkos::View<const char*, MemSpace> owned,
-                          Kokkos::View<char*, MemSpace> items) {
+                          Kokkos::View<char*, MemSpace> items, const HemisphereMap& hemisphere) {
   const ItemRange r = item_range(s.color_offset, begin, end);
   MarkReadItems<LookupT> k{lookup,
                            fibonacci_radius(cfg.viewpoints),
@@ -525,7 +528,7 @@ void mark_read_items_with(const LookupT& lookup, const BakeSceneDevice& s, const
                            r.first,
                            cache_offset};
   k.two_sided = cfg.two_sided;
-  k.hemisphere = hemisphere_map(s, cfg);
+  k.hemisphere = hemisphere;
   Kokkos::parallel_for("rtmini::bake::mark_read_items",
                        Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(r.first, r.end),
                        k);
@@ -535,12 +538,13 @@ void mark_read_items_with(const LookupT& lookup, const BakeSceneDevice& s, const
 void Chef::mark_read_items(std::int64_t begin, std::int64_t end, std::int64_t cache_offset,
                            Kokkos::View<const char*, MemSpace> owned,
                            Kokkos::View<char*, MemSpace> items) const {
+  const HemisphereMap hemisphere = hemisphere_map(scene_, config_, mirrored_);
   if (config_.lookup == Lookup::kKdTree)
     mark_read_items_with(kdtree_, scene_, config_, order_, map_offset_, traced_, begin, end,
-                         cache_offset, owned, items);
+                         cache_offset, owned, items, hemisphere);
   else
     mark_read_items_with(inverse_, scene_, config_, order_, map_offset_, traced_, begin, end,
-                         cache_offset, owned, items);
+                         cache_offset, owned, items, hemisphere);
 }
 
 namespace {
@@ -620,7 +624,7 @@ ErrorSums lookup_errors_with(const LookupT& lookup, Real radius,
 ErrorSums Chef::lookup_errors(Kokkos::View<const Vec3f*, MemSpace> map,
                               Kokkos::View<const Vec3f*, MemSpace> reference, int ref_n) const {
   const Real radius = fibonacci_radius(config_.viewpoints);
-  const HemisphereMap hemisphere = hemisphere_map(scene_, config_);
+  const HemisphereMap hemisphere = hemisphere_map(scene_, config_, mirrored_);
   if (config_.lookup == Lookup::kKdTree)
     return lookup_errors_with(kdtree_, radius, scene_.color_offset, map, reference, ref_n,
                               hemisphere);
@@ -639,7 +643,7 @@ std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, cons
                            Kokkos::View<int*, MemSpace> order, int it, std::int64_t begin,
                            std::int64_t end, std::int64_t cache_offset, HitCacheMode mode,
                            Kokkos::View<const Vec3f*, MemSpace> prev,
-                           Kokkos::View<Vec3f*, MemSpace> next) {
+                           Kokkos::View<Vec3f*, MemSpace> next, const HemisphereMap& hemisphere) {
   const Vec3f bg = cfg.background;
   // A sparse map's offsets do not give the colour counts: the reader takes those from the scene.
   MapReader<LookupT> reader{s.mesh.tri_vertices,
@@ -651,7 +655,7 @@ std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, cons
                             Vec3(bg),
                             sparse,
                             first_reads,
-                            hemisphere_map(s, cfg)};
+                            hemisphere};
   std::int64_t rays = 0;
   const bool with_gather = cfg.gather_rays > 0 && it > 0;
   if (with_gather) {
@@ -702,13 +706,14 @@ std::int64_t Chef::bake_iteration(int it, std::int64_t begin, std::int64_t end,
   if (cache == HitCacheMode::kTraced ? traced_.extent(0) == 0
                                      : cache != HitCacheMode::kOff && cache_.extent(0) == 0)
     cache = HitCacheMode::kOff;
+  const HemisphereMap hemisphere = hemisphere_map(scene_, config_, mirrored_);
   if (config_.lookup == Lookup::kKdTree)
     return run_iteration(scene_, config_, kdtree_, base_, gather_, cache_, traced_, map_offset_,
                          sparse_, first_reads_, order_, it, begin, end, cache_offset, cache, prev,
-                         next);
+                         next, hemisphere);
   return run_iteration(scene_, config_, inverse_, base_, gather_, cache_, traced_, map_offset_,
                        sparse_, first_reads_, order_, it, begin, end, cache_offset, cache, prev,
-                       next);
+                       next, hemisphere);
 }
 
 }  // namespace rtmini::bake

@@ -32,6 +32,9 @@ struct HemisphereMap {
   Kokkos::View<const Vec3*, MemSpace> normal;  // per vertex: the frame's -z
   Kokkos::View<const Vec3*, MemSpace> points;  // the N Fibonacci points
   int stored = 0;                              // N/2; 0: a full-sphere map
+  // The stored points and their mirror images (build_mirrored_kdtree): one query per vertex
+  // instead of two near the horizon. Empty (n = 0): two queries with the map's own lookup.
+  FibonacciKdTree<MemSpace> mirrored;
 
   KOKKOS_INLINE_FUNCTION bool on() const { return stored > 0; }
   KOKKOS_INLINE_FUNCTION ViewFrame frame(std::int64_t v) const { return view_frame(-normal(v)); }
@@ -46,6 +49,7 @@ struct HemisphereMap {
                                                  const Vec3& dir, Real radius) const {
     Vec3 q = frame(v).to_local(dir);
     q.z = math::fabs(q.z);
+    if (mirrored.n > 0) return mirrored_neighbors(mirrored, q, radius, stored);
     return hemisphere_neighbors(lookup, points, q, radius, stored);
   }
 };

@@ -12,6 +12,8 @@
 // blends as many neighbours as elsewhere instead of half as many: the cap around q gathers the
 // stored points near q, plus every stored point whose mirror image is near q (= stored points
 // near q's mirror image below the horizon).
+#include <vector>
+
 #include "rtmini/sampling/fibonacci_lookup.hpp"
 
 namespace rtmini {
@@ -81,6 +83,31 @@ KOKKOS_INLINE_FUNCTION ViewNeighbors hemisphere_neighbors(const LookupT& lookup,
     }
   }
   return detail::finish_neighbors(c, radius, nearest);
+}
+
+// The stored half and its mirror images as one set of 2m points (the image of point i at m + i),
+// so that one KD-tree query finds what hemisphere_neighbors finds with two (the same points at
+// the same distances: negating z is exact).
+template <class MemorySpace = Kokkos::DefaultExecutionSpace::memory_space>
+FibonacciKdTree<MemorySpace> build_mirrored_kdtree(int n) {
+  const int m = hemisphere_viewpoints(n);
+  std::vector<Vec3> pts(2 * static_cast<std::size_t>(m));
+  for (int i = 0; i < m; ++i) {
+    const Vec3 p = fibonacci_point(i, n);
+    pts[i] = p;
+    pts[m + i] = Vec3(p.x, p.y, -p.z);
+  }
+  return build_point_kdtree<MemorySpace>(pts);
+}
+
+// hemisphere_neighbors through the mirrored tree: images report the stored point they mirror.
+template <class MemorySpace>
+KOKKOS_INLINE_FUNCTION ViewNeighbors mirrored_neighbors(const FibonacciKdTree<MemorySpace>& tree,
+                                                        const Vec3& q, Real radius, int m) {
+  ViewNeighbors nb = tree.neighbors(q, radius);
+  for (int k = 0; k < nb.count; ++k)
+    if (nb.index[k] >= m) nb.index[k] -= m;
+  return nb;
 }
 
 }  // namespace rtmini
