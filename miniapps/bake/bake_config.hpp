@@ -11,6 +11,9 @@ enum class Lookup { kKdTree, kSphericalFibonacci };
 // kCost: cut by the traced cost (kitchen.cpp, BakeRun::rebalance_by_traced_cost); kPilot: by the
 // pilot's estimate alone (the cut before that, kept to compare).
 enum class Balance { kStatic, kCost, kSpatial, kPilot };
+// Which viewpoints a view-dependent vertex stores: the N shared Fibonacci directions, or the N/2
+// of them on its front side, in its own frame (one-sided mirrors only; map_reader.hpp).
+enum class Directions { kSphere, kHemisphere };
 
 struct BakeConfig {
   std::string input;
@@ -35,9 +38,17 @@ struct BakeConfig {
   bool progress = false;
   int stop_after_iteration = -1;    // hidden test hook: checkpoint, then exit 4
   bool all_view_dependent = false;  // hidden, measurement: N colours for every vertex
+  Directions directions = Directions::kSphere;
+
+  bool hemisphere() const { return directions == Directions::kHemisphere; }
+  // Colours of a view-dependent vertex: N, or N/2 on the front hemisphere.
+  int stored_viewpoints() const { return hemisphere() ? viewpoints / 2 : viewpoints; }
 };
 
 inline const char* to_string(Lookup l) { return l == Lookup::kKdTree ? "kdtree" : "sf"; }
+inline const char* to_string(Directions d) {
+  return d == Directions::kSphere ? "sphere" : "hemisphere";
+}
 inline const char* to_string(Balance b) {
   return b == Balance::kStatic  ? "static"
          : b == Balance::kCost  ? "cost"

@@ -138,7 +138,8 @@ std::string binary_head(const BakedMap& map, const std::vector<std::uint8_t>& un
   const std::size_t nv = mesh.positions.size(), n = map.directions->size();
   Bytes w;
   w.out.append("BSB1", 4);
-  w.put<std::uint32_t>(1u | (pos32 ? 0u : 4u));  // shared directions; float64 positions
+  // shared directions; float64 positions; hemisphere (io/bakeshop_binary.hpp)
+  w.put<std::uint32_t>(1u | (pos32 ? 0u : 4u) | (map.hemisphere ? 8u : 0u));
   for (std::uint64_t x : {std::uint64_t(nv), std::uint64_t(mesh.materials.size()),
                           std::uint64_t(mesh.faces.size()), std::uint64_t(mesh.objects.size()),
                           std::uint64_t(n), std::uint64_t(colors), std::uint64_t(file_size)})
@@ -306,6 +307,7 @@ WriteStats write_baked_map(const Communicator& comm, const std::string& path, co
   texts.reserve(mine.size());
   for (const VertexRange& r : mine) texts.push_back(format_vertex_range(map, r));
   const std::string tail = comm.is_root() ? tail_text(*map.mesh) : std::string();
+  const std::string head = map.hemisphere ? kBakeshopHemisphereLine : "";
 
   // Exclusive prefix sum of the block sizes, in vertex order, over every rank's blocks.
   std::vector<std::int64_t> my_blocks;  // (begin, size) pairs
@@ -318,7 +320,9 @@ WriteStats write_baked_map(const Communicator& comm, const std::string& path, co
   for (std::size_t i = 0; i + 1 < all.size(); i += 2) blocks.emplace_back(all[i], all[i + 1]);
   std::sort(blocks.begin(), blocks.end());
   std::vector<Piece> pieces;
-  std::int64_t offset = 0;
+  std::int64_t offset = static_cast<std::int64_t>(head.size());
+  if (comm.is_root() && !head.empty())
+    pieces.push_back({0, head.data(), static_cast<std::int64_t>(head.size())});
   for (const auto& b : blocks) {
     for (std::size_t i = 0; i < mine.size(); ++i) {
       if (mine[i].begin != b.first) continue;

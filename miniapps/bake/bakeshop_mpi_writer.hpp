@@ -28,6 +28,9 @@ struct BakedMap {
   const std::vector<Vec3f>* colors = nullptr;
   const std::vector<std::int64_t>* color_offset = nullptr;
   const std::vector<Vec3f>* directions = nullptr;  // the N viewpoint directions
+  // The directions are the N/2 of a hemisphere map, in each vertex's frame (ViewpointColors):
+  // the text form starts with kBakeshopHemisphereLine, the binary form sets its flag.
+  bool hemisphere = false;
 };
 
 struct WriteStats {

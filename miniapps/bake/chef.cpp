@@ -17,6 +17,14 @@ namespace {
 using Exec = Kokkos::DefaultExecutionSpace;
 using Bvh = bvh::Bvh<MemSpace>;
 
+// The viewpoint directions of the map (HemisphereMap, map_reader.hpp): the N shared points, in
+// each vertex's frame when the map stores the front hemisphere only (`mirrored`: the KD-tree
+// lookup's tree of the stored half and its images, Chef::mirrored_).
+HemisphereMap hemisphere_map(const BakeSceneDevice& s, const BakeConfig& c,
+                             const FibonacciKdTree<MemSpace>& mirrored = {}) {
+  return {s.normal, s.viewpoints, c.hemisphere() ? c.stored_viewpoints() : 0, mirrored};
+}
+
 // Rng sample-index streams: shadow samples use [0, S); gather rays start here.
 constexpr std::uint32_t kGatherStream = 1u << 24;
 
@@ -221,8 +229,9 @@ struct MirrorIteration {
       // Neighbouring work items take neighbouring directions: coherent traversal and lookups.
       const int view = order(item - first);
       out = first + view;
-      const Vec3 n = mirror_normal(views(view), normal(v), two_sided);
-      const Vec3 r = mirror_direction(views(view), n);
+      const Vec3 d = reader.hemisphere.direction(v, view);
+      const Vec3 n = mirror_normal(d, normal(v), two_sided);
+      const Vec3 r = mirror_direction(d, n);
       const Hit hit = mirror_hit(v, n, r, cache_offset + (item - item_begin), rays);
       c += reflective(v) * reader.read(hit.prim, hit.u, hit.v, r);
     }
@@ -242,6 +251,7 @@ struct TraceMirrorHits {
   std::int64_t vbegin, vend, item_begin, cache_offset;
   Real coordinate_bound;   // DeviceMesh::coordinate_bound, for offset_ray_origin
   bool two_sided = false;  // BakeConfig::two_sided (mirror_normal)
+  HemisphereMap hemisphere{};
 
   KOKKOS_INLINE_FUNCTION void operator()(std::int64_t item, std::int64_t& rays,
                                          std::int64_t& nodes) const {
@@ -250,7 +260,7 @@ struct TraceMirrorHits {
     const std::int64_t slot = cache_offset + (item - item_begin);
     TracedHit t;
     if (color_offset(v + 1) - first > 1) {
-      const Vec3 d = views(order(item - first));
+      const Vec3 d = hemisphere.direction(v, order(item - first));
       const Vec3 n = mirror_normal(d, normal(v), two_sided);
       Ray ray;
       ray.org = offset_ray_origin(positions(v), n, coordinate_bound);
@@ -275,19 +285,20 @@ struct TraceMirrorHits {
 };
 
 // Viewpoints sorted into about sqrt(N) latitude bands, each walked in longitude, alternating
-// direction (a serpentine), so consecutive directions are close on the sphere.
-Kokkos::View<int*, MemSpace> coherent_order(int n) {
+// direction (a serpentine), so consecutive directions are close on the sphere. `stored`: the
+// first viewpoints of the N that a vertex keeps (N, or N/2 for a hemisphere map).
+Kokkos::View<int*, MemSpace> coherent_order(int n, int stored) {
   const int bands = std::max(1, static_cast<int>(std::lround(std::sqrt(n / 2.0))));
-  std::vector<std::pair<double, int>> key(n);
-  for (int i = 0; i < n; ++i) {
+  std::vector<std::pair<double, int>> key(stored);
+  for (int i = 0; i < stored; ++i) {
     const Vec3 p = fibonacci_point(i, n);
     const int band = std::min(bands - 1, static_cast<int>((1.0 - p.z) * 0.5 * bands));
     const double phi = std::atan2(double(p.y), double(p.x));
     key[i] = {band * 10.0 + (band % 2 == 0 ? phi : -phi) / 4.0, i};
   }
   std::sort(key.begin(), key.end());
-  std::vector<int> order(n);
-  for (int i = 0; i < n; ++i) order[i] = key[i].second;
+  std::vector<int> order(stored);
+  for (int i = 0; i < stored; ++i) order[i] = key[i].second;
   return compat::upload<MemSpace>("rtmini::bake::view_order", order);
 }
 
@@ -316,11 +327,11 @@ MirrorCostEstimate estimate_mirror_costs(const BakeSceneDevice& scene, const Bak
   const Bvh accel = scene.mesh.accel;
   const auto positions = scene.mesh.positions;
   const auto normal = scene.normal;
-  const auto views = scene.viewpoints;
+  const HemisphereMap hemisphere = hemisphere_map(scene, config);
   const auto color_offset = scene.color_offset;
   const auto tri_vertices = scene.mesh.tri_vertices;
   const Real bound = scene.mesh.coordinate_bound;
-  const int n = config.viewpoints;
+  const int n = config.stored_viewpoints();
   const bool two_sided = config.two_sided;
   std::int64_t traced = 0;
   Kokkos::parallel_reduce(
@@ -336,9 +347,10 @@ MirrorCostEstimate estimate_mirror_costs(const BakeSceneDevice& scene, const Bak
           // Fibonacci points are ordered by height: every n/samples-th spans the sphere.
           const int view =
               static_cast<int>((2 * s + 1) * static_cast<std::int64_t>(n) / (2 * samples));
-          const Vec3 m = mirror_normal(views(view), normal(v), two_sided);
+          const Vec3 d = hemisphere.direction(v, view);
+          const Vec3 m = mirror_normal(d, normal(v), two_sided);
           ray.org = offset_ray_origin(positions(v), m, bound);
-          ray.dir = mirror_direction(views(view), m);
+          ray.dir = mirror_direction(d, m);
           const int prim = bvh::closest_hit(accel, ray, stats).prim;
           if (prim < 0) continue;
           // Only a view-dependent vertex of the hit triangle costs a viewpoint lookup.
@@ -369,10 +381,11 @@ Chef::Chef(const BakeSceneDevice& scene, const BakeConfig& config, std::int64_t 
   if (config.gather_rays > 0) gather_ = Kokkos::View<Vec3*, MemSpace>("rtmini::bake::gather", nv);
   if (config.cache_hits && config.iterations > 1)
     cache_ = Kokkos::View<CachedHit*, MemSpace>("rtmini::bake::hit_cache", local_items);
-  order_ = coherent_order(config.viewpoints);
-  if (config.lookup == Lookup::kKdTree)
+  order_ = coherent_order(config.viewpoints, config.stored_viewpoints());
+  if (config.lookup == Lookup::kKdTree) {
     kdtree_ = build_fibonacci_kdtree<MemSpace>(config.viewpoints);
-  else
+    if (config.hemisphere()) mirrored_ = build_mirrored_kdtree<MemSpace>(config.viewpoints);
+  } else
     inverse_ = build_fibonacci_inverse<MemSpace>(config.viewpoints);
 }
 
@@ -423,6 +436,7 @@ ReadCount Chef::trace_mirror_hits(std::int64_t begin, std::int64_t end, std::int
                     cache_offset,
                     scene_.mesh.coordinate_bound};
   k.two_sided = config_.two_sided;
+  k.hemisphere = hemisphere_map(scene_, config_, mirrored_);
   ReadCount count;
   Kokkos::parallel_reduce(
       "rtmini::bake::trace_mirror_hits",
@@ -547,13 +561,14 @@ struct MarkReadItems {
   Kokkos::View<char*, MemSpace> items;
   std::int64_t vbegin, vend, item_begin, cache_offset;
   bool two_sided = false;  // BakeConfig::two_sided (mirror_normal)
+  HemisphereMap hemisphere{};
 
   KOKKOS_INLINE_FUNCTION void operator()(std::int64_t item) const {
     const std::int64_t v = vertex_of_item(color_offset, vbegin, vend, item);
     const std::int64_t first = color_offset(v);
     const int prim = traced(cache_offset + (item - item_begin)).prim;
     if (prim < 0 || color_offset(v + 1) - first <= 1) return;
-    const Vec3 d = views(order(item - first));
+    const Vec3 d = hemisphere.direction(v, order(item - first));
     const Vec3 r = mirror_direction(d, mirror_normal(d, normal(v), two_sided));
     ViewNeighbors nb;
     bool have_nb = false;
@@ -565,7 +580,9 @@ struct MarkReadItems {
         items(at) = 1;
         continue;
       }
-      if (!have_nb) {
+      if (hemisphere.on()) {  // each vertex has its own frame
+        nb = hemisphere.neighbors(lookup, vert, r, radius);
+      } else if (!have_nb) {
         nb = lookup.neighbors(r, radius);
         have_nb = true;
       }
@@ -581,7 +598,7 @@ void mark_read_items_with(const LookupT& lookup, const BakeSceneDevice& s, const
                           Kokkos::View<TracedHit*, MemSpace> traced, std::int64_t begin,
                           std::int64_t end, std::int64_t cache_offset,
                           Kokkos::View<const char*, MemSpace> owned,
-                          Kokkos::View<char*, MemSpace> items) {
+                          Kokkos::View<char*, MemSpace> items, const HemisphereMap& hemisphere) {
   const ItemRange r = item_range(s.color_offset, begin, end);
   MarkReadItems<LookupT> k{lookup,
                            fibonacci_radius(cfg.viewpoints),
@@ -599,6 +616,7 @@ void mark_read_items_with(const LookupT& lookup, const BakeSceneDevice& s, const
                            r.first,
                            cache_offset};
   k.two_sided = cfg.two_sided;
+  k.hemisphere = hemisphere;
   Kokkos::parallel_for("rtmini::bake::mark_read_items",
                        Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(r.first, r.end),
                        k);
@@ -608,12 +626,13 @@ void mark_read_items_with(const LookupT& lookup, const BakeSceneDevice& s, const
 void Chef::mark_read_items(std::int64_t begin, std::int64_t end, std::int64_t cache_offset,
                            Kokkos::View<const char*, MemSpace> owned,
                            Kokkos::View<char*, MemSpace> items) const {
+  const HemisphereMap hemisphere = hemisphere_map(scene_, config_, mirrored_);
   if (config_.lookup == Lookup::kKdTree)
     mark_read_items_with(kdtree_, scene_, config_, order_, map_offset_, traced_, begin, end,
-                         cache_offset, owned, items);
+                         cache_offset, owned, items, hemisphere);
   else
     mark_read_items_with(inverse_, scene_, config_, order_, map_offset_, traced_, begin, end,
-                         cache_offset, owned, items);
+                         cache_offset, owned, items, hemisphere);
 }
 
 namespace {
@@ -626,13 +645,15 @@ struct MapAlong {
   Kokkos::View<std::int64_t*, MemSpace> offset;
   Kokkos::View<const Vec3f*, MemSpace> map;
   int ref_n;
+  HemisphereMap hemisphere{};
 
   KOKKOS_INLINE_FUNCTION Vec3 operator()(std::int64_t e, bool& view_dependent) const {
     const std::int64_t v = e / ref_n, first = offset(v);
     view_dependent = offset(v + 1) - first > 1;
     if (!view_dependent) return Vec3(map(first));
-    const ViewNeighbors nb =
-        lookup.neighbors(fibonacci_point(static_cast<int>(e % ref_n), ref_n), radius);
+    const Vec3 dir = fibonacci_point(static_cast<int>(e % ref_n), ref_n);
+    const ViewNeighbors nb = hemisphere.on() ? hemisphere.neighbors(lookup, v, dir, radius)
+                                             : lookup.neighbors(dir, radius);
     Vec3 c(Real(0));
     for (int k = 0; k < nb.count; ++k) c += Vec3(map(first + nb.index[k])) * nb.weight[k];
     return c;
@@ -643,12 +664,13 @@ template <class LookupT>
 ErrorSums lookup_errors_with(const LookupT& lookup, Real radius,
                              Kokkos::View<std::int64_t*, MemSpace> offset,
                              Kokkos::View<const Vec3f*, MemSpace> map,
-                             Kokkos::View<const Vec3f*, MemSpace> reference, int ref_n) {
+                             Kokkos::View<const Vec3f*, MemSpace> reference, int ref_n,
+                             const HemisphereMap& hemisphere) {
   ErrorSums s;
   const std::int64_t entries = static_cast<std::int64_t>(reference.extent(0));
   s.entries = entries;
   using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>;
-  const MapAlong<LookupT> read{lookup, radius, offset, map, ref_n};
+  const MapAlong<LookupT> read{lookup, radius, offset, map, ref_n, hemisphere};
   double vd_count = 0;
   Kokkos::parallel_reduce(
       "rtmini::bake::lookup_errors", Policy(0, entries),
@@ -690,9 +712,12 @@ ErrorSums lookup_errors_with(const LookupT& lookup, Real radius,
 ErrorSums Chef::lookup_errors(Kokkos::View<const Vec3f*, MemSpace> map,
                               Kokkos::View<const Vec3f*, MemSpace> reference, int ref_n) const {
   const Real radius = fibonacci_radius(config_.viewpoints);
+  const HemisphereMap hemisphere = hemisphere_map(scene_, config_, mirrored_);
   if (config_.lookup == Lookup::kKdTree)
-    return lookup_errors_with(kdtree_, radius, scene_.color_offset, map, reference, ref_n);
-  return lookup_errors_with(inverse_, radius, scene_.color_offset, map, reference, ref_n);
+    return lookup_errors_with(kdtree_, radius, scene_.color_offset, map, reference, ref_n,
+                              hemisphere);
+  return lookup_errors_with(inverse_, radius, scene_.color_offset, map, reference, ref_n,
+                            hemisphere);
 }
 
 namespace {
@@ -706,7 +731,7 @@ std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, cons
                            Kokkos::View<int*, MemSpace> order, int it, std::int64_t begin,
                            std::int64_t end, std::int64_t cache_offset, HitCacheMode mode,
                            Kokkos::View<const Vec3f*, MemSpace> prev,
-                           Kokkos::View<Vec3f*, MemSpace> next) {
+                           Kokkos::View<Vec3f*, MemSpace> next, const HemisphereMap& hemisphere) {
   const Vec3f bg = cfg.background;
   // A sparse map's offsets do not give the colour counts: the reader takes those from the scene.
   MapReader<LookupT> reader{s.mesh.tri_vertices,
@@ -717,7 +742,8 @@ std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, cons
                             fibonacci_radius(cfg.viewpoints),
                             Vec3(bg),
                             sparse,
-                            first_reads};
+                            first_reads,
+                            hemisphere};
   std::int64_t rays = 0;
   const bool with_gather = cfg.gather_rays > 0 && it > 0;
   if (with_gather) {
@@ -768,13 +794,14 @@ std::int64_t Chef::bake_iteration(int it, std::int64_t begin, std::int64_t end,
   if (cache == HitCacheMode::kTraced ? traced_.extent(0) == 0
                                      : cache != HitCacheMode::kOff && cache_.extent(0) == 0)
     cache = HitCacheMode::kOff;
+  const HemisphereMap hemisphere = hemisphere_map(scene_, config_, mirrored_);
   if (config_.lookup == Lookup::kKdTree)
     return run_iteration(scene_, config_, kdtree_, base_, gather_, cache_, traced_, map_offset_,
                          sparse_, first_reads_, order_, it, begin, end, cache_offset, cache, prev,
-                         next);
+                         next, hemisphere);
   return run_iteration(scene_, config_, inverse_, base_, gather_, cache_, traced_, map_offset_,
                        sparse_, first_reads_, order_, it, begin, end, cache_offset, cache, prev,
-                       next);
+                       next, hemisphere);
 }
 
 }  // namespace rtmini::bake

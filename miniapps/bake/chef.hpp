@@ -138,6 +138,7 @@ class Chef {
   std::int64_t local_items_ = 0;
   Kokkos::View<int*, MemSpace> order_;  // viewpoints in a direction-coherent order
   FibonacciKdTree<MemSpace> kdtree_;
+  FibonacciKdTree<MemSpace> mirrored_;  // hemisphere maps, KD-tree lookup (HemisphereMap)
   FibonacciInverse<MemSpace> inverse_;
 };
 

@@ -63,7 +63,8 @@ std::string parameter_hash(const BakeConfig& c) {
   std::ostringstream p;
   p << "bake-map-v2 N=" << c.viewpoints << " S=" << c.shadow_samples << " M=" << c.gather_rays
     << " seed=" << c.seed << " bg=" << c.background.x << "," << c.background.y << ","
-    << c.background.z << " real=" << sizeof(Real) << (c.trace_reference ? " traced" : "");
+    << c.background.z << " real=" << sizeof(Real) << (c.trace_reference ? " traced" : "")
+    << (c.hemisphere() ? " hemisphere" : "");
   const std::string params = p.str();
   return hash_hex(fnv1a(params.data(), params.size()));
 }
@@ -83,7 +84,7 @@ MemoryEstimate estimate_memory(const Mesh& mesh, const BakeSceneHost& s, std::in
   m.host = local_colors * col + 2 * my_items * col;  // local map, exchange buffers
   // Formatted output text (~60 bytes a colour), at its peak held twice over in part: the
   // per-task pieces, grown by appending, and the joined copy (bakeshop_mpi_writer.cpp).
-  m.host += my_vertices * c.viewpoints * 90;
+  m.host += my_vertices * c.stored_viewpoints() * 90;
   // The root holds the whole map once for a checkpoint or a comparison.
   if (root && (!c.checkpoint.empty() || !c.reference.empty())) m.host += s.colors() * col;
   if (!c.reference.empty()) m.host += nv * c.viewpoints * col;  // the reference's colours
@@ -409,7 +410,7 @@ void BakeRun::read() {
 
 // The colour layout, the iteration count, the vertex batches and who owns which vertex.
 void BakeRun::plan() {
-  host_ = prepare_bake_scene(mesh_, c_.viewpoints, c_.all_view_dependent);
+  host_ = prepare_bake_scene(mesh_, c_.stored_viewpoints(), c_.all_view_dependent);
   needs_iterations_ = host_.reflective_vertices > 0 || c_.gather_rays > 0;
   // The traced reference is one pass (it follows the K mirror bounces itself).
   iterations_ = needs_iterations_ && !c_.trace_reference ? c_.iterations : 0;
@@ -515,6 +516,8 @@ nlohmann::json BakeRun::parameters() const {
   return {{"input", c_.input},
           {"output", c_.output},
           {"viewpoints", c_.viewpoints},
+          {"directions", to_string(c_.directions)},
+          {"stored_viewpoints", c_.stored_viewpoints()},
           {"iterations", c_.iterations},
           {"shadow_samples", c_.shadow_samples},
           {"gather_rays", c_.gather_rays},
@@ -1031,10 +1034,13 @@ void BakeRun::report_stopped(int it) {
 // Every rank writes its own vertices (collective MPI-IO), in either form.
 void BakeRun::write() {
   timer_.start("write");
-  std::vector<Vec3f> dirs(static_cast<std::size_t>(c_.viewpoints));
-  for (int i = 0; i < c_.viewpoints; ++i) dirs[i] = Vec3f(fibonacci_point(i, c_.viewpoints));
+  // A hemisphere map stores the first N/2 points, in each vertex's frame (the file says so).
+  std::vector<Vec3f> dirs(static_cast<std::size_t>(c_.stored_viewpoints()));
+  for (int i = 0; i < c_.stored_viewpoints(); ++i)
+    dirs[i] = Vec3f(fibonacci_point(i, c_.viewpoints));
   download(prev_, map_);
-  const BakedMap baked{&mesh_, &map_, &layout_.offset, &dirs};
+  BakedMap baked{&mesh_, &map_, &layout_.offset, &dirs};
+  baked.hemisphere = c_.hemisphere();
   written_ = write_baked_map(comm_, c_.output, baked, my_ranges_);
   timer_.stop();
   if (!iter_records_.empty()) iter_records_.back().write += written_.seconds;
@@ -1054,7 +1060,8 @@ void BakeRun::compare() {
       report_.errors["reference_viewpoints"] = reference_.viewpoints;
       report_.errors["lookup"] = to_string(c_.lookup);
       print_errors("map read along the reference's directions", e);
-      if (reference_.viewpoints == c_.viewpoints) {
+      // A hemisphere map's viewpoints lie in each vertex's frame: none is a reference direction.
+      if (reference_.viewpoints == c_.viewpoints && !c_.hemisphere()) {
         const MapErrors st = compare_stored(global, host_.color_offset, reference_);
         report_.errors["stored"] = error_json(st);
         print_errors("stored colours, viewpoint by viewpoint", st);
@@ -1065,12 +1072,12 @@ void BakeRun::compare() {
 }
 
 void BakeRun::report_results() {
-  const std::uint64_t hash =
-      comm_.sum_wrap(map_hash(layout_.device, prev_, batches_, comm_.rank(), c_.viewpoints));
+  const std::uint64_t hash = comm_.sum_wrap(
+      map_hash(layout_.device, prev_, batches_, comm_.rank(), c_.stored_viewpoints()));
   const double total_rays = static_cast<double>(comm_.sum(totals_.rays));
   const double bake_time = comm_.max(timer_.total("base") + timer_.total("map") +
                                      timer_.total("halo") + timer_.total("iterate"));
-  const double baked_colors = static_cast<double>(host_.vertices()) * c_.viewpoints *
+  const double baked_colors = static_cast<double>(host_.vertices()) * c_.stored_viewpoints() *
                               static_cast<double>(iterations_ - first_ + 1);
   report_.fom_name = "baked viewpoint colours";
   report_.fom_unit = "M/s";

@@ -51,10 +51,12 @@ std::string default_output(const std::string& input) {
 // The map bake's options and the values that need converting after parsing.
 struct MapCli {
   std::string lookup = "kdtree", balance = "cost", bvh_kind = "lbvh", mode = "map";
+  std::string directions = "sphere";
   std::string background;
   bool no_cache = false;
   void add_to(CLI::App& app, BakeConfig& c);
   void finish(BakeConfig& c) const;
+  void finish_directions(BakeConfig& c) const;
 };
 
 void MapCli::add_to(CLI::App& app, BakeConfig& c) {
@@ -89,9 +91,35 @@ void MapCli::add_to(CLI::App& app, BakeConfig& c) {
   app.add_flag("--two-sided", c.two_sided,
                "mirrors reflect on both sides (default: one-sided, a viewpoint behind a vertex is "
                "folded to the front)");
+  app.add_option("--directions", directions,
+                 "viewpoints a reflective vertex stores: sphere (N shared directions) or "
+                 "hemisphere (the N/2 on its front side: half the colours and rays; one-sided "
+                 "mirrors, even N)");
   // Measurement only: store N colours for view-independent vertices too (same colours).
   app.add_flag("--all-view-dependent", c.all_view_dependent)->group("");
   app.add_option("--stop-after-iteration", c.stop_after_iteration)->group("");  // test hook
+}
+
+// A hemisphere map relies on the fold of one-sided mirrors (a viewpoint behind a vertex has the
+// colour of its mirror image in front), and stores the front half of an even N exactly.
+void MapCli::finish_directions(BakeConfig& c) const {
+  if (directions == "sphere") return;
+  if (directions != "hemisphere")
+    throw InputError("--directions must be sphere or hemisphere (got '" + directions + "')");
+  c.directions = Directions::kHemisphere;
+  if (c.two_sided)
+    throw InputError(
+        "--directions hemisphere needs one-sided mirrors: with --two-sided a viewpoint behind a "
+        "vertex reflects on its back, so both hemispheres hold their own colours");
+  if (c.viewpoints < 2 || c.viewpoints % 2 != 0)
+    throw InputError("--directions hemisphere needs an even --viewpoints >= 2 (got " +
+                     std::to_string(c.viewpoints) + "): it stores the front N/2 of them");
+  if (c.trace_reference)
+    throw InputError(
+        "--trace-reference writes a full-sphere map (the reference of every layout): drop "
+        "--directions hemisphere");
+  if (c.all_view_dependent)
+    throw InputError("--all-view-dependent measures the sphere layout only");
 }
 
 void MapCli::finish(BakeConfig& c) const {
@@ -116,6 +144,7 @@ void MapCli::finish(BakeConfig& c) const {
   if (bvh_kind != "lbvh" && bvh_kind != "sah")
     throw InputError("--bvh must be lbvh or sah (got '" + bvh_kind + "')");
   c.sah = bvh_kind == "sah";
+  finish_directions(c);
   c.cache_hits = !no_cache;
   require_at_least("--viewpoints", c.viewpoints, 1);
   require_at_least("--iterations", c.iterations, 0);

@@ -38,6 +38,8 @@ ReferenceMap read_reference_map(const std::string& path, const Mesh& mesh) {
                          " vertices, the scene has " + std::to_string(nv));
   if (ref.viewpoints.empty())
     throw InputError(path, 0, "reference has no viewpoint lines (a raw scene, not a baked map)");
+  if (ref.viewpoints.hemisphere)
+    throw InputError(path, 1, "reference is a hemisphere map: compare with a full-sphere map");
   const std::size_t n = ref.viewpoints.offsets[1] - ref.viewpoints.offsets[0];
   if (n == 0) throw InputError(path, 0, "vertex 0 of the reference has no viewpoints");
   for (std::size_t v = 0; v < nv; ++v) {

@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "bake_scene.hpp"
+#include "rtmini/sampling/fibonacci_hemisphere.hpp"
 #include "rtmini/sampling/fibonacci_lookup.hpp"
 
 namespace rtmini::bake {
@@ -23,6 +24,35 @@ KOKKOS_INLINE_FUNCTION Vec3 mirror_direction(const Vec3& d, const Vec3& n) {
   const Vec3 front = dn > Real(0) ? d - n * (Real(2) * dn) : d;
   return normalize(reflect(front, n));
 }
+
+// A hemisphere map (`--directions hemisphere`, one-sided only): a view-dependent vertex stores
+// N/2 viewpoints, the front half of the N Fibonacci points in its frame view_frame(-normal)
+// (fibonacci_hemisphere.hpp). Empty views (stored == 0): every vertex has the N shared ones.
+struct HemisphereMap {
+  Kokkos::View<const Vec3*, MemSpace> normal;  // per vertex: the frame's -z
+  Kokkos::View<const Vec3*, MemSpace> points;  // the N Fibonacci points
+  int stored = 0;                              // N/2; 0: a full-sphere map
+  // The stored points and their mirror images (build_mirrored_kdtree): one query per vertex
+  // instead of two near the horizon. Empty (n = 0): two queries with the map's own lookup.
+  FibonacciKdTree<MemSpace> mirrored;
+
+  KOKKOS_INLINE_FUNCTION bool on() const { return stored > 0; }
+  KOKKOS_INLINE_FUNCTION ViewFrame frame(std::int64_t v) const { return view_frame(-normal(v)); }
+  // Camera-ray direction of vertex v's viewpoint `view` (points: the N Fibonacci directions).
+  KOKKOS_INLINE_FUNCTION Vec3 direction(std::int64_t v, int view) const {
+    return on() ? frame(v).to_world(points(view)) : points(view);
+  }
+  // Vertex v's viewpoints near direction dir: in its frame, folded to the front (the fold of
+  // mirror_direction), among the stored half and its mirror images.
+  template <class LookupT>
+  KOKKOS_INLINE_FUNCTION ViewNeighbors neighbors(const LookupT& lookup, std::int64_t v,
+                                                 const Vec3& dir, Real radius) const {
+    Vec3 q = frame(v).to_local(dir);
+    q.z = math::fabs(q.z);
+    if (mirrored.n > 0) return mirrored_neighbors(mirrored, q, radius, stored);
+    return hemisphere_neighbors(lookup, points, q, radius, stored);
+  }
+};
 
 // Where a rank keeps the colours of the vertices it reads but does not own, when it keeps only
 // the viewpoints its lookups read (MapLayout, map_exchange.hpp): at 16 ranks a rank's mirror
@@ -78,8 +108,9 @@ struct MapReader {
   LookupT lookup;
   Real radius;
   Vec3 background;
-  SparseColors sparse;     // empty: prev is laid out by color_offset
-  FirstReads first_reads;  // remote vertices of the fused first iteration (empty: none)
+  SparseColors sparse;       // empty: prev is laid out by color_offset
+  FirstReads first_reads;    // remote vertices of the fused first iteration (empty: none)
+  HemisphereMap hemisphere;  // off: every view-dependent vertex has the N shared viewpoints
 
   // The entry of vertex vert's viewpoint j in prev (first = color_offset(vert)).
   KOKKOS_INLINE_FUNCTION std::int64_t entry(int vert, std::int64_t first, int j) const {
@@ -106,7 +137,9 @@ struct MapReader {
         sum += (remote ? first_reads.read(vert, 0) : Vec3(prev(entry(vert, first, 0)))) * w[k];
         continue;
       }
-      if (!have_nb) {
+      if (hemisphere.on()) {  // each vertex has its own frame
+        nb = hemisphere.neighbors(lookup, vert, dir, radius);
+      } else if (!have_nb) {
         nb = lookup.neighbors(dir, radius);
         have_nb = true;
       }

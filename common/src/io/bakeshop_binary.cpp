@@ -16,7 +16,8 @@ constexpr char kMagic[4] = {'B', 'S', 'B', '1'};
 constexpr std::uint32_t kShared = 1u << 0;
 constexpr std::uint32_t kHalfColor = 1u << 1;
 constexpr std::uint32_t kPos64 = 1u << 2;
-constexpr std::uint32_t kKnownFlags = kShared | kHalfColor | kPos64;
+constexpr std::uint32_t kHemisphere = 1u << 3;  // ViewpointColors::hemisphere
+constexpr std::uint32_t kKnownFlags = kShared | kHalfColor | kPos64 | kHemisphere;
 constexpr std::size_t kHeaderBytes = 64;
 constexpr std::size_t kMaterialFloats = 12;
 constexpr std::size_t kFaceInts = 6;
@@ -226,7 +227,7 @@ void write_bakeshop_binary(const std::string& path, const Mesh& mesh,
   ByteWriter w;
   w.put_bytes(kMagic, 4);
   w.put<std::uint32_t>((shared ? kShared : 0u) | (options.half_colors ? kHalfColor : 0u) |
-                       (pos32 ? 0u : kPos64));
+                       (pos32 ? 0u : kPos64) | (vp.hemisphere ? kHemisphere : 0u));
   w.put<std::uint64_t>(nv);
   w.put<std::uint64_t>(mesh.materials.size());
   w.put<std::uint64_t>(mesh.faces.size());
@@ -356,6 +357,7 @@ Mesh read_bakeshop_binary(const std::string& path) {
   // the code sees the same Mesh as from a .bs file; the compaction is the file's business only.
   if (expect_dirs > 0) {
     ViewpointColors& vp = mesh.viewpoints;
+    vp.hemisphere = flags & kHemisphere;
     vp.offsets.resize(nv + 1);
     vp.dirs.reserve(expect_dirs);
     vp.colors.reserve(expect_dirs);

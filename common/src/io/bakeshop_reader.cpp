@@ -43,7 +43,10 @@ class BakeshopParser {
     if (section_ != Section::kDone) fail(line_, "missing '!' at end of file");
     // A plain scene (no '|' lines) has no viewpoint table at all: empty offsets is how a Mesh
     // says "not a baked map", and writers and the renderer test for that.
-    if (mesh_.viewpoints.dirs.empty()) mesh_.viewpoints.offsets.clear();
+    if (mesh_.viewpoints.dirs.empty()) {
+      if (mesh_.viewpoints.hemisphere) fail(1, "'# hemisphere' header but no viewpoint lines");
+      mesh_.viewpoints.offsets.clear();
+    }
     return std::move(mesh_);
   }
 
@@ -53,6 +56,12 @@ class BakeshopParser {
   }
 
   void parse_line(std::string_view line) {
+    if (line_ == 1 && line.substr(0, 1) == "#") {
+      if (detail::split_fields(line) != std::vector<std::string_view>{"#", "hemisphere"})
+        fail(line_, "unknown header line (the only one is '# hemisphere')");
+      mesh_.viewpoints.hemisphere = true;
+      return;
+    }
     const bool blank = detail::split_fields(line).empty();
     if (section_ == Section::kDone) {
       if (!blank) fail(line_, "unexpected content after the final '!'");

@@ -86,6 +86,7 @@ std::string format_bakeshop(const Mesh& mesh) {
   std::string out;
   const ViewpointColors& vp = mesh.viewpoints;
   const bool has_views = !vp.offsets.empty();
+  if (has_views && vp.hemisphere) out += kBakeshopHemisphereLine;
   for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
     if (has_views) {
       const std::size_t b = vp.offsets[i];

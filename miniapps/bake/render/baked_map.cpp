@@ -8,6 +8,7 @@
 #include "rtmini/io/bakeshop_binary.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/sampling/fibonacci.hpp"
+#include "rtmini/sampling/fibonacci_lookup.hpp"
 
 namespace rtmini::bake {
 namespace {
@@ -43,10 +44,11 @@ BakedMapHost make_baked_map(Mesh mesh, const std::string& path, bool text_lines)
                      "no viewpoint colours: a raw scene, not a baked map (bake it first: bake " +
                          path + " -o MAP.bs)");
   // Line of vertex v (text form: each vertex line is followed by its viewpoint lines).
+  const long header = vc.hemisphere ? 1 : 0;  // the "# hemisphere" line
   auto where = [&](std::size_t v, long viewpoint) {
-    return text_lines
-               ? static_cast<long>(1 + v + vc.offsets[v]) + (viewpoint >= 0 ? 1 + viewpoint : 0)
-               : 0L;
+    return text_lines ? header + static_cast<long>(1 + v + vc.offsets[v]) +
+                            (viewpoint >= 0 ? 1 + viewpoint : 0)
+                      : 0L;
   };
   auto what = [&](std::size_t v, const std::string& reason) {
     return text_lines ? reason : "vertex " + std::to_string(v) + ": " + reason;
@@ -56,10 +58,12 @@ BakedMapHost make_baked_map(Mesh mesh, const std::string& path, bool text_lines)
     for (int k = 0; k < f.count; ++k) used[f.v[k]] = 1;
   std::size_t n = 0;
   for (std::size_t v = 0; v < nv; ++v) n = std::max(n, vc.offsets[v + 1] - vc.offsets[v]);
-  map.viewpoints = static_cast<int>(n);
+  // A hemisphere map stores the first N/2 of the N Fibonacci points (in each vertex's frame).
+  map.hemisphere = vc.hemisphere;
+  map.viewpoints = static_cast<int>(vc.hemisphere ? 2 * n : n);
   std::vector<Vec3f> fib(n);
   for (std::size_t j = 0; j < n; ++j)
-    fib[j] = Vec3f(fibonacci_point(static_cast<int>(j), static_cast<int>(n)));
+    fib[j] = Vec3f(fibonacci_point(static_cast<int>(j), map.viewpoints));
 
   map.color_offset.assign(nv + 1, 0);
   for (std::size_t v = 0; v < nv; ++v) {
@@ -83,7 +87,8 @@ BakedMapHost make_baked_map(Mesh mesh, const std::string& path, bool text_lines)
         throw InputError(
             path, where(v, static_cast<long>(j)),
             what(v, "viewpoint " + std::to_string(j) + " is not the baker's Fibonacci direction " +
-                        std::to_string(j) + " of " + std::to_string(n)));
+                        std::to_string(j) + " of " + std::to_string(map.viewpoints) +
+                        (vc.hemisphere ? " (hemisphere map: in the vertex's frame)" : "")));
       const Vec3f c = vc.colors[first + j];
       if (!(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)))
         throw InputError(path, where(v, static_cast<long>(j)), what(v, "colour is not finite"));
@@ -102,6 +107,7 @@ BakedMapHost make_baked_map(Mesh mesh, const std::string& path, bool text_lines)
   mesh.viewpoints = ViewpointColors();
   map.mesh = std::move(mesh);
   if (map.mesh.faces.empty()) throw InputError(path, 0, "the map has no faces");
+  if (map.hemisphere) map.normal = prepare_bake_scene(map.mesh, static_cast<int>(n)).normal;
   return map;
 }
 
@@ -118,6 +124,11 @@ BakedMapDevice upload_baked_map(const BakedMapHost& map, bvh::BuildQuality quali
   d.color_offset = upload("rtmini::bake::render::color_offset", map.color_offset);
   d.colors = upload("rtmini::bake::render::colors", map.colors);
   d.viewpoints = map.viewpoints;
+  d.hemisphere.points = fibonacci_points<MemSpace>(map.viewpoints);
+  if (map.hemisphere) {
+    d.hemisphere.normal = upload("rtmini::bake::render::normal", map.normal);
+    d.hemisphere.stored = map.viewpoints / 2;
+  }
   return d;
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bake_scene.hpp"
+#include "map_reader.hpp"
 #include "rtmini/scene/mesh.hpp"
 
 namespace rtmini::bake {
@@ -18,6 +19,10 @@ struct BakedMapHost {
   std::vector<std::int64_t> color_offset;  // vertices + 1 entries
   std::vector<Vec3f> colors;
   std::int64_t view_dependent_vertices = 0;
+  // A hemisphere map: N/2 colours per view-dependent vertex, in the frame of the bake's vertex
+  // normal (recomputed from the mesh by prepare_bake_scene: the same bits as the bake's).
+  bool hemisphere = false;
+  std::vector<Vec3> normal;  // per vertex, hemisphere maps only
 };
 
 // Reads a baked .bs (text) or .bsb (binary) map and checks that it is one: every vertex of a
@@ -33,7 +38,8 @@ struct BakedMapDevice {
   DeviceMesh<MemSpace> mesh;
   Kokkos::View<std::int64_t*, MemSpace> color_offset;
   Kokkos::View<Vec3f*, MemSpace> colors;
-  int viewpoints = 0;
+  int viewpoints = 0;        // N of the sphere (the lookup's point set)
+  HemisphereMap hemisphere;  // off for a full-sphere map
 };
 
 BakedMapDevice upload_baked_map(const BakedMapHost& map, bvh::BuildQuality quality);

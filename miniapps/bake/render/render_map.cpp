@@ -63,6 +63,17 @@ struct RenderPixels {
   }
 };
 
+// A hemisphere map read with the KD-tree lookup queries the tree of the stored half and its
+// mirror images (one query per vertex instead of two, the same neighbours).
+inline HemisphereMap hemisphere_for(const BakedMapDevice& map, const FibonacciKdTree<MemSpace>&) {
+  HemisphereMap h = map.hemisphere;
+  if (h.on()) h.mirrored = build_mirrored_kdtree<MemSpace>(map.viewpoints);
+  return h;
+}
+inline HemisphereMap hemisphere_for(const BakedMapDevice& map, const FibonacciInverse<MemSpace>&) {
+  return map.hemisphere;
+}
+
 template <class LookupT>
 std::int64_t run_kernel(const BakedMapDevice& map, const LookupT& lookup,
                         const DeviceCamera& camera, const RenderParams& p,
@@ -75,7 +86,8 @@ std::int64_t run_kernel(const BakedMapDevice& map, const LookupT& lookup,
                                   fibonacci_radius(map.viewpoints),
                                   Vec3(p.background),
                                   SparseColors{},
-                                  FirstReads{}};
+                                  FirstReads{},
+                                  hemisphere_for(map, lookup)};
   const int grid = static_cast<int>(std::sqrt(static_cast<double>(p.spp)) + 1e-9);
   const std::int64_t pixels = static_cast<std::int64_t>(p.width) * p.height;
   const bool shown = progress && progress->enabled();

@@ -183,6 +183,7 @@ int run_render_mode(Communicator& comm, RenderOptions o, const CLI::App& app) {
                   {"faces", map.mesh.faces.size()},
                   {"triangles", map.mesh.triangle_count()},
                   {"viewpoints", map.viewpoints},
+                  {"directions", map.hemisphere ? "hemisphere" : "sphere"},
                   {"view_dependent_vertices", map.view_dependent_vertices},
                   {"colors", map.colors.size()}};
   // Only rank 0 renders: the map and its BVH, the image (linear floats), its 8-bit output rows

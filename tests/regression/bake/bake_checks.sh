@@ -88,6 +88,44 @@ case $case_name in
     grep -q '^bake: \[#*\] 100.0%' progress.txt || { cat progress.txt; fail "--progress drew no final line"; }
     echo "byte-identical for 1 and $ranks ranks (batch 157, cost balance, sf lookup, --progress)"
     ;;
+  hemisphere)
+    # --directions hemisphere (one-sided mirrors keep the front N/2 viewpoints, each vertex in its
+    # own frame): the file hash against its committed reference; $ranks ranks with the other
+    # lookup give the bytes of 1 rank; a checkpoint of $ranks ranks restarts on another rank
+    # count; the header marks the layout and bake render reads both forms alike; --two-sided and
+    # an odd N are refused with exit 2.
+    args=("$INPUTS/cornell/cornell_box.bs" --viewpoints 40 --iterations 3 --shadow-samples 16
+      --seed 7 --directions hemisphere)
+    other=$((ranks == 1 ? 2 : ranks - 1))
+    run 1 "${args[@]}" -o one.bs >log1.txt 2>&1 || { cat log1.txt; fail "1-rank bake failed"; }
+    got=$(sha256sum one.bs | cut -d' ' -f1)
+    want=$(cut -d' ' -f1 "$REF/cornell_box_n40_k3_hemisphere.sha256")
+    [ "$got" = "$want" ] || fail "hemisphere output sha256 $got, reference $want"
+    [ "$(head -n 1 one.bs)" = "# hemisphere" ] || fail "no '# hemisphere' header line"
+    awk '/^\|/ { n++ } /^[-0-9]/ && !faces { if (n && n != 20) bad = 1; n = 0 } /^$/ { faces = 1 }
+      END { exit bad }' one.bs || fail "a vertex does not have N/2 = 20 viewpoint lines"
+    run "$ranks" "${args[@]}" --lookup sf -o many.bs --summary many.json >log2.txt 2>&1 ||
+      { cat log2.txt; fail "$ranks-rank bake failed"; }
+    cmp one.bs many.bs || fail "outputs differ between 1 rank (kdtree) and $ranks ranks (sf)"
+    run "$ranks" "${args[@]}" -o part.bs --checkpoint cp.h5 --stop-after-iteration 1 >log3.txt 2>&1
+    [ $? -eq 4 ] || { cat log3.txt; fail "stop after iteration 1 did not exit 4"; }
+    run "$other" "${args[@]}" -o part.bs --checkpoint cp.h5 --restart cp.h5 >log4.txt 2>&1 ||
+      { cat log4.txt; fail "restart on $other ranks failed"; }
+    cmp one.bs part.bs || fail "checkpoint of $ranks ranks restarted on $other ranks differs"
+    run 1 "${args[@]:0:9}" -o sphere.bs --restart cp.h5 >log5.txt 2>err5.txt
+    [ $? -eq 2 ] || fail "a hemisphere checkpoint restarted as a sphere bake did not exit 2"
+    run 1 "${args[@]}" -o one.bsb >log6.txt 2>&1 || fail "binary bake failed"
+    "$BAKE" render one.bs -o a.ppm --width 48 --height 36 >log7.txt 2>&1 ||
+      { cat log7.txt; fail "render of the hemisphere .bs failed"; }
+    "$BAKE" render one.bsb -o b.ppm --width 48 --height 36 >log8.txt 2>&1 ||
+      { cat log8.txt; fail "render of the hemisphere .bsb failed"; }
+    cmp a.ppm b.ppm || fail ".bs and .bsb hemisphere maps render differently"
+    run 1 "${args[@]}" --two-sided -o x.bs >log9.txt 2>err9.txt
+    [ $? -eq 2 ] && grep -q "one-sided" err9.txt || fail "--two-sided hemisphere not refused (exit 2)"
+    run 1 "${args[@]}" --viewpoints 41 -o x.bs >log10.txt 2>err10.txt
+    [ $? -eq 2 ] || fail "odd N hemisphere not refused (exit 2)"
+    echo "hemisphere map: reference hash, identical on 1 and $ranks ranks, restart on $other ranks"
+    ;;
   distributed)
     # Owner-computes map, mirror rays only (the traced halo): $ranks ranks give the bytes and the
     # hash of 1 rank, each rank holds less than the whole map, and a checkpoint written on

@@ -1,6 +1,7 @@
 #pragma once
 // Bake Shop (.bs) maps, the baking seed's format made strict (docs/architecture.md §5):
 //
+//   # hemisphere                optional first line: a hemisphere map (ViewpointColors)
 //   x y z                       vertex, followed by zero or more viewpoint lines
 //   | dx dy dz r g b            camera-ray direction into the vertex, linear RGB colour
 //   <blank line>
@@ -22,6 +23,9 @@
 #include "rtmini/scene/mesh.hpp"
 
 namespace rtmini {
+
+// The first line of a hemisphere map's text form (older files have none: full-sphere maps).
+inline constexpr const char* kBakeshopHemisphereLine = "# hemisphere\n";
 
 // Reads a .bs file. Viewpoint lines go to Mesh::viewpoints (empty when the file
 // has none). One object (named after the file stem); materials have no names.

@@ -10,6 +10,8 @@
 //   4       u32       flags: bit 0 kShared     one direction set shared by every vertex
 //                            bit 1 kHalfColor  colours are IEEE float16, else float32
 //                            bit 2 kPos64      positions are float64, else float32
+//                            bit 3 kHemisphere a hemisphere map: the directions are in each
+//                                              vertex's own frame (ViewpointColors::hemisphere)
 //   8       u64       V  vertices
 //   16      u64       M  materials
 //   24      u64       F  faces

@@ -188,15 +188,13 @@ inline int left_subtree_size(int m) {
 
 }  // namespace detail
 
-// Host build (median splits along the widest axis, iterative), then one upload.
+// Host build over any point set (median splits along the widest axis, iterative), then one
+// upload; a query reports a point by its position in `pts`.
 template <class MemorySpace = Kokkos::DefaultExecutionSpace::memory_space>
-FibonacciKdTree<MemorySpace> build_fibonacci_kdtree(int n) {
+FibonacciKdTree<MemorySpace> build_point_kdtree(const std::vector<Vec3>& pts) {
+  const int n = static_cast<int>(pts.size());
   std::vector<int> ids(n);
-  std::vector<Vec3> pts(n);
-  for (int i = 0; i < n; ++i) {
-    ids[i] = i;
-    pts[i] = fibonacci_point(i, n);
-  }
+  for (int i = 0; i < n; ++i) ids[i] = i;
   FibonacciKdTree<MemorySpace> t;
   t.n = n;
   t.node_point = Kokkos::View<Vec3*, MemorySpace>("rtmini::sampling::kd_point", n);
@@ -234,6 +232,13 @@ FibonacciKdTree<MemorySpace> build_fibonacci_kdtree(int n) {
   Kokkos::deep_copy(t.node_index, hi);
   Kokkos::deep_copy(t.node_axis, ha);
   return t;
+}
+
+template <class MemorySpace = Kokkos::DefaultExecutionSpace::memory_space>
+FibonacciKdTree<MemorySpace> build_fibonacci_kdtree(int n) {
+  std::vector<Vec3> pts(n);
+  for (int i = 0; i < n; ++i) pts[i] = fibonacci_point(i, n);
+  return build_point_kdtree<MemorySpace>(pts);
 }
 
 // Keinert et al.'s inverse spherical Fibonacci mapping over a table of the N points (the

@@ -63,6 +63,10 @@ struct ViewpointColors {
   std::vector<std::size_t> offsets;  // size = vertices + 1, or empty when absent
   std::vector<Vec3f> dirs;
   std::vector<Vec3f> colors;
+  // A hemisphere map (bake --directions hemisphere): each vertex's directions are in its own
+  // frame (z = front, away from the surface) and cover the front half of the sphere only; a
+  // viewpoint behind is read as its mirror image in front (miniapps/bake/map_reader.hpp).
+  bool hemisphere = false;
   bool empty() const { return dirs.empty(); }
 };
 

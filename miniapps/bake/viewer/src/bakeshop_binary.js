@@ -31,6 +31,8 @@ export function parseBakeshopBinary(name, buffer) {
   if (new Uint8Array(new Uint16Array([1]).buffer)[0] !== 1) fail('big-endian hosts are not supported');
   const view = new DataView(buffer);
   const flags = view.getUint32(4, true);
+  // Bit 3: a hemisphere map (bake --directions hemisphere), directions in each vertex's frame.
+  if (flags & 8) fail('a hemisphere map (bake --directions hemisphere): this viewer reads full-sphere maps only');
   if (flags & ~7) fail(`unknown flags ${flags}`);
   const [nv, nm, nf, nd, nc, size] = [8, 16, 24, 40, 48, 56].map((o) => Number(view.getBigUint64(o, true)));
   if (size !== bytes.length)

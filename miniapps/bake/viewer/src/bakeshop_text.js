@@ -77,6 +77,9 @@ export class BakeshopTextParser {
       return;
     }
     const first = line[0];
+    // bake --directions hemisphere: directions in each vertex's frame (../README.md).
+    if (first === '#' && this.lineNumber === 1 && fields.join(' ') === '# hemisphere')
+      this.fail('a hemisphere map (bake --directions hemisphere): this viewer reads full-sphere maps only');
     if (first === '!') {
       if (splitFields(line.slice(1)).length) this.fail("unexpected content after '!'");
       if (this.section !== kFaces)
