@@ -52,6 +52,7 @@ struct Options {
   int width = 1024, height = 1024;
   int repeats = 3;
   std::uint64_t seed = 1;
+  bool build_only = false;
 };
 
 double seconds_since(Clock::time_point t) {
@@ -69,6 +70,43 @@ double median_of(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const std::size_t n = v.size();
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// Each repeat's rtmini build against the peer build right after it (same machine load), as
+// wall-clock and CPU-time ratios.
+void print_paired_builds(const std::vector<double>& sah_s, const std::vector<double>& peer_s,
+                         const std::vector<double>& sah_cpu, const std::vector<double>& peer_cpu) {
+  std::vector<double> wall, cpu;
+  for (std::size_t rep = 0; rep < sah_s.size(); ++rep) {
+    wall.push_back(sah_s[rep] / peer_s[rep]);
+    cpu.push_back(sah_cpu[rep] / peer_cpu[rep]);
+  }
+  std::printf(
+      "paired builds (%zu repeats): sah %.2f ms vs embree %.2f ms wall, ratio median %.3f "
+      "[%.3f, %.3f]; %.2f ms vs %.2f ms CPU, ratio median %.3f [%.3f, %.3f]\n",
+      sah_s.size(), median_of(sah_s) * 1e3, median_of(peer_s) * 1e3, median_of(wall), best_of(wall),
+      worst_of(wall), median_of(sah_cpu) * 1e3, median_of(peer_cpu) * 1e3, median_of(cpu),
+      best_of(cpu), worst_of(cpu));
+}
+
+// A fingerprint of the tree's bytes (binary nodes, leaf triangle order, wide nodes and leaves):
+// equal fingerprints mean a builder change left the tree exactly as it was.
+template <class View>
+std::uint64_t hash_bytes(std::uint64_t h, const View& v) {
+  const auto host = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
+  const auto* bytes = reinterpret_cast<const unsigned char*>(host.data());
+  const std::size_t n = host.span() * sizeof(typename View::value_type);
+  for (std::size_t i = 0; i < n; ++i) h = (h ^ bytes[i]) * 1099511628211ull;  // FNV-1a
+  return h;
+}
+
+std::uint64_t tree_fingerprint(const bvh::Bvh<Mem>& accel) {
+  std::uint64_t h = 14695981039346656037ull;
+  h = hash_bytes(h, accel.nodes);
+  h = hash_bytes(h, accel.prim);
+  h = hash_bytes(h, accel.tris);
+  h = hash_bytes(h, accel.wide);
+  return hash_bytes(h, accel.leaves);
 }
 
 // The optional peer (--peer embree): inactive when none was asked for.
@@ -567,6 +605,14 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
   std::printf("sah splits: spatial %s, budget %g; %d leaf triangles (%d input)\n",
               o.spatial_splits.c_str(), o.split_budget, dm.accel.num_prims, int(dm.tris.extent(0)));
   print_wide_layout(dm.accel);
+  if (o.build_only) {
+    if (peer.active()) print_paired_builds(sah_s, peer_build_s, sah_cpu, peer_build_cpu);
+    std::printf("tree fingerprint %s\n", hash_hex(tree_fingerprint(dm.accel)).c_str());
+    report.fom_name = "median SAH build time";
+    report.fom_unit = "ms";
+    report.fom_value = median_of(sah_s) * 1e3;
+    return 0;
+  }
 
   const Aabb box = dm.accel.bounds;
   const Real extent = box.diagonal();
@@ -791,6 +837,9 @@ int bench_main(Communicator& comm, int argc, char** argv) {
                  "coherent (ray k of 32 neighbouring points)")
       ->capture_default_str();
   app.add_option("--peer", o.peer, "trace the identical rays with a peer: embree");
+  app.add_flag(
+      "--build-only", o.build_only,
+      "time the builds (and the peer's), print the tree and its fingerprint; trace nothing");
   if (const auto done = parse_command_line(app, argc, argv, common, comm.is_root())) return *done;
   RunReport report;
   report.app = "rtmini-bvh-bench";
@@ -804,7 +853,8 @@ int bench_main(Communicator& comm, int argc, char** argv) {
                        {"ray_order", o.ray_order},
                        {"seed", o.seed},
                        {"spatial_splits", o.spatial_splits},
-                       {"split_budget", o.split_budget}};
+                       {"split_budget", o.split_budget},
+                       {"build_only", o.build_only}};
   const int code = run(o, report, comm, common.memory_limit());
   // Phases only: the program has no dispatch loop of its own to record.
   if (!common.timings.empty())

@@ -33,6 +33,8 @@ struct Item {
 };
 
 using Items = std::vector<Item>;
+// The lists spatial splits make, kept until the build that made them ends.
+using ItemLists = std::vector<std::unique_ptr<Items>>;
 
 struct Task {
   int begin, end;  // item range
@@ -42,8 +44,10 @@ struct Task {
   Aabb box;        // bounds of the items' boxes
   Aabb centroids;  // bounds of their centroids
   // The items [begin, end) live in: object splits partition their parent's range in place, a
-  // spatial split copies its (partly duplicated) references into two new lists.
-  std::shared_ptr<Items> items;
+  // spatial split copies its (partly duplicated) references into two new lists (owned by the
+  // ItemLists of the build that made them). A plain pointer: tasks are copied at every node, and
+  // a shared count would be one cache line both threads write.
+  Items* items = nullptr;
   double budget = 0;  // references this subtree may still add by spatial splits
 };
 
@@ -292,11 +296,12 @@ int unsplit_side(const Aabb& ref, Aabb& left, Aabb& right, int& nl, int& nr) {
 
 // Distributes the range's references over the plane of `sp` into two new lists, chopping the
 // straddling ones that do not pay to keep whole; false (nothing changed) if a side is empty.
-bool split_spatially(const SpatialContext& ctx, const Task& t, const SpatialSplit& sp, Split& out) {
+bool split_spatially(const SpatialContext& ctx, const Task& t, const SpatialSplit& sp,
+                     ItemLists& lists, Split& out) {
   const Items& items = *t.items;
   const int axis = sp.axis;
   const Real plane = sp.plane;
-  auto left = std::make_shared<Items>(), right = std::make_shared<Items>();
+  auto left = std::make_unique<Items>(), right = std::make_unique<Items>();
   left->reserve(sp.left_count);
   right->reserve(sp.right_count);
   Aabb lb = sp.left, rb = sp.right;
@@ -334,8 +339,10 @@ bool split_spatially(const SpatialContext& ctx, const Task& t, const SpatialSpli
   const int ln = static_cast<int>(left->size()), rn = static_cast<int>(right->size());
   out.left = range_task(*left, 0, ln, -1, 0, t.depth + 1);
   out.right = range_task(*right, 0, rn, -1, 1, t.depth + 1);
-  out.left.items = std::move(left);
-  out.right.items = std::move(right);
+  out.left.items = left.get();
+  out.right.items = right.get();
+  lists.push_back(std::move(left));
+  lists.push_back(std::move(right));
   share_budget(t.budget - (ln + rn - (t.end - t.begin)), out.left, out.right);
   return true;
 }
@@ -343,7 +350,7 @@ bool split_spatially(const SpatialContext& ctx, const Task& t, const SpatialSpli
 // Best binned split of the task's range: true with the two halves, false for "make a leaf".
 // One pass bins every item on all three axes (bin boxes are min/max, so exact in any order);
 // the chosen bins' boxes are the children's boxes, and the partition bounds their centroids.
-bool split_range(const SpatialContext& ctx, const Task& t, Split& out) {
+bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Split& out) {
   std::vector<Item>& items = *t.items;
   const int b = t.begin, e = t.end;
   const int count = e - b;
@@ -405,7 +412,7 @@ bool split_range(const SpatialContext& ctx, const Task& t, Split& out) {
   }
   if (spatial_worth_trying(ctx, t, best_axis, best_left, best_right)) {
     const SpatialSplit sp = find_spatial_split(ctx, t, best);
-    if (sp.axis >= 0 && split_spatially(ctx, t, sp, out)) return true;
+    if (sp.axis >= 0 && split_spatially(ctx, t, sp, lists, out)) return true;
   }
   int mid;
   Aabb lc, rc;
@@ -432,11 +439,10 @@ bool split_range(const SpatialContext& ctx, const Task& t, Split& out) {
   return true;
 }
 
-// One subtree built on its own (possibly by another thread): nodes and leaf triangles with local
-// indices, appended to the whole tree afterwards.
+// One subtree built on its own (possibly by another thread): nodes and leaf triangle ids with
+// local indices, appended to the whole tree afterwards.
 struct Fragment {
   std::vector<BvhNode> nodes;
-  std::vector<Triangle> tris;
   std::vector<int> prim;
   std::uint32_t root = 0;       // reference for the parent's slot (local node index or local leaf)
   std::int64_t references = 0;  // items in its leaves
@@ -444,20 +450,18 @@ struct Fragment {
 
 // The serial top-down build of items[task.begin, task.end), depth first (the left child is
 // processed next, so it lands next to its parent).
-void build_fragment(const SpatialContext& ctx, const std::vector<Triangle>& input, const Task& top,
-                    Fragment& f) {
+void build_fragment(const SpatialContext& ctx, const Task& top, Fragment& f) {
   // A leaf stores each triangle once, even when several of its split parts landed here.
   auto emit_leaf = [&](const Task& t) {
-    const auto first = static_cast<std::uint32_t>(f.tris.size());
+    const auto first = static_cast<std::uint32_t>(f.prim.size());
     f.references += t.end - t.begin;
     for (int i = t.begin; i < t.end; ++i) {
       const int id = (*t.items)[i].index;
       if (std::any_of(f.prim.begin() + first, f.prim.end(), [id](int p) { return p == id; }))
         continue;
-      f.tris.push_back(point_if_zero_area(input[id]));
       f.prim.push_back(id);
     }
-    return make_leaf(first, static_cast<std::uint32_t>(f.tris.size() - first));
+    return make_leaf(first, static_cast<std::uint32_t>(f.prim.size() - first));
   };
   auto set_ref = [&](const Task& t, std::uint32_t ref) {
     if (t.node < 0)
@@ -466,11 +470,12 @@ void build_fragment(const SpatialContext& ctx, const std::vector<Triangle>& inpu
       f.nodes[t.node].set_child(t.slot, t.box, ref);
   };
   std::vector<Task> stack{top};
+  ItemLists lists;
   Split sp;
   while (!stack.empty()) {
     const Task t = stack.back();
     stack.pop_back();
-    if (t.end - t.begin <= 1 || !split_range(ctx, t, sp)) {
+    if (t.end - t.begin <= 1 || !split_range(ctx, t, lists, sp)) {
       set_ref(t, emit_leaf(t));
       continue;
     }
@@ -486,7 +491,7 @@ void build_fragment(const SpatialContext& ctx, const std::vector<Triangle>& inpu
 // Appends a fragment to the tree and returns its root reference with global indices.
 std::uint32_t append_fragment(const Fragment& f, HostBvh& out) {
   const auto node_base = static_cast<std::uint32_t>(out.nodes.size());
-  const auto tri_base = static_cast<std::uint32_t>(out.tris.size());
+  const auto tri_base = static_cast<std::uint32_t>(out.prim.size());
   auto global = [&](std::uint32_t ref) {
     if (ref == kEmptyLeaf) return ref;
     return is_leaf(ref) ? make_leaf(leaf_first(ref) + tri_base, leaf_count(ref)) : ref + node_base;
@@ -495,7 +500,6 @@ std::uint32_t append_fragment(const Fragment& f, HostBvh& out) {
     for (int k = 0; k < 2; ++k) n.child[k] = global(n.child[k]);
     out.nodes.push_back(n);
   }
-  out.tris.insert(out.tris.end(), f.tris.begin(), f.tris.end());
   out.prim.insert(out.prim.end(), f.prim.begin(), f.prim.end());
   out.references += static_cast<int>(f.references);
   return global(f.root);
@@ -527,12 +531,11 @@ std::vector<Item> make_items(const std::vector<Triangle>& input, double split_bu
 
 // The tree over all items (sets out.bounds), its child boxes as the SAH saw them (not yet padded);
 // with spatial splits, up to `budget` references more than items.
-void build_tree(std::shared_ptr<Items> all, const std::vector<Triangle>& input, bool spatial,
-                double budget, HostBvh& out) {
-  const Items& items = *all;
+void build_tree(Items& items, const std::vector<Triangle>& input, bool spatial, double budget,
+                HostBvh& out) {
   const int n = static_cast<int>(items.size());
   Task root = range_task(items, 0, n, -1, 0, 0);
-  root.items = std::move(all);
+  root.items = &items;
   out.bounds = root.box;
   if (n == 0) return;
   SpatialContext ctx;
@@ -544,16 +547,16 @@ void build_tree(std::shared_ptr<Items> all, const std::vector<Triangle>& input, 
     root.budget = budget;
   }
   out.nodes.reserve(std::max(1, 2 * n / kMaxLeafSize + 1));
-  out.tris.reserve(n);
   out.prim.reserve(n);
 
   // The root is always an internal node with two slots.
   out.nodes.emplace_back();
+  ItemLists lists;
   Split sp;
-  if (n == 1 || !split_range(ctx, root, sp)) {
+  if (n == 1 || !split_range(ctx, root, lists, sp)) {
     Fragment leaf;
     root.depth = kMaxDepth;
-    build_fragment(ctx, input, root, leaf);
+    build_fragment(ctx, root, leaf);
     const std::uint32_t ref = append_fragment(leaf, out);
     out.nodes[0].set_child(0, out.bounds, ref);
     out.nodes[0].set_child(1, Aabb(), kEmptyLeaf);
@@ -570,7 +573,7 @@ void build_tree(std::shared_ptr<Items> all, const std::vector<Triangle>& input, 
   while (!stack.empty()) {
     const Task t = stack.back();
     stack.pop_back();
-    if (t.end - t.begin <= fragment_max || !split_range(ctx, t, sp)) {
+    if (t.end - t.begin <= fragment_max || !split_range(ctx, t, lists, sp)) {
       fragments.push_back(t);
       continue;
     }
@@ -589,12 +592,21 @@ void build_tree(std::shared_ptr<Items> all, const std::vector<Triangle>& input, 
       [&](const int i) {
         Task t = fragments[i];
         t.node = -1;  // the fragment's root reference goes to the parent slot below
-        build_fragment(ctx, input, t, built[i]);
+        build_fragment(ctx, t, built[i]);
       });
   for (std::size_t i = 0; i < fragments.size(); ++i) {
     const std::uint32_t ref = append_fragment(built[i], out);  // may reallocate out.nodes
     out.nodes[fragments[i].node].set_child(fragments[i].slot, fragments[i].box, ref);
   }
+}
+
+// The leaves' triangles in leaf order, zero-area ones as points. Gathered in one loop after the
+// build rather than leaf by leaf within it: the reads are scattered over the input, and a loop
+// of nothing else keeps many of them in flight.
+void gather_leaf_triangles(const std::vector<Triangle>& input, HostBvh& out) {
+  out.tris.resize(out.prim.size());
+  for (std::size_t i = 0; i < out.prim.size(); ++i)
+    out.tris[i] = point_if_zero_area(input[out.prim[i]]);
 }
 
 }  // namespace
@@ -611,9 +623,10 @@ HostBvh build_sah_host(const std::vector<Triangle>& input, double split_budget,
                        SpatialSplits spatial_splits) {
   HostBvh out;
   const bool spatial = uses_spatial_splits(input, spatial_splits);
-  auto items = std::make_shared<Items>(make_items(input, split_budget, spatial));
+  Items items = make_items(input, split_budget, spatial);
   const double budget = split_budget * double(input.size());
-  build_tree(std::move(items), input, spatial, budget, out);
+  build_tree(items, input, spatial, budget, out);
+  gather_leaf_triangles(input, out);
   out.spatial_splits = spatial;
   for (BvhNode& node : out.nodes) pad_child_boxes(node);
   return out;
