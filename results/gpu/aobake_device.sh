@@ -6,7 +6,7 @@
 #
 # Run from the root of the device copy (main, with .carry/ as for the other device calls) with the
 # branch's tree copied next to it, e.g. on this side:
-#   git -C /work/main worktree add .aobakewt aobake   (or: git archive aobake | tar -x -C .aobakewt)
+#   git worktree add .aobakewt aobake   (or: mkdir .aobakewt; git archive aobake | tar -x -C .aobakewt)
 #   git -C .aobakewt rev-parse HEAD > .aobakewt/.commit; git rev-parse HEAD > .aobakewt/.base_commit
 # then on the device:  bash .aobakewt/results/gpu/aobake_device.sh      (outputs in $OUT)
 # BASE=<dir> and NEW=<dir> choose other trees (defaults: . and .aobakewt).
