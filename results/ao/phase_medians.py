@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Per-phase medians of `bake ao` logs: phase_medians.py DIR reads DIR/ao_<tag>_<rep>.log (the
 phase lines "Load scene ...  70.62 ms" that bake ao prints) and prints, per phase, the median and
-range of each tag (base, new) over its repetitions, and the verification hashes seen."""
+range of each tag (base, new, then any other) over its repetitions, and the verification hashes."""
 import glob
 import re
 import statistics
@@ -17,7 +17,8 @@ for path in sorted(glob.glob(sys.argv[1] + "/ao_*_*.log")):
         h = re.search(r"verification ([0-9a-f]+)", line)
         if h:
             hashes.setdefault(tag, set()).add(h.group(1))
-tags = ("base", "new")
+seen = {t for by in phases.values() for t in by}
+tags = [t for t in ("base", "new") if t in seen] + sorted(seen - {"base", "new"})
 print(f"{'phase (ms)':28s}" + "".join(f"{t + ' median (min-max), n':>34s}" for t in tags))
 for name, by in phases.items():
     cells = []

@@ -9,11 +9,15 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
+#include <exception>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <sstream>
+#include <thread>
 #include <utility>
 
 #include "rtmini/io/bakeshop.hpp"
@@ -50,22 +54,98 @@ class ObjScan {
     bool glued = false;
   };
 
-  explicit ObjScan(const std::string& path, Mesh* mesh = nullptr) : path_(path), mesh_(mesh) {}
+  // Where a piece of the text starts when read_obj scans a large file in pieces (in parallel):
+  // the vertices, texture coordinates and normals defined before it, the lines before it, and
+  // whether it continues an earlier piece (its first faces then belong to the object and
+  // material that piece ended with, which append() resolves).
+  struct Start {
+    long nv = 0, nvt = 0, nvn = 0, lines = 0;
+    bool continues = false;
+  };
+
+  explicit ObjScan(const std::string& path, Mesh* mesh = nullptr) : ObjScan(path, mesh, Start()) {}
+  ObjScan(const std::string& path, Mesh* mesh, const Start& start)
+      : path_(path),
+        mesh_(mesh),
+        line_offset_(start.lines),
+        nv_(start.nv),
+        nvt_(start.nvt),
+        nvn_(start.nvn),
+        name_(start.continues ? kInherited : "") {}
 
   void run(std::string_view text) {
     if (mesh_ != nullptr) reserve_for(text);
     detail::LineCursor cursor(text);
     std::string_view raw;
     while (cursor.next(raw)) {
-      line_ = cursor.line_number();
+      line_ = line_offset_ + cursor.line_number();
       std::string_view line = raw;
       const std::size_t hash = line.find('#');
       if (hash != std::string_view::npos) line = line.substr(0, hash);
       split_into(line, fields_);
       if (!fields_.empty()) statement(raw);
     }
-    // A missing library matters only when a face asks for a material from it
-    // (the shared dragon.obj names a dragon.mtl that does not exist and uses none).
+  }
+
+  // The lines of `text` and the vertices, texture coordinates and normals it defines (lines whose
+  // first field is `v`, `vt`, `vn`; in a text without errors each defines one).
+  static Start count(std::string_view text) {
+    Start start;
+    detail::LineCursor cursor(text);
+    std::string_view line;
+    while (cursor.next(line)) {
+      const std::size_t first = line.find_first_not_of(" \t\r");
+      if (first == std::string_view::npos || line[first] == '#') continue;
+      const std::size_t end = line.find_first_of(" \t\r#", first);
+      const std::string_view keyword = line.substr(first, end - first);
+      start.nv += keyword == "v";
+      start.nvt += keyword == "vt";
+      start.nvn += keyword == "vn";
+    }
+    start.lines = cursor.line_number();
+    return start;
+  }
+
+  // Takes over the piece scanned after this scan's text (with the Start that count() gave): its
+  // geometry joins this scan's mesh, its first faces get the object and material this scan ended
+  // with, its `usemtl`/`mtllib` statements follow ours.
+  void append(const ObjScan& piece, const Mesh& piece_mesh) {
+    const int usemtl_before = static_cast<int>(usemtl_.size());
+    std::vector<int> object_of(piece_mesh.objects.size());
+    for (std::size_t i = 0; i < object_of.size(); ++i)
+      object_of[i] = object_id(piece_mesh.objects[i] == kInherited ? name_ : piece_mesh.objects[i]);
+    mesh_->positions.insert(mesh_->positions.end(), piece_mesh.positions.begin(),
+                            piece_mesh.positions.end());
+    mesh_->texcoords.insert(mesh_->texcoords.end(), piece_mesh.texcoords.begin(),
+                            piece_mesh.texcoords.end());
+    for (Face face : piece_mesh.faces) {
+      face.object = object_of[static_cast<std::size_t>(face.object)];
+      face.material = face.material >= 0 ? face.material + usemtl_before : usemtl_before - 1;
+      mesh_->faces.push_back(face);
+    }
+    for (UseMtl use : piece.usemtl_) {
+      use.libraries_before += mtllib_names_.size();
+      usemtl_.push_back(std::move(use));
+    }
+    mtllib_names_.insert(mtllib_names_.end(), piece.mtllib_names_.begin(),
+                         piece.mtllib_names_.end());
+    for (const std::string& mtl : piece.mtl_files_)
+      if (std::find(mtl_files_.begin(), mtl_files_.end(), mtl) == mtl_files_.end())
+        mtl_files_.push_back(mtl);
+    if (missing_mtl_line_ == 0) {
+      missing_mtl_line_ = piece.missing_mtl_line_;
+      missing_mtl_ = piece.missing_mtl_;
+    }
+    if (piece.name_ != kInherited) name_ = piece.name_;
+    object_ = -1;
+    nv_ = piece.nv_;
+    nvt_ = piece.nvt_;
+    nvn_ = piece.nvn_;
+  }
+
+  // After the whole text: a missing library matters only when a face asks for a material from it
+  // (the shared dragon.obj names a dragon.mtl that does not exist and uses none).
+  void check_libraries() {
     const bool uses_materials =
         std::any_of(usemtl_.begin(), usemtl_.end(), [](const UseMtl& u) { return !u.glued; });
     if (missing_mtl_line_ > 0 && uses_materials) {
@@ -240,13 +320,7 @@ class ObjScan {
     poly_uv_.clear();
     for (std::size_t i = 1; i < f.size(); ++i) face_vertex(f[i]);
     if (mesh_ == nullptr) return;
-    if (object_ < 0) {
-      const std::string name = name_.empty() ? "default" : name_;
-      const auto [it, inserted] =
-          object_ids_.emplace(name, static_cast<int>(mesh_->objects.size()));
-      if (inserted) mesh_->objects.push_back(name);
-      object_ = it->second;
-    }
+    if (object_ < 0) object_ = object_id(name_);
     Face face;
     face.material = static_cast<int>(usemtl_.size()) - 1;
     face.object = object_;
@@ -264,6 +338,14 @@ class ObjScan {
       face.uv = {poly_uv_[0], poly_uv_[k], poly_uv_[k + 1], -1};
       mesh_->faces.push_back(face);
     }
+  }
+
+  // The Mesh::objects id of a `g`/`o` name ("" is "default"), added at its first use.
+  int object_id(const std::string& name) {
+    const std::string& key = name.empty() ? kDefaultObject : name;
+    const auto [it, inserted] = object_ids_.emplace(key, static_cast<int>(mesh_->objects.size()));
+    if (inserted) mesh_->objects.push_back(key);
+    return it->second;
   }
 
   [[noreturn]] void fail(const std::string& reason) const {
@@ -357,8 +439,13 @@ class ObjScan {
     (void)index(vn, nvn_, "normal");
   }
 
+  // The name a continuing piece's faces have until its first `g`/`o` (no line holds a '\n').
+  static inline const std::string kInherited = "\n";
+  static inline const std::string kDefaultObject = "default";
+
   const std::string& path_;
   Mesh* mesh_;
+  long line_offset_ = 0;
   long line_ = 0;
   long nv_ = 0, nvt_ = 0, nvn_ = 0;
   std::vector<std::string_view> fields_;
@@ -373,6 +460,76 @@ class ObjScan {
   long missing_mtl_line_ = 0;
   std::string missing_mtl_;
 };
+
+// Calls fn(i) for i < n, each on a thread of its own (fn must not throw).
+template <class Fn>
+void on_threads(std::size_t n, const Fn& fn) {
+  std::vector<std::thread> threads;
+  for (std::size_t i = 1; i < n; ++i) threads.emplace_back(fn, i);
+  if (n > 0) fn(0);
+  for (std::thread& t : threads) t.join();
+}
+
+// `text` cut into about n pieces of whole lines.
+std::vector<std::string_view> split_at_lines(std::string_view text, std::size_t n) {
+  std::vector<std::string_view> pieces;
+  std::size_t begin = 0;
+  for (std::size_t k = 1; k <= n && begin < text.size(); ++k) {
+    std::size_t end = std::max(begin, text.size() / n * k);
+    end = k == n ? std::string_view::npos : text.find('\n', end);
+    end = end == std::string_view::npos ? text.size() : end + 1;
+    pieces.push_back(text.substr(begin, end - begin));
+    begin = end;
+  }
+  return pieces;
+}
+
+// Scans the OBJ text into `mesh`, in pieces of about piece_bytes (at most max_pieces, one thread
+// each) joined in file order: the same Mesh and the same first error as one pass.
+ObjScan scan_obj(const std::string& path, std::string_view text, Mesh& mesh,
+                 std::size_t piece_bytes, std::size_t max_pieces) {
+  const std::size_t n = std::min(std::max<std::size_t>(text.size() / piece_bytes, 1), max_pieces);
+  ObjScan scan(path, &mesh);
+  const std::vector<std::string_view> pieces = split_at_lines(text, n);
+  if (pieces.size() <= 1) {
+    scan.run(text);
+    return scan;
+  }
+  // Where each piece starts: what the pieces before it define.
+  std::vector<ObjScan::Start> starts(pieces.size());
+  on_threads(pieces.size(), [&](std::size_t i) { starts[i] = ObjScan::count(pieces[i]); });
+  ObjScan::Start at;
+  for (ObjScan::Start& piece : starts) {
+    const ObjScan::Start defined = piece;
+    piece = at;
+    at = {at.nv + defined.nv, at.nvt + defined.nvt, at.nvn + defined.nvn, at.lines + defined.lines,
+          true};
+  }
+  std::vector<Mesh> meshes(pieces.size() - 1);
+  std::vector<std::unique_ptr<ObjScan>> scans;
+  for (std::size_t i = 1; i < pieces.size(); ++i)
+    scans.push_back(std::make_unique<ObjScan>(path, &meshes[i - 1], starts[i]));
+  std::vector<std::exception_ptr> errors(pieces.size());
+  on_threads(pieces.size(), [&](std::size_t i) {
+    try {
+      if (i == 0)
+        scan.run(pieces[0]);
+      else
+        scans[i - 1]->run(pieces[i]);
+    } catch (...) {
+      errors[i] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& error : errors)
+    if (error) std::rethrow_exception(error);
+  std::size_t faces = mesh.faces.size();
+  for (const Mesh& m : meshes) faces += m.faces.size();
+  mesh.positions.reserve(static_cast<std::size_t>(at.nv));
+  mesh.texcoords.reserve(static_cast<std::size_t>(at.nvt));
+  mesh.faces.reserve(faces);
+  for (std::size_t i = 1; i < pieces.size(); ++i) scan.append(*scans[i - 1], meshes[i - 1]);
+  return scan;
+}
 
 // An MTL map name resolved against the library's folder (the OBJ's, where tinyobjloader
 // looks for libraries); empty stays empty.
@@ -453,10 +610,13 @@ std::vector<int> usemtl_material_ids(const std::vector<ObjScan::UseMtl>& usemtl,
 
 }  // namespace
 
-Mesh read_obj(const std::string& path) {
+namespace detail {
+
+Mesh read_obj(const std::string& path, std::size_t piece_bytes, std::size_t max_pieces) {
   Mesh mesh;
-  ObjScan scan(path, &mesh);
-  scan.run(detail::read_text_file(path));
+  const std::string text = read_text_file(path);
+  ObjScan scan = scan_obj(path, text, mesh, piece_bytes, max_pieces);
+  scan.check_libraries();
   for (const std::string& mtl : scan.mtl_files()) ObjScan(mtl).run_mtl(detail::read_text_file(mtl));
 
   const MaterialLibraries libraries = read_material_libraries(directory_of(path), scan);
@@ -479,6 +639,20 @@ Mesh read_obj(const std::string& path) {
   return mesh;
 }
 
+}  // namespace detail
+
+// Pieces of 256 KiB, one thread each, up to the host's cores (at most 16): the dragon's 3.3 MB
+// take about 13 ms on one core of the dev VM, and the CUDA build's host side is otherwise serial.
+// RTMINI_OBJ_THREADS=n caps the pieces (1: one pass on the calling thread), for comparisons.
+Mesh read_obj(const std::string& path) {
+  constexpr std::size_t kPieceBytes = 256 * 1024, kMaxThreads = 16;
+  std::size_t threads = std::min<std::size_t>(std::thread::hardware_concurrency(), kMaxThreads);
+  if (const char* e = std::getenv("RTMINI_OBJ_THREADS"))
+    if (const auto n = detail::parse_number<long>(e); n && *n >= 1)
+      threads = static_cast<std::size_t>(*n);
+  return detail::read_obj(path, kPieceBytes, std::max<std::size_t>(threads, 1));
+}
+
 bool is_gltf_extension(const std::string& ext) { return ext == ".gltf" || ext == ".glb"; }
 
 std::vector<std::string> mesh_files(const std::string& path) {
@@ -487,6 +661,7 @@ std::vector<std::string> mesh_files(const std::string& path) {
   if (lower_extension(path) != ".obj") return files;
   ObjScan scan(path);
   scan.run(detail::read_text_file(path));
+  scan.check_libraries();
   files.insert(files.end(), scan.mtl_files().begin(), scan.mtl_files().end());
   for (const std::string& mtl : scan.mtl_files()) {
     ObjScan library(mtl);

@@ -140,6 +140,70 @@ TEST(ObjReader, TexcoordsAndCrlf) {
   EXPECT_EQ(m.faces[1].v, (std::array<int, 4>{0, 1, 2, -1}));
 }
 
+void expect_same_mesh(const Mesh& a, const Mesh& b) {
+  ASSERT_EQ(a.positions.size(), b.positions.size());
+  for (std::size_t i = 0; i < a.positions.size(); ++i) {
+    EXPECT_EQ(a.positions[i].x, b.positions[i].x);
+    EXPECT_EQ(a.positions[i].y, b.positions[i].y);
+    EXPECT_EQ(a.positions[i].z, b.positions[i].z);
+  }
+  ASSERT_EQ(a.texcoords.size(), b.texcoords.size());
+  for (std::size_t i = 0; i < a.texcoords.size(); ++i) {
+    EXPECT_EQ(a.texcoords[i].u, b.texcoords[i].u);
+    EXPECT_EQ(a.texcoords[i].v, b.texcoords[i].v);
+  }
+  ASSERT_EQ(a.faces.size(), b.faces.size());
+  for (std::size_t i = 0; i < a.faces.size(); ++i) {
+    EXPECT_EQ(a.faces[i].v, b.faces[i].v);
+    EXPECT_EQ(a.faces[i].uv, b.faces[i].uv);
+    EXPECT_EQ(a.faces[i].count, b.faces[i].count);
+    EXPECT_EQ(a.faces[i].material, b.faces[i].material) << "face " << i;
+    EXPECT_EQ(a.faces[i].object, b.faces[i].object) << "face " << i;
+  }
+  EXPECT_EQ(a.objects, b.objects);
+  ASSERT_EQ(a.materials.size(), b.materials.size());
+  for (std::size_t i = 0; i < a.materials.size(); ++i)
+    EXPECT_EQ(a.materials[i].name, b.materials[i].name);
+}
+
+// Large files are read in pieces on several threads: pieces of a few lines (every line end a
+// boundary somewhere) give the one-pass Mesh, with objects, materials, negative indices and
+// libraries that span pieces, and the same first error.
+TEST(ObjReader, PiecesReadLikeOnePass) {
+  test::TempDir dir;
+  test::write_file(dir.file("box.mtl"), kMtl);
+  test::write_file(dir.file("box.obj"), kObj);
+  test::write_file(dir.file("late.obj"),
+                   std::string(kObj) +
+                       "g\nf 1 2 3\nusemtl red\nv 2 2 2\nf -1 -2 -3\nmtllib box.mtl\n" +
+                       "o other\nvt 0.5 0.5\nf 1/1 2/1 -1/-1\n");
+  test::write_file(dir.file("bad.obj"), std::string(kObj) + "f 1 2 7\nv 1 2\n");
+  const std::vector<std::string> files = {
+      dir.file("box.obj"), dir.file("late.obj"),
+      std::string(RTMINI_SCENES_DIR) + "/CornellBox-Original.obj",
+      std::string(RTMINI_SCENES_DIR) + "/spot.obj"};
+  for (const std::string& file : files) {
+    SCOPED_TRACE(file);
+    const Mesh whole = detail::read_obj(file, 1u << 30, 1);
+    for (const std::size_t piece : {8, 100, 4096})
+      expect_same_mesh(detail::read_obj(file, piece, 64), whole);
+  }
+  std::string one_pass, pieces;
+  try {
+    (void)detail::read_obj(dir.file("bad.obj"), 1u << 30, 1);
+  } catch (const InputError& e) {
+    one_pass = e.what();
+  }
+  try {
+    (void)detail::read_obj(dir.file("bad.obj"), 8, 64);
+  } catch (const InputError& e) {
+    pieces = e.what();
+  }
+  EXPECT_NE(one_pass.find("vertex index 7 out of range (5 defined so far)"), std::string::npos)
+      << one_pass;
+  EXPECT_EQ(pieces, one_pass);
+}
+
 TEST(ObjReader, UnknownExtensionAndMissingFile) {
   test::TempDir dir;
   EXPECT_THROW(read_mesh(dir.file("mesh.ply")), InputError);

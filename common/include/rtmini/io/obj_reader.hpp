@@ -1,6 +1,7 @@
 #pragma once
 // Wavefront OBJ/MTL input (through Debian's tinyobjloader) and the mesh-file
 // dispatcher used by the apps and the scene loader.
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -13,11 +14,17 @@ namespace rtmini {
 // entry of Mesh::objects (repeated names share an id; unnamed faces go to "default").
 // MTL Kd/Ks/Ke/Ns/Ni/d fill Material; `vt` and `f v/vt[/vn]` fill Mesh::texcoords and
 // Face::uv; map_Kd, map_Ks, norm, map_bump/bump and disp (PNG only, paths resolved against the
-// OBJ's folder, `-bm` kept as the map's scale) fill Material::maps. A light pre-scan validates field counts,
-// numbers, finiteness and index ranges first, so errors carry "file:line: reason";
-// an undefined `usemtl` name, or a missing MTL file in an OBJ that uses materials,
-// is an InputError too (an OBJ without `usemtl` loads without its missing library).
+// OBJ's folder, `-bm` kept as the map's scale) fill Material::maps. A light pre-scan validates
+// field counts, numbers, finiteness and index ranges first, so errors carry "file:line: reason"; an
+// undefined `usemtl` name, or a missing MTL file in an OBJ that uses materials, is an InputError
+// too (an OBJ without `usemtl` loads without its missing library). Large files are scanned in
+// pieces of whole lines, one thread each (the same Mesh and errors).
 Mesh read_obj(const std::string& path);
+
+namespace detail {
+// read_obj with pieces of about piece_bytes, at most max_pieces (tests compare piece sizes).
+Mesh read_obj(const std::string& path, std::size_t piece_bytes, std::size_t max_pieces);
+}  // namespace detail
 
 // Dispatches on the extension (case-insensitive): .obj -> read_obj, .bs -> read_bakeshop,
 // .gltf/.glb -> read_gltf flattened into world space (io/gltf_reader.hpp).
