@@ -259,9 +259,10 @@ KOKKOS_INLINE_FUNCTION bool any_hit(const BvhT& bvh, const Ray& ray, TraversalSt
   }
 }
 
-// Rays a persistent thread takes from the counter at once (fewer atomics on one address; a
-// thread's batch is traced one ray after another).
-inline constexpr int kPersistentBatch = 4;
+// Rays a persistent thread takes from the counter at once, traced one after another: fewer
+// atomics on the one address (dragon AO: 2.4M instead of 19.2M), still ~9 batches per resident
+// thread of an H200, so the last batches leave little tail.
+inline constexpr int kPersistentBatch = 8;
 
 namespace detail {
 
