@@ -290,6 +290,8 @@ void trace_any(bvh::AnyHitKernel kernel, const bvh::Bvh<Mem>& accel,
   switch (kernel) {
     case K::kDefault:
       return bvh::any_hit_all<K::kDefault>(Exec(), accel, n, ray_at, store, counter);
+    case K::kWide:
+      return bvh::any_hit_all<K::kWide>(Exec(), accel, n, ray_at, store, counter);
     case K::kStored:
       return bvh::any_hit_all<K::kStored>(Exec(), accel, n, ray_at, store, counter);
     case K::kShort8:
@@ -300,6 +302,10 @@ void trace_any(bvh::AnyHitKernel kernel, const bvh::Bvh<Mem>& accel,
       return bvh::any_hit_all<K::kPersistent8>(Exec(), accel, n, ray_at, store, counter);
     case K::kPersistent16:
       return bvh::any_hit_all<K::kPersistent16>(Exec(), accel, n, ray_at, store, counter);
+    case K::kLazy8:
+      return bvh::any_hit_all<K::kLazy8>(Exec(), accel, n, ray_at, store, counter);
+    case K::kLazy16:
+      return bvh::any_hit_all<K::kLazy16>(Exec(), accel, n, ray_at, store, counter);
   }
 }
 
@@ -540,8 +546,8 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
   bvh::AnyHitKernel kernel;
   if (!bvh::parse_any_hit_kernel(o.gpu_trace, kernel))
     throw InputError(
-        "--gpu-trace must be default, stored, short8, short16, persistent8 or "
-        "persistent16, got '" +
+        "--gpu-trace must be default, wide, stored, short8, short16, persistent8, persistent16, "
+        "lazy8 or lazy16, got '" +
         o.gpu_trace + "'");
   if (kernel != bvh::AnyHitKernel::kDefault && !any)
     throw InputError("--gpu-trace " + o.gpu_trace + ": only the any-hit workloads (ao, shadow)");
@@ -829,8 +835,8 @@ int bench_main(Communicator& comm, int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   app.add_option("--gpu-trace", o.gpu_trace,
-                 "any-hit kernel (issue 21): default (today's dispatch), stored, short8, short16, "
-                 "persistent8 or persistent16 (bvh/any_hit_gpu.hpp)")
+                 "any-hit kernel (issue 21): default (today's dispatch), wide, stored, short8, "
+                 "short16, persistent8, persistent16, lazy8 or lazy16 (bvh/any_hit_gpu.hpp)")
       ->capture_default_str();
   app.add_option("--ray-order", o.ray_order,
                  "ao: which rays a warp traces together: ray (one point's directions) or "

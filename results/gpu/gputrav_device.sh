@@ -9,8 +9,10 @@
 # one mesh and build run back to back). Outputs under $OUT (or /tmp/gputrav_out).
 # Phases, so each fits one device command (<= 10 min; the build stays on a warm machine):
 #   bash results/gpu/gputrav_device.sh build   # configure, build, unit.core.cuda (~5 min)
-#   bash results/gpu/gputrav_device.sh bench   # 48 bench runs + ncu of two kernels (~5 min)
-#   bash results/gpu/gputrav_device.sh         # both
+#   bash results/gpu/gputrav_device.sh bench   # 72 bench runs (~4 min)
+#   bash results/gpu/gputrav_device.sh ncu [KERNEL ORDER]  # ncu of default and of KERNEL ORDER
+#                                              # (default: the best dragon SAH run of `bench`)
+#   bash results/gpu/gputrav_device.sh         # all three
 #
 # Run from the root of a checkout of the branch on the device machine, after the Kokkos CUDA
 # environment of docs/cuda.md is set up (the coordinator's .carry/dev_env.sh defines deps_flags
@@ -41,6 +43,7 @@ grep -E 'error' -A3 "$OUT/build.log" | head -40
 fi
 [ "$phase" = build ] && exit 0
 
+if [ "$phase" != ncu ]; then
 L=$OUT/bench.txt
 bench() {  # mesh quality kernel order
   echo "== $1 $2 $3 $4" >> "$L"
@@ -48,7 +51,7 @@ bench() {  # mesh quality kernel order
     --gpu-trace "$3" --ray-order "$4" >> "$L" 2>&1
   echo "rc=$?" >> "$L"
 }
-KERNELS="default stored short8 short16 persistent8 persistent16"
+KERNELS="default wide stored short8 short16 persistent8 persistent16 lazy8 lazy16"
 for m in dragon stanford-bunny; do
   for q in sah lbvh; do
     for order in ray coherent; do
@@ -62,11 +65,18 @@ awk '/^== /{tag=$2" "$3" "$4" "$5} /^FOM/{print tag, $2, $NF}' "$L" | sort -k1,4
 best=$(awk '$1=="dragon" && $2=="sah" {s[$3" "$4]+=$5; c[$3" "$4]++}
             END {for (k in s) print s[k]/c[k], k}' "$OUT/summary.txt" | sort -gr | head -1)
 echo "best on dragon SAH (mean Mrays/s, kernel, order): $best"
-set -- $best
+echo "$best" > $B/gputrav_best.txt  # for a later `ncu` call on the same (warm) machine
+cp "$OUT/summary.txt" $B/gputrav_summary.txt
+fi
+[ "$phase" = bench ] && exit 0
+
+if [ $# -ge 3 ]; then pick="$2 $3"
+elif [ -f $B/gputrav_best.txt ]; then pick=$(cut -d' ' -f2,3 $B/gputrav_best.txt)
+else pick="short8 ray"; fi
 # Registers and local memory of each kernel, and ncu counters of the AO trace kernel.
 cuobjdump --dump-resource-usage $B/bench/rtmini-bvh-bench > "$OUT/resources.txt" 2>&1
 M=launch__registers_per_thread,l1tex__t_sectors_pipe_lsu_mem_local_op_ld.sum,l1tex__t_sectors_pipe_lsu_mem_local_op_st.sum,smsp__thread_inst_executed_per_inst_executed.ratio,sm__warps_active.avg.pct_of_peak_sustained_active,gpu__time_duration.sum,l1tex__throughput.avg.pct_of_peak_sustained_active
-for kv in "default ray" "${2:-short8} ${3:-ray}"; do
+for kv in "default ray" "$pick"; do
   set -- $kv
   timeout 150 ncu --clock-control none --metrics $M --csv \
     $B/bench/rtmini-bvh-bench inputs/meshes/dragon.obj --workload ao --quality sah \

@@ -10,6 +10,7 @@
 #include "rtmini/bvh/any_hit_gpu.hpp"
 #include "rtmini/bvh/brute_force.hpp"
 #include "rtmini/bvh/build.hpp"
+#include "rtmini/bvh/gpu_collapse.hpp"
 #include "rtmini/io/obj_reader.hpp"
 #include "rtmini/sampling/rng.hpp"
 #include "rtmini/sampling/sampling.hpp"
@@ -46,12 +47,12 @@ Kokkos::View<Ray*, TestMemSpace> ao_like_rays(Kokkos::View<const Triangle*, Test
         const Triangle t = tris(int(b.v[0] % std::uint32_t(nt)));
         Real u, v;
         uniform_triangle(Rng::to_unit(b.v[1]), Rng::to_unit(b.v[2]), u, v);
-        Vec3 n = cross(t.b - t.a, t.c - t.a);
-        n = length_squared(n) > Real(0) ? normalize(n) : Vec3(0, 0, 1);
+        Vec3 nrm = cross(t.b - t.a, t.c - t.a);
+        nrm = length_squared(nrm) > Real(0) ? normalize(nrm) : Vec3(0, 0, 1);
         const Real scale = length(t.b - t.a) + Real(1e-6);
         Ray r;
-        r.org = barycentric_point(t.a, t.b, t.c, u, v) + n * (Real(1e-3) * scale);
-        r.dir = Frame(n).to_world(cosine_hemisphere(Rng::to_unit(b.v[3]), rng.uniform(4)));
+        r.org = barycentric_point(t.a, t.b, t.c, u, v) + nrm * (Real(1e-3) * scale);
+        r.dir = Frame(nrm).to_world(cosine_hemisphere(Rng::to_unit(b.v[3]), rng.uniform(4)));
         r.tmin = 0;
         r.tmax = i % 3 == 0 ? Real(20) * scale : Real(1e30);
         rays(i) = r;
@@ -141,8 +142,13 @@ void expect_every_kernel_matches(const Accel& accel, const Kokkos::View<Ray*, Te
 template <class Accel>
 void expect_all_kernels_match(const Accel& accel, const Kokkos::View<Ray*, TestMemSpace>& rays,
                               const std::vector<int>& ref, const std::string& what) {
-  expect_every_kernel_matches<Kernel::kDefault, Kernel::kStored, Kernel::kShort8, Kernel::kShort16,
-                              Kernel::kPersistent8, Kernel::kPersistent16>(accel, rays, ref, what);
+  expect_every_kernel_matches<Kernel::kDefault, Kernel::kWide, Kernel::kStored, Kernel::kShort8,
+                              Kernel::kShort16, Kernel::kPersistent8, Kernel::kPersistent16,
+                              Kernel::kLazy8, Kernel::kLazy16>(accel, rays, ref, what);
+  // kWide with the compressed wide copy (built on devices already; on the host only when asked).
+  auto wide = accel;
+  if (wide.qwide.extent(0) == 0) bvh::add_quantized_wide(TestExecSpace(), wide);
+  expect_kernel_matches<Kernel::kWide>(wide, rays, ref, what + " (compressed wide)");
 }
 
 class AnyHitKernelsVsBruteForce : public ::testing::TestWithParam<std::string> {};

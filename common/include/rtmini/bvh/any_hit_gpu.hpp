@@ -14,6 +14,12 @@
 //    counter (dynamic ray fetch with ray replacement, after Aila & Laine 2009): a thread whose ray
 //    ends takes the next one in the same loop iteration that its warp's other lanes spend on
 //    their nodes, so lanes do not idle until the warp's longest ray ends.
+//  - kLazy8 / kLazy16: as kPersistent*, but ended lanes take new rays only once at least a
+//    quarter of the warp's lanes wait (Aila, Laine & Karras 2012 replace rays in groups), so the
+//    ray setup is paid by several lanes at once instead of stalling the warp for one lane.
+//  - kWide: the compressed 8-wide traversal that closest hits use on devices (traverse_gpu.hpp),
+//    for any hits too (the in-run reference of results/gpu/README.md's 0.76x; the binary
+//    default where the tree has no compressed copy, as on the host).
 //
 // Every variant visits the same nodes as detail::traverse (near child first, far child pushed)
 // and answers exactly what brute force answers (same watertight test, tests/unit/core).
@@ -24,12 +30,24 @@
 
 namespace rtmini::bvh {
 
-enum class AnyHitKernel { kDefault, kStored, kShort8, kShort16, kPersistent8, kPersistent16 };
+enum class AnyHitKernel {
+  kDefault,
+  kWide,
+  kStored,
+  kShort8,
+  kShort16,
+  kPersistent8,
+  kPersistent16,
+  kLazy8,
+  kLazy16
+};
 
 inline const char* to_string(AnyHitKernel k) {
   switch (k) {
     case AnyHitKernel::kDefault:
       return "default";
+    case AnyHitKernel::kWide:
+      return "wide";
     case AnyHitKernel::kStored:
       return "stored";
     case AnyHitKernel::kShort8:
@@ -40,13 +58,18 @@ inline const char* to_string(AnyHitKernel k) {
       return "persistent8";
     case AnyHitKernel::kPersistent16:
       return "persistent16";
+    case AnyHitKernel::kLazy8:
+      return "lazy8";
+    case AnyHitKernel::kLazy16:
+      return "lazy16";
   }
   return "?";
 }
 
 inline constexpr AnyHitKernel kAnyHitKernels[] = {
-    AnyHitKernel::kDefault, AnyHitKernel::kStored,      AnyHitKernel::kShort8,
-    AnyHitKernel::kShort16, AnyHitKernel::kPersistent8, AnyHitKernel::kPersistent16};
+    AnyHitKernel::kDefault,      AnyHitKernel::kWide,    AnyHitKernel::kStored,
+    AnyHitKernel::kShort8,       AnyHitKernel::kShort16, AnyHitKernel::kPersistent8,
+    AnyHitKernel::kPersistent16, AnyHitKernel::kLazy8,   AnyHitKernel::kLazy16};
 
 // False when `name` is none of the kernels' names.
 inline bool parse_any_hit_kernel(const std::string& name, AnyHitKernel& out) {
@@ -60,9 +83,22 @@ inline bool parse_any_hit_kernel(const std::string& name, AnyHitKernel& out) {
 
 // Stack entries kept in registers by a kernel (0: the whole stack is the local array).
 constexpr int register_stack_entries(AnyHitKernel k) {
-  return k == AnyHitKernel::kShort8 || k == AnyHitKernel::kPersistent8
+  return k == AnyHitKernel::kShort8 || k == AnyHitKernel::kPersistent8 || k == AnyHitKernel::kLazy8
              ? 8
-             : (k == AnyHitKernel::kShort16 || k == AnyHitKernel::kPersistent16 ? 16 : 0);
+             : (k == AnyHitKernel::kShort16 || k == AnyHitKernel::kPersistent16 ||
+                        k == AnyHitKernel::kLazy16
+                    ? 16
+                    : 0);
+}
+
+// Whether a kernel's threads fetch rays from a counter (any_hit_all), and whether they wait for
+// a quarter of the warp before taking new ones.
+constexpr bool fetches_rays(AnyHitKernel k) {
+  return k == AnyHitKernel::kPersistent8 || k == AnyHitKernel::kPersistent16 ||
+         k == AnyHitKernel::kLazy8 || k == AnyHitKernel::kLazy16;
+}
+constexpr bool replaces_lazily(AnyHitKernel k) {
+  return k == AnyHitKernel::kLazy8 || k == AnyHitKernel::kLazy16;
 }
 
 namespace detail {
@@ -88,7 +124,7 @@ KOKKOS_FORCEINLINE_FUNCTION BvhNode load_binary_node(const NodeView& nodes, std:
 // array of kStackSize entries). N = 0 keeps everything in `deep`.
 template <int N>
 struct ShortStack {
-  std::uint32_t top[N > 0 ? N : 1];
+  std::uint32_t top[N > 0 ? N : 1] = {};  // zeroed: the shifts copy unused entries too
   int depth = 0;
 
   KOKKOS_FORCEINLINE_FUNCTION bool empty() const { return depth == 0; }
@@ -199,7 +235,11 @@ KOKKOS_INLINE_FUNCTION bool any_hit_binary(const BvhT& bvh, const Ray& ray, Trav
 // the driver, any_hit_all below).
 template <AnyHitKernel K, class BvhT>
 KOKKOS_INLINE_FUNCTION bool any_hit(const BvhT& bvh, const Ray& ray) {
-  if constexpr (K == AnyHitKernel::kDefault) {
+  if constexpr (K == AnyHitKernel::kWide && detail::HasQuantizedWide<BvhT>::value) {
+    if (bvh.qwide.extent(0) == 0) return any_hit(bvh, ray);
+    Hit hit;
+    return detail::traverse_quantized<BvhT, true, false, TraversalStats>(bvh, ray, hit, nullptr);
+  } else if constexpr (K == AnyHitKernel::kDefault || K == AnyHitKernel::kWide) {
     return any_hit(bvh, ray);
   } else {
     return detail::any_hit_binary<register_stack_entries(K), false>(bvh, ray, nullptr);
@@ -208,16 +248,21 @@ KOKKOS_INLINE_FUNCTION bool any_hit(const BvhT& bvh, const Ray& ray) {
 
 template <AnyHitKernel K, class BvhT>
 KOKKOS_INLINE_FUNCTION bool any_hit(const BvhT& bvh, const Ray& ray, TraversalStats& stats) {
-  if constexpr (K == AnyHitKernel::kDefault) {
+  if constexpr (K == AnyHitKernel::kWide && detail::HasQuantizedWide<BvhT>::value) {
+    if (bvh.qwide.extent(0) == 0) return any_hit(bvh, ray, stats);
+    Hit hit;
+    return detail::traverse_quantized<BvhT, true, true, TraversalStats>(bvh, ray, hit, &stats);
+  } else if constexpr (K == AnyHitKernel::kDefault || K == AnyHitKernel::kWide) {
     return any_hit(bvh, ray, stats);
   } else {
     return detail::any_hit_binary<register_stack_entries(K), true>(bvh, ray, &stats);
   }
 }
 
-// Rays a persistent thread takes from the counter at once (fewer atomics on one address; a
-// thread's batch is traced one ray after another).
-inline constexpr int kPersistentBatch = 4;
+// Rays a persistent thread takes from the counter at once, traced one after another: fewer
+// atomics on the one address (dragon AO: 2.4M instead of 19.2M), still ~9 batches per resident
+// thread of an H200, so the last batches leave little tail.
+inline constexpr int kPersistentBatch = 8;
 
 namespace detail {
 
@@ -233,7 +278,7 @@ struct AnyHitEachRay {
   }
 };
 
-template <int N, class BvhT, class RayOf, class Store, class Counter>
+template <int N, bool kLazy, class BvhT, class RayOf, class Store, class Counter>
 struct AnyHitPersistent {
   BvhT bvh;
   RayOf ray_of;
@@ -249,7 +294,11 @@ struct AnyHitPersistent {
     idle.dir = Vec3(0, 0, 1);
     BinaryAnyHitRay<N> r(idle);
     while (true) {
-      if (current < 0) {  // this lane's ray ended (or none yet): take the next one
+      // Lazy replacement: lanes wait until a quarter of the (converged) warp waits, or all of it.
+      // Never a deadlock: either some lane steps its ray, or every lane here is waiting.
+      const int waiting = kLazy ? compat::warp_count(current < 0) : 0;
+      const bool take = !kLazy || 4 * waiting >= compat::warp_count(true);
+      if (current < 0 && take) {  // this lane's ray ended (or none yet): take the next one
         if (next == end) {
           next = static_cast<std::int64_t>(
               Kokkos::atomic_fetch_add(&counter(0), Count(kPersistentBatch)));
@@ -259,6 +308,7 @@ struct AnyHitPersistent {
         current = next++;
         r = BinaryAnyHitRay<N>(ray_of(current));
       }
+      if (current < 0) continue;  // waiting for the others (lazy replacement)
       const AnyHitStep s = r.template step<BvhT, false>(bvh, deep, nullptr);
       if (s != AnyHitStep::kGoing) {
         store(current, s == AnyHitStep::kBlocked);
@@ -284,7 +334,7 @@ struct StoreClear {
 template <AnyHitKernel K, class ExecSpace, class BvhT, class RayOf, class Store, class Counter>
 void any_hit_all(const ExecSpace& space, const BvhT& bvh, std::int64_t n, const RayOf& ray_of,
                  const Store& store, const Counter& counter) {
-  if constexpr (K != AnyHitKernel::kPersistent8 && K != AnyHitKernel::kPersistent16) {
+  if constexpr (!fetches_rays(K)) {
     (void)counter;
     Kokkos::parallel_for("rtmini::bvh::any_hit_all", Kokkos::RangePolicy<ExecSpace>(space, 0, n),
                          detail::AnyHitEachRay<K, BvhT, RayOf, Store>{bvh, ray_of, store});
@@ -299,8 +349,8 @@ void any_hit_all(const ExecSpace& space, const BvhT& bvh, std::int64_t n, const 
     const std::int64_t threads = std::max<std::int64_t>(1, space.concurrency());
     Kokkos::parallel_for(
         "rtmini::bvh::any_hit_all_persistent", Kokkos::RangePolicy<ExecSpace>(space, 0, threads),
-        detail::AnyHitPersistent<register_stack_entries(K), BvhT, RayOf, Store, Counter>{
-            bvh, ray_of, store, counter, n});
+        detail::AnyHitPersistent<register_stack_entries(K), replaces_lazily(K), BvhT, RayOf, Store,
+                                 Counter>{bvh, ray_of, store, counter, n});
   }
 }
 
