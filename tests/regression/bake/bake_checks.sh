@@ -120,8 +120,15 @@ case $case_name in
     "$BAKE" render one.bsb -o b.ppm --width 48 --height 36 >log8.txt 2>&1 ||
       { cat log8.txt; fail "render of the hemisphere .bsb failed"; }
     cmp a.ppm b.ppm || fail ".bs and .bsb hemisphere maps render differently"
+    # The owner-computes map with its sparse halo (viewpoint masks over N/2) on the gridded box.
+    big=("$INPUTS/cornell_big/cornell_big_raw.bs" --viewpoints 60 --iterations 3 --directions hemisphere)
+    run 1 "${big[@]}" -o big1.bs >log11.txt 2>&1 || { cat log11.txt; fail "cornell_big bake failed"; }
+    run "$ranks" "${big[@]}" -o big2.bs --balance spatial >log12.txt 2>&1 ||
+      { cat log12.txt; fail "cornell_big bake on $ranks ranks failed"; }
+    cmp big1.bs big2.bs || fail "cornell_big hemisphere outputs differ between 1 and $ranks ranks"
     run 1 "${args[@]}" --two-sided -o x.bs >log9.txt 2>err9.txt
-    [ $? -eq 2 ] && grep -q "one-sided" err9.txt || fail "--two-sided hemisphere not refused (exit 2)"
+    [ $? -eq 2 ] || fail "--two-sided hemisphere not refused (exit 2)"
+    grep -q "one-sided" err9.txt || fail "--two-sided refusal does not give the reason"
     run 1 "${args[@]}" --viewpoints 41 -o x.bs >log10.txt 2>err10.txt
     [ $? -eq 2 ] || fail "odd N hemisphere not refused (exit 2)"
     echo "hemisphere map: reference hash, identical on 1 and $ranks ranks, restart on $other ranks"
