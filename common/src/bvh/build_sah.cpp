@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstring>
 #include <memory>
+#include <type_traits>
 
 #include "rtmini/bvh/clip.hpp"
 #include "rtmini/bvh/finish.hpp"
@@ -149,6 +150,22 @@ int partition_bounding(std::vector<Item>& items, int b, int e, const Pred& left,
     std::swap(items[first], items[last]);
     ++first;
   }
+}
+
+// partition_bounding on "the item's bin on `axis` is at most `last_bin`", as the same scaled
+// offset compared with last_bin + 1 (the bin is that offset truncated, and it is never negative)
+// with the axis fixed at compile time: no float-to-int conversion or axis select per item.
+int partition_by_bin(std::vector<Item>& items, int b, int e, int axis, Real lo, Real scale,
+                     int last_bin, Aabb& lc, Aabb& rc) {
+  const Real limit = Real(last_bin + 1);
+  auto on_axis = [&](auto fixed) {
+    constexpr int a = decltype(fixed)::value;
+    return partition_bounding(
+        items, b, e, [&](const Item& x) { return (x.centroid[a] - lo) * scale < limit; }, lc, rc);
+  };
+  if (axis == 0) return on_axis(std::integral_constant<int, 0>());
+  if (axis == 1) return on_axis(std::integral_constant<int, 1>());
+  return on_axis(std::integral_constant<int, 2>());
 }
 
 // ---- Spatial splits (Stich, Friedrich & Dietrich 2009, "Spatial splits in bounding volume
@@ -425,14 +442,8 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
     share_budget(t.budget, out.left, out.right);
     return true;
   }
-  const Real s = scale[best_axis];
-  const Real lo = cb.lo[best_axis];
-  mid = partition_bounding(
-      items, b, e,
-      [&](const Item& x) {
-        return std::min(kBins - 1, static_cast<int>((x.centroid[best_axis] - lo) * s)) <= best_bin;
-      },
-      lc, rc);
+  mid = partition_by_bin(items, b, e, best_axis, cb.lo[best_axis], scale[best_axis], best_bin, lc,
+                         rc);
   out.left = {b, mid, -1, 0, t.depth + 1, best_left, lc, t.items, 0};
   out.right = {mid, e, -1, 1, t.depth + 1, best_right, rc, t.items, 0};
   share_budget(t.budget, out.left, out.right);
