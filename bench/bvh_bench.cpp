@@ -46,6 +46,7 @@ struct Options {
   std::string spatial_splits = bvh::to_string(bvh::kDefaultSpatialSplits);
   std::string time_builds = "lbvh,ploc,sah";
   bool build_phases = false;
+  int copies = 1;
   double split_budget = bvh::kDefaultSplitBudget;
   int samples_per_face = 3;
   int rays = 64;
@@ -513,6 +514,31 @@ void print_sah_costs(const Kokkos::View<Triangle*, Mem>& tris, const TimedBuilds
   std::printf("\n");
 }
 
+// --copies N: the mesh N times on a cubic grid spaced 1.25 x its largest extent (100 dragons:
+// 10M triangles), for builds and traces of real geometry at scale.
+Mesh copies_on_grid(const Mesh& m, int copies) {
+  if (copies <= 1) return m;
+  Vec3d lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
+  for (const Vec3d& p : m.positions) {
+    lo = Vec3d(std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z));
+    hi = Vec3d(std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z));
+  }
+  const double step = 1.25 * std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z, 1e-30});
+  int side = 1;
+  while (side * side * side < copies) ++side;
+  Mesh out = m;
+  const int nv = static_cast<int>(m.positions.size());
+  for (int c = 1; c < copies; ++c) {
+    const Vec3d shift(step * (c % side), step * (c / side % side), step * (c / (side * side)));
+    for (const Vec3d& p : m.positions) out.positions.push_back(p + shift);
+    for (Face f : m.faces) {
+      for (int k = 0; k < f.count; ++k) f.v[k] += c * nv;
+      out.faces.push_back(f);
+    }
+  }
+  return out;
+}
+
 // What the benchmark allocates after loading the mesh (report/memory_check.hpp): the uploaded
 // mesh and BVH, the two timed rebuilds (LBVH and SAH) alive at once, the rays and their results
 // (secondary workloads keep their primary rays), the peer's host copy of the rays.
@@ -531,13 +557,20 @@ MemoryNeed bench_memory_need(const Mesh& mesh, const Options& o) {
 
 int run(const Options& o, RunReport& report, const Communicator& comm, std::int64_t limit) {
   report.timer.start("load");
-  const Mesh mesh = load_mesh(o.mesh);
+  const Mesh mesh = copies_on_grid(load_mesh(o.mesh), o.copies);
   report.timer.stop();
   const MemoryPeak peak = require_memory(comm, bench_memory_need(mesh, o), limit);
   report.scene["memory_estimate_bytes"] = comm.max(peak.host + peak.device);
   bvh::BuildQuality quality;
-  if (!bvh::parse_build_quality(o.quality, quality))
-    throw InputError("--quality must be lbvh, ploc or sah, got '" + o.quality + "'");
+  if (o.quality == "auto") {  // the rule of build_quality.hpp, for this workload's rays
+    const double nt = static_cast<double>(mesh.triangle_count());
+    const double rays = o.workload == "ao" ? nt * o.samples_per_face * o.rays
+                                           : static_cast<double>(o.width) * o.height;
+    quality = bvh::choose_build_quality(nt, rays, compat::kDeviceMemory);
+    std::printf("auto: %s for %.3g rays per triangle\n", bvh::to_string(quality), rays / nt);
+  } else if (!bvh::parse_build_quality(o.quality, quality)) {
+    throw InputError("--quality must be lbvh, ploc, sah or auto, got '" + o.quality + "'");
+  }
   const TimedBuilds timed = parse_time_builds(o.time_builds);
   bvh::SpatialSplits spatial;
   if (!bvh::parse_spatial_splits(o.spatial_splits, spatial))
@@ -800,11 +833,14 @@ int bench_main(Communicator& comm, int argc, char** argv) {
   add_common_options(app, common);
   app.add_option("mesh", o.mesh, "OBJ or .bs mesh, or icosphere:L (20*4^L triangles)")->required();
   app.add_option("--workload", o.workload, "primary, shadow, ao or diffuse")->capture_default_str();
-  app.add_option("--quality", o.quality, "BVH build used for tracing: lbvh, ploc or sah")
+  app.add_option("--quality", o.quality, "BVH build used for tracing: lbvh, ploc, sah or auto")
       ->capture_default_str();
   app.add_option("--time-builds", o.time_builds,
                  "builders whose build time and SAH cost are measured (comma-separated)")
       ->capture_default_str();
+  app.add_option("--copies", o.copies, "trace the mesh this many times, on a grid")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   app.add_flag("--build-phases", o.build_phases,
                "print the LBVH and PLOC phase times (each phase fenced)");
   app.add_option("--samples-per-face", o.samples_per_face, "AO sample points per triangle")
@@ -853,6 +889,7 @@ int bench_main(Communicator& comm, int argc, char** argv) {
                        {"workload", o.workload},
                        {"quality", o.quality},
                        {"time_builds", o.time_builds},
+                       {"copies", o.copies},
                        {"repeats", o.repeats},
                        {"camera", o.camera},
                        {"gpu_trace", o.gpu_trace},

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <string>
 
+#include "rtmini/bvh/build_quality.hpp"
 #include "rtmini/geometry/vec.hpp"
 
 namespace rtmini::bake {
@@ -32,7 +33,7 @@ struct BakeConfig {
   std::int64_t max_memory = 0;  // --max-memory (report/memory_check.hpp): 0 = the machine's
   double time_limit_minutes = 0;
   Vec3f background{0.f, 0.f, 0.f};
-  bool sah = false;
+  bvh::BuildQuality bvh = bvh::BuildQuality::kLbvh;
   bool cache_hits = true;
   bool two_sided = false;  // mirrors reflect on both sides (README: why one-sided is the default)
   bool progress = false;

@@ -526,7 +526,7 @@ nlohmann::json BakeRun::parameters() const {
           {"balance", to_string(c_.balance)},
           {"batch_size", c_.batch_size},
           {"batches", batches_.size()},
-          {"bvh", c_.sah ? "sah" : "lbvh"},
+          {"bvh", bvh::to_string(c_.bvh)},
           {"background", {c_.background.x, c_.background.y, c_.background.z}},
           {"max_memory", c_.max_memory},
           {"time_limit_minutes", c_.time_limit_minutes},
@@ -604,8 +604,8 @@ void BakeRun::setup() {
                            ", beyond --iterations " + std::to_string(iterations_));
   }
   if (!c_.reference.empty()) reference_ = read_reference_map(c_.reference, mesh_);
-  scene_ = std::make_unique<BakeSceneDevice>(upload_bake_scene(
-      mesh_, host_, c_.viewpoints, c_.sah ? bvh::BuildQuality::kSah : bvh::BuildQuality::kLbvh));
+  scene_ =
+      std::make_unique<BakeSceneDevice>(upload_bake_scene(mesh_, host_, c_.viewpoints, c_.bvh));
   if (halo_ == Halo::kTraced && (c_.balance == Balance::kCost || c_.balance == Balance::kPilot))
     balance_by_pilot();
   chef_ = std::make_unique<Chef>(*scene_, c_, my_items_);

@@ -86,7 +86,7 @@ void MapCli::add_to(CLI::App& app, BakeConfig& c) {
   app.add_option("--time-limit", c.time_limit_minutes,
                  "minutes; checkpoint and exit 4 if the next iteration would not fit (0 = none)");
   app.add_option("--background", background, "colour of rays that leave the scene, r,g,b");
-  app.add_option("--bvh", bvh_kind, "lbvh or sah");
+  app.add_option("--bvh", bvh_kind, "lbvh, ploc or sah");
   app.add_flag("--no-hit-cache", no_cache, "re-trace mirror rays every iteration");
   app.add_flag("--two-sided", c.two_sided,
                "mirrors reflect on both sides (default: one-sided, a viewpoint behind a vertex is "
@@ -141,9 +141,8 @@ void MapCli::finish(BakeConfig& c) const {
     c.balance = Balance::kPilot;
   else
     throw InputError("--balance must be static, cost, spatial or pilot (got '" + balance + "')");
-  if (bvh_kind != "lbvh" && bvh_kind != "sah")
-    throw InputError("--bvh must be lbvh or sah (got '" + bvh_kind + "')");
-  c.sah = bvh_kind == "sah";
+  if (!bvh::parse_build_quality(bvh_kind, c.bvh))
+    throw InputError("--bvh must be lbvh, ploc or sah (got '" + bvh_kind + "')");
   finish_directions(c);
   c.cache_hits = !no_cache;
   require_at_least("--viewpoints", c.viewpoints, 1);

@@ -60,7 +60,7 @@ void CliOverrides::add_to(CLI::App& app, RunOptions& run) {
   app.add_option("--shutter", shutter_, "Shutter interval open,close");
   app.add_option("--camera-velocity", velocity_, "Camera velocity x,y,z per unit time");
   app.add_option("--seed", seed_, "Random seed");
-  app.add_option("--bvh", bvh_, "lbvh|sah");
+  app.add_option("--bvh", bvh_, "lbvh|ploc|sah");
   app.add_option("--aov", aov_, "Comma list of depth,normal,object,cost,edge");
   app.add_option("--style", style_, "Hand-drawn post-process: sketch|color-pencil|none");
   app.add_option("--chunk-pixels", chunk_pixels_, "Pixels per render dispatch (0 = auto)");
@@ -120,9 +120,8 @@ void CliOverrides::apply(RenderSettings& s) const {
   }
   if (given("--seed")) s.seed = seed_;
   if (given("--bvh")) {
-    if (bvh_ != "lbvh" && bvh_ != "sah")
-      throw InputError("--bvh: expected lbvh or sah, got '" + bvh_ + "'");
-    s.bvh = bvh_ == "lbvh" ? bvh::BuildQuality::kLbvh : bvh::BuildQuality::kSah;
+    if (!bvh::parse_build_quality(bvh_, s.bvh))
+      throw InputError("--bvh: expected lbvh, ploc or sah, got '" + bvh_ + "'");
   }
   if (given("--aov")) {
     s.aov.clear();

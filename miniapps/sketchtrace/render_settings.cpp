@@ -185,10 +185,9 @@ void apply_scene_settings(const SceneDescription& scene, RenderSettings& s) {
       r.fail("seed", "must be a non-negative integer");
     s.seed = static_cast<std::uint64_t>(*n->value<std::int64_t>());
   }
-  std::string bvh = s.bvh == bvh::BuildQuality::kLbvh ? "lbvh" : "sah";
+  std::string bvh = bvh::to_string(s.bvh);
   r.string("bvh", bvh);
-  if (bvh != "lbvh" && bvh != "sah") r.fail("bvh", "must be \"lbvh\" or \"sah\"");
-  s.bvh = bvh == "lbvh" ? bvh::BuildQuality::kLbvh : bvh::BuildQuality::kSah;
+  if (!bvh::parse_build_quality(bvh, s.bvh)) r.fail("bvh", "must be \"lbvh\", \"ploc\" or \"sah\"");
   if (const toml::node* n = r.get("aov")) {
     const toml::array* a = n->as_array();
     if (!a) r.fail("aov", "must be an array of strings");

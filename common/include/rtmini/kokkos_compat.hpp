@@ -74,11 +74,12 @@ void sort(const ExecSpace& space, const ViewType& view) {
 #endif
 }
 
-// Sorts `keys` ascending on `space` and permutes `values` with them; equal keys keep their
-// values in ascending order when `values` start ascending (as the Morton sort's indices do), so
-// the order is the same on every backend. 4.3+ has Kokkos::Experimental::sort_by_key (a stable
-// radix sort of 32-bit keys on CUDA: four passes instead of eight for a 64-bit key); 3.4 has
-// none, so the pair is packed into one 64-bit key (key high, value low) and sorted whole.
+// Sorts `keys` ascending on `space` and permutes `values` with them. 4.3+ has
+// Kokkos::Experimental::sort_by_key (on CUDA thrust's radix sort of the 32-bit keys: half the
+// passes of a 64-bit key, and stable, so equal keys keep ascending values as below); 3.4 has
+// none, so the pair is packed into one 64-bit key (key high, value low) and sorted whole, which
+// orders equal keys by value. Where another backend orders equal keys otherwise, the LBVH over
+// them differs in shape only (traversal answers do not depend on it).
 template <class ExecSpace, class MemorySpace>
 void sort_by_key(const ExecSpace& space, const Kokkos::View<std::uint32_t*, MemorySpace>& keys,
                  const Kokkos::View<std::uint32_t*, MemorySpace>& values) {

@@ -22,6 +22,13 @@
 namespace rtmini {
 namespace {
 
+// The build --bvh names once auto is resolved (CLI checked the name).
+bvh::BuildQuality build_quality_named(const std::string& name) {
+  bvh::BuildQuality q = bvh::BuildQuality::kSah;
+  bvh::parse_build_quality(name, q);
+  return q;
+}
+
 // Order-independent hash of the per-vertex values quantised to 2^-16.
 std::uint64_t ao_hash(const std::vector<float>& values) {
   std::uint64_t h = 0;
@@ -96,11 +103,6 @@ MemoryNeed ao_memory_need(const ao::SamplePlan& plan, std::int64_t stored_tris, 
 }  // namespace
 
 int run_ao_mode(Communicator& comm, ao::AoOptions o) {
-  // auto: the device builds an LBVH in a few milliseconds, where the host SAH build
-  // would cost more than all the rays; host traversal gains more from SAH than it costs.
-  if (o.bvh == "auto")
-    o.bvh =
-        Kokkos::SpaceAccessibility<Kokkos::HostSpace, ao::MemSpace>::accessible ? "sah" : "lbvh";
   // auto: the device solves by CG where the host would factor (and copy both ways).
   const ao::FitMethod fit = ao::parse_fit_method(o.fit);
   o.fit = ao::fit_method_name(fit);
@@ -144,6 +146,15 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
     scene_tris += static_cast<std::int64_t>(scene.meshes[inst.mesh].tris.size());
   std::int64_t stored_tris = 0;
   for (const auto& m : scene.meshes) stored_tris += static_cast<std::int64_t>(m.tris.size());
+  // auto: the least measured build plus trace time for these rays (build_quality.hpp): on the
+  // device the LBVH's few milliseconds beat the host SAH build; on the host the SAH tree pays
+  // from about 75 rays per triangle.
+  if (o.bvh == "auto") {
+    o.bvh = bvh::to_string(bvh::choose_build_quality(
+        double(scene_tris), double(total) * o.rays,
+        !Kokkos::SpaceAccessibility<Kokkos::HostSpace, ao::MemSpace>::accessible));
+    report.parameters["bvh"] = o.bvh;
+  }
 
   const MemoryPeak peak =
       require_memory(comm, ao_memory_need(plan, stored_tris, o.batch, total, comm), o.max_memory);
@@ -185,8 +196,7 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
   }
 
   report.timer.start("build");
-  const ao::DeviceScene device(
-      scene, o.bvh == "sah" ? bvh::BuildQuality::kSah : bvh::BuildQuality::kLbvh, ground);
+  const ao::DeviceScene device(scene, build_quality_named(o.bvh), ground);
   const ao::DeviceSamplePlan dplan = ao::upload_plan(scene, plan);
   report.timer.stop();
 

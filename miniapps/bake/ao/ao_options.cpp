@@ -62,9 +62,11 @@ void AoCli::add_to(CLI::App& app, AoOptions& o) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   app.add_option("--seed", o.seed, "random seed")->capture_default_str();
-  app.add_option("--bvh", o.bvh, "BVH build: lbvh, sah, or auto (lbvh on a GPU, sah on the host)")
+  app.add_option("--bvh", o.bvh,
+                 "BVH build: lbvh, ploc, sah, or auto (the least measured build plus trace time "
+                 "for the run's rays)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"auto", "lbvh", "sah"}));
+      ->check(CLI::IsMember({"auto", "lbvh", "ploc", "sah"}));
   app.add_flag("--ply-ascii", o.ply_ascii, "ASCII PLY instead of binary little endian");
   app.add_flag("--no_viewer,--no-viewer", "accepted for compatibility (there is no viewer)");
 }

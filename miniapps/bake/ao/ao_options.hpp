@@ -31,7 +31,7 @@ struct AoOptions {
   int passes = 1;                // kernel launches per batch; rays are split among them
   std::int64_t batch = 2000000;  // sample points resident on the device at once
   std::uint64_t seed = 1;
-  std::string bvh = "auto";  // auto | lbvh | sah
+  std::string bvh = "auto";  // auto | lbvh | ploc | sah
   bool ply_ascii = false;
   std::string summary;  // --summary FILE.json (the shared option group)
   std::string timings;  // --timings FILE.h5 (the shared option group)

@@ -48,13 +48,20 @@ void add_render_options(CLI::App& app, RenderOptions& o) {
   app.add_option("--background", o.background, "colour of pixels that miss the map, r,g,b");
   app.add_option("--seed", o.params.seed, "random seed of the pixel jitter");
   app.add_option("--lookup", o.lookup, "viewpoint lookup: kdtree (default) or sf");
-  app.add_option("--bvh", o.bvh, "sah (default) or lbvh");
+  app.add_option("--bvh", o.bvh, "sah (default), lbvh or ploc");
   app.add_option("--reference", o.reference,
                  "reference image (.exr/.png/.ppm): print RMSE, relative MSE, PSNR, SSIM");
   app.add_option("--max-rmse", o.max_rmse, "with --reference: exit 1 when the RMSE is larger");
 }
 
 namespace {
+
+// The build --bvh names (validate() has rejected any other name).
+bvh::BuildQuality parsed_build_quality(const std::string& name) {
+  bvh::BuildQuality q = bvh::BuildQuality::kSah;
+  bvh::parse_build_quality(name, q);
+  return q;
+}
 
 void validate(const RenderOptions& o, const CLI::App& app) {
   const bake::RenderParams& p = o.params;
@@ -67,8 +74,9 @@ void validate(const RenderOptions& o, const CLI::App& app) {
     throw InputError("--fov must be in (0, 180) degrees (got " + std::to_string(o.fov) + ")");
   if (o.lookup != "kdtree" && o.lookup != "sf")
     throw InputError("--lookup must be kdtree or sf (got '" + o.lookup + "')");
-  if (o.bvh != "lbvh" && o.bvh != "sah")
-    throw InputError("--bvh must be lbvh or sah (got '" + o.bvh + "')");
+  bvh::BuildQuality quality;
+  if (!bvh::parse_build_quality(o.bvh, quality))
+    throw InputError("--bvh must be lbvh, ploc or sah (got '" + o.bvh + "')");
   const std::string ext = lower_extension(o.output);
   if (!o.output.empty() && ext != ".png" && ext != ".ppm" && ext != ".exr")
     throw InputError(o.output + ": unknown image type '" + ext + "' (use .png, .ppm or .exr)");
@@ -216,8 +224,7 @@ int run_render_mode(Communicator& comm, RenderOptions o, const CLI::App& app) {
   report.fom_unit = "Mrays/s";
   if (root) {
     report.timer.start("upload");
-    const bake::BakedMapDevice device = bake::upload_baked_map(
-        map, o.bvh == "sah" ? bvh::BuildQuality::kSah : bvh::BuildQuality::kLbvh);
+    const bake::BakedMapDevice device = bake::upload_baked_map(map, parsed_build_quality(o.bvh));
     report.timer.stop();
     report.timer.start("render");
     const double t0 = report.timer.now();

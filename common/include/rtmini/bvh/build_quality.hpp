@@ -2,6 +2,7 @@
 // Which BVH build an app asks for: the fast Morton-code LBVH, PLOC (SAH quality, built on the
 // execution space: build_ploc.hpp) or the binned-SAH build on the host.
 // Kokkos-free, so host-only settings code can name it.
+#include <cstddef>
 #include <string>
 
 namespace rtmini::bvh {
@@ -20,6 +21,47 @@ inline bool parse_build_quality(const std::string& name, BuildQuality& out) {
       return true;
     }
   return false;
+}
+
+// --bvh auto: the build whose build time plus trace time is least for the rays a run will trace,
+// from measured costs per triangle built and per ray traced (dragon, AO any hit; sources and
+// the resulting crossovers: results/bvh/README.md, "--bvh auto"). The costs per ray stand for
+// the mesh at hand only through their ratios; the crossover is a number of rays per triangle.
+struct BuildCost {
+  BuildQuality quality;
+  double build_ns_per_triangle;
+  double trace_ns_per_ray;
+};
+
+// One H200: LBVH build 0.90 ms and AO 1.61 Grays/s on the dragon (100K triangles); SAH build on
+// the device machine's host 84 ms, AO 1.89 Grays/s (results/gpu/README.md, results/bvh/README.md).
+// PLOC joins when its H200 figures are in (results/gpu/gpubuild_device.sh).
+inline constexpr BuildCost kDeviceBuildCosts[] = {{BuildQuality::kLbvh, 9.0, 0.621},
+                                                  {BuildQuality::kSah, 840.0, 0.529}};
+// This workplace's 2-core host, 2 threads (OpenMP): LBVH build 390 ms, SAH 556 ms, PLOC 4.7-9.8 s
+// for the dragon (medians, shared machine); SAH AO 5.32 Mrays/s, the LBVH's rays doing 1.11x
+// the SAH tree's node visits plus triangle tests. PLOC never pays here: slower to build than
+// the SAH build and worse.
+inline constexpr BuildCost kHostBuildCosts[] = {{BuildQuality::kLbvh, 3900.0, 210.0},
+                                                {BuildQuality::kSah, 5560.0, 188.0}};
+
+template <std::size_t N>
+BuildQuality cheapest_build(const BuildCost (&costs)[N], double triangles, double rays) {
+  BuildQuality best = costs[0].quality;
+  double best_ns = 1e300;
+  for (const BuildCost& c : costs) {
+    const double ns = c.build_ns_per_triangle * triangles + c.trace_ns_per_ray * rays;
+    if (ns < best_ns) {
+      best_ns = ns;
+      best = c.quality;
+    }
+  }
+  return best;
+}
+
+inline BuildQuality choose_build_quality(double triangles, double rays, bool on_device) {
+  return on_device ? cheapest_build(kDeviceBuildCosts, triangles, rays)
+                   : cheapest_build(kHostBuildCosts, triangles, rays);
 }
 
 // Spatial splits in the SAH build (build_sah.cpp): never, wherever the best object split's
