@@ -243,7 +243,7 @@ Kokkos::View<Ray*, Mem> primary_rays(const Camera& cam, int w, int h) {
   return rays;
 }
 
-// Which ray the i-th thread (or fetch of a persistent thread) traces: the rays' own order, or for
+// Which ray the i-th thread traces: the rays' own order, or for
 // --ray-order coherent (AO) ray k of up to kWarp neighbouring sample points side by side, so a
 // warp's lanes trace from 32 nearby points (triangle order) instead of one point's 32 directions.
 // The same rays either way; only which thread traces which changes.
@@ -278,35 +278,25 @@ struct StoreBlocked {
   }
 };
 
-using RayCounter = Kokkos::View<unsigned long long*, Mem>;
-
 // The timed any-hit pass with the kernel chosen on the command line (--gpu-trace).
 void trace_any(bvh::AnyHitKernel kernel, const bvh::Bvh<Mem>& accel,
                const Kokkos::View<Ray*, Mem>& rays, const Kokkos::View<int*, Mem>& result,
-               const RayOrder& order, const RayCounter& counter) {
+               const RayOrder& order) {
   const std::int64_t n = static_cast<std::int64_t>(rays.extent(0));
   const RayAt ray_at{rays, order};
   const StoreBlocked store{result, order};
   using K = bvh::AnyHitKernel;
   switch (kernel) {
     case K::kDefault:
-      return bvh::any_hit_all<K::kDefault>(Exec(), accel, n, ray_at, store, counter);
+      return bvh::any_hit_all<K::kDefault>(Exec(), accel, n, ray_at, store);
     case K::kWide:
-      return bvh::any_hit_all<K::kWide>(Exec(), accel, n, ray_at, store, counter);
+      return bvh::any_hit_all<K::kWide>(Exec(), accel, n, ray_at, store);
     case K::kStored:
-      return bvh::any_hit_all<K::kStored>(Exec(), accel, n, ray_at, store, counter);
+      return bvh::any_hit_all<K::kStored>(Exec(), accel, n, ray_at, store);
     case K::kShort8:
-      return bvh::any_hit_all<K::kShort8>(Exec(), accel, n, ray_at, store, counter);
+      return bvh::any_hit_all<K::kShort8>(Exec(), accel, n, ray_at, store);
     case K::kShort16:
-      return bvh::any_hit_all<K::kShort16>(Exec(), accel, n, ray_at, store, counter);
-    case K::kPersistent8:
-      return bvh::any_hit_all<K::kPersistent8>(Exec(), accel, n, ray_at, store, counter);
-    case K::kPersistent16:
-      return bvh::any_hit_all<K::kPersistent16>(Exec(), accel, n, ray_at, store, counter);
-    case K::kLazy8:
-      return bvh::any_hit_all<K::kLazy8>(Exec(), accel, n, ray_at, store, counter);
-    case K::kLazy16:
-      return bvh::any_hit_all<K::kLazy16>(Exec(), accel, n, ray_at, store, counter);
+      return bvh::any_hit_all<K::kShort16>(Exec(), accel, n, ray_at, store);
   }
 }
 
@@ -578,10 +568,8 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
   const bool any = o.workload == "ao" || o.workload == "shadow";
   bvh::AnyHitKernel kernel;
   if (!bvh::parse_any_hit_kernel(o.gpu_trace, kernel))
-    throw InputError(
-        "--gpu-trace must be default, wide, stored, short8, short16, persistent8, persistent16, "
-        "lazy8 or lazy16, got '" +
-        o.gpu_trace + "'");
+    throw InputError("--gpu-trace must be default, wide, stored, short8 or short16, got '" +
+                     o.gpu_trace + "'");
   if (kernel != bvh::AnyHitKernel::kDefault && !any)
     throw InputError("--gpu-trace " + o.gpu_trace + ": only the any-hit workloads (ao, shadow)");
   if (o.ray_order != "ray" && o.ray_order != "coherent")
@@ -703,7 +691,6 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
   order.coherent = o.ray_order == "coherent";
   order.rays = o.rays;
   order.points = static_cast<std::int64_t>(dm.tris.extent(0)) * o.samples_per_face;
-  const RayCounter counter("rtmini::bench::ray_counter", 1);
   if (any)
     std::printf("any-hit kernel %s, ray order %s\n", bvh::to_string(kernel), o.ray_order.c_str());
   std::vector<Ray> host_rays;
@@ -719,7 +706,7 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
     const auto t0 = Clock::now();
     const double c0 = cpu_seconds();
     if (any) {
-      trace_any(kernel, accel, rays, result, order, counter);
+      trace_any(kernel, accel, rays, result, order);
     } else {
       Kokkos::parallel_for(
           "rtmini::bench::trace_closest", Kokkos::RangePolicy<Exec>(0, nr),
@@ -871,8 +858,8 @@ int bench_main(Communicator& comm, int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   app.add_option("--gpu-trace", o.gpu_trace,
-                 "any-hit kernel (issue 21): default (today's dispatch), wide, stored, short8, "
-                 "short16, persistent8, persistent16, lazy8 or lazy16 (bvh/any_hit_gpu.hpp)")
+                 "any-hit kernel (issue 21): default (today's dispatch), wide, stored, short8 or "
+                 "short16 (bvh/any_hit_gpu.hpp)")
       ->capture_default_str();
   app.add_option("--ray-order", o.ray_order,
                  "ao: which rays a warp traces together: ray (one point's directions) or "

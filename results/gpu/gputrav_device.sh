@@ -51,7 +51,7 @@ bench() {  # mesh quality kernel order
     --gpu-trace "$3" --ray-order "$4" >> "$L" 2>&1
   echo "rc=$?" >> "$L"
 }
-KERNELS="default wide stored short8 short16 persistent8 persistent16 lazy8 lazy16"
+KERNELS="default wide stored short8 short16"
 for m in dragon stanford-bunny; do
   for q in sah lbvh; do
     for order in ray coherent; do

@@ -122,17 +122,6 @@ KOKKOS_INLINE_FUNCTION int popcount64(std::uint64_t x) {
 #endif
 }
 
-// Lanes of the calling thread's warp (those converged here) for which `pred` holds, on CUDA
-// one vote; on host backends a thread is its own warp of one lane. Every converged lane must
-// call it (a collective of the warp).
-KOKKOS_INLINE_FUNCTION int warp_count(bool pred) {
-#ifdef __CUDA_ARCH__
-  return __popc(__ballot_sync(__activemask(), pred ? 1 : 0));
-#else
-  return pred ? 1 : 0;
-#endif
-}
-
 template <class T>
 KOKKOS_INLINE_FUNCTION T kmin(T a, T b) {
   return b < a ? b : a;

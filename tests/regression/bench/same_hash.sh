@@ -7,7 +7,7 @@ bench=$1 mesh=$2
 fail=0
 for quality in sah lbvh; do
   ref=""
-  for kernel in default wide stored short8 short16 persistent8 persistent16 lazy8 lazy16; do
+  for kernel in default wide stored short8 short16; do
     for order in ray coherent; do
       line=$("$bench" "$mesh" --workload ao --quality $quality --samples-per-face 2 --rays 8 \
         --repeats 1 --threads 2 --gpu-trace $kernel --ray-order $order | grep '^FOM')

@@ -10,13 +10,10 @@
 //    register: push and pop move every entry, with constant indices only, so nothing of it is
 //    placed in local memory); deeper entries spill to the local array, which only paths with more
 //    pending siblings than that touch. Always correct: no entry is dropped, no restart needed.
-//  - kPersistent8 / kPersistent16: the short stack, and threads that fetch rays from a global
-//    counter (dynamic ray fetch with ray replacement, after Aila & Laine 2009): a thread whose ray
-//    ends takes the next one in the same loop iteration that its warp's other lanes spend on
-//    their nodes, so lanes do not idle until the warp's longest ray ends.
-//  - kLazy8 / kLazy16: as kPersistent*, but ended lanes take new rays only once at least a
-//    quarter of the warp's lanes wait (Aila, Laine & Karras 2012 replace rays in groups), so the
-//    ray setup is paid by several lanes at once instead of stalling the warp for one lane.
+//  (Persistent threads fetching rays from a global counter, with eager or lazy ray replacement
+//    after Aila & Laine 2009, were tried too: on the H200 their kernels did not finish within
+//    60 s, bench and unit tests alike (results/gpu/README.md, 2026-11-24), so they were removed
+//    rather than kept unvalidated.)
 //  - kWide: the compressed 8-wide traversal that closest hits use on devices (traverse_gpu.hpp),
 //    for any hits too (the in-run reference of results/gpu/README.md's 0.76x; the binary
 //    default where the tree has no compressed copy, as on the host).
@@ -30,17 +27,7 @@
 
 namespace rtmini::bvh {
 
-enum class AnyHitKernel {
-  kDefault,
-  kWide,
-  kStored,
-  kShort8,
-  kShort16,
-  kPersistent8,
-  kPersistent16,
-  kLazy8,
-  kLazy16
-};
+enum class AnyHitKernel { kDefault, kWide, kStored, kShort8, kShort16 };
 
 inline const char* to_string(AnyHitKernel k) {
   switch (k) {
@@ -54,22 +41,13 @@ inline const char* to_string(AnyHitKernel k) {
       return "short8";
     case AnyHitKernel::kShort16:
       return "short16";
-    case AnyHitKernel::kPersistent8:
-      return "persistent8";
-    case AnyHitKernel::kPersistent16:
-      return "persistent16";
-    case AnyHitKernel::kLazy8:
-      return "lazy8";
-    case AnyHitKernel::kLazy16:
-      return "lazy16";
   }
   return "?";
 }
 
-inline constexpr AnyHitKernel kAnyHitKernels[] = {
-    AnyHitKernel::kDefault,      AnyHitKernel::kWide,    AnyHitKernel::kStored,
-    AnyHitKernel::kShort8,       AnyHitKernel::kShort16, AnyHitKernel::kPersistent8,
-    AnyHitKernel::kPersistent16, AnyHitKernel::kLazy8,   AnyHitKernel::kLazy16};
+inline constexpr AnyHitKernel kAnyHitKernels[] = {AnyHitKernel::kDefault, AnyHitKernel::kWide,
+                                                  AnyHitKernel::kStored, AnyHitKernel::kShort8,
+                                                  AnyHitKernel::kShort16};
 
 // False when `name` is none of the kernels' names.
 inline bool parse_any_hit_kernel(const std::string& name, AnyHitKernel& out) {
@@ -83,22 +61,7 @@ inline bool parse_any_hit_kernel(const std::string& name, AnyHitKernel& out) {
 
 // Stack entries kept in registers by a kernel (0: the whole stack is the local array).
 constexpr int register_stack_entries(AnyHitKernel k) {
-  return k == AnyHitKernel::kShort8 || k == AnyHitKernel::kPersistent8 || k == AnyHitKernel::kLazy8
-             ? 8
-             : (k == AnyHitKernel::kShort16 || k == AnyHitKernel::kPersistent16 ||
-                        k == AnyHitKernel::kLazy16
-                    ? 16
-                    : 0);
-}
-
-// Whether a kernel's threads fetch rays from a counter (any_hit_all), and whether they wait for
-// a quarter of the warp before taking new ones.
-constexpr bool fetches_rays(AnyHitKernel k) {
-  return k == AnyHitKernel::kPersistent8 || k == AnyHitKernel::kPersistent16 ||
-         k == AnyHitKernel::kLazy8 || k == AnyHitKernel::kLazy16;
-}
-constexpr bool replaces_lazily(AnyHitKernel k) {
-  return k == AnyHitKernel::kLazy8 || k == AnyHitKernel::kLazy16;
+  return k == AnyHitKernel::kShort8 ? 8 : (k == AnyHitKernel::kShort16 ? 16 : 0);
 }
 
 namespace detail {
@@ -155,8 +118,8 @@ struct ShortStack {
 // What one node visit left the ray at.
 enum class AnyHitStep { kGoing, kBlocked, kClear };
 
-// One ray's any-hit traversal as a state advanced one node per step(), so a driver can run
-// rays to the end one at a time or replace ended rays between steps (kPersistent*).
+// One ray's any-hit traversal as a state advanced one node per step() (a driver could also
+// replace ended rays between steps; see the note on persistent threads at the top).
 template <int N>
 struct BinaryAnyHitRay {
   WatertightRay wr;
@@ -231,8 +194,7 @@ KOKKOS_INLINE_FUNCTION bool any_hit_binary(const BvhT& bvh, const Ray& ray, Trav
 
 }  // namespace detail
 
-// Any hit through the kernel K (kPersistent* trace one ray like kShort*: their difference is
-// the driver, any_hit_all below).
+// Any hit through the kernel K.
 template <AnyHitKernel K, class BvhT>
 KOKKOS_INLINE_FUNCTION bool any_hit(const BvhT& bvh, const Ray& ray) {
   if constexpr (K == AnyHitKernel::kWide && detail::HasQuantizedWide<BvhT>::value) {
@@ -259,11 +221,6 @@ KOKKOS_INLINE_FUNCTION bool any_hit(const BvhT& bvh, const Ray& ray, TraversalSt
   }
 }
 
-// Rays a persistent thread takes from the counter at once, traced one after another: fewer
-// atomics on the one address (dragon AO: 2.4M instead of 19.2M), still ~9 batches per resident
-// thread of an H200, so the last batches leave little tail.
-inline constexpr int kPersistentBatch = 8;
-
 namespace detail {
 
 // The drivers as functors rather than lambdas: nvcc's extended lambdas may not sit in a function
@@ -278,80 +235,15 @@ struct AnyHitEachRay {
   }
 };
 
-template <int N, bool kLazy, class BvhT, class RayOf, class Store, class Counter>
-struct AnyHitPersistent {
-  BvhT bvh;
-  RayOf ray_of;
-  Store store;
-  Counter counter;
-  std::int64_t n;
-
-  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t) const {
-    using Count = typename Counter::value_type;
-    std::uint32_t deep[kStackSize];
-    std::int64_t next = 0, end = 0, current = -1;
-    Ray idle;  // a valid placeholder until the first fetch (no 0 * inf in its setup)
-    idle.dir = Vec3(0, 0, 1);
-    BinaryAnyHitRay<N> r(idle);
-    while (true) {
-      // Lazy replacement: lanes wait until a quarter of the (converged) warp waits, or all of it.
-      // Never a deadlock: either some lane steps its ray, or every lane here is waiting.
-      const int waiting = kLazy ? compat::warp_count(current < 0) : 0;
-      const bool take = !kLazy || 4 * waiting >= compat::warp_count(true);
-      if (current < 0 && take) {  // this lane's ray ended (or none yet): take the next one
-        if (next == end) {
-          next = static_cast<std::int64_t>(
-              Kokkos::atomic_fetch_add(&counter(0), Count(kPersistentBatch)));
-          end = next + kPersistentBatch < n ? next + kPersistentBatch : n;
-          if (next >= n) break;
-        }
-        current = next++;
-        r = BinaryAnyHitRay<N>(ray_of(current));
-      }
-      if (current < 0) continue;  // waiting for the others (lazy replacement)
-      const AnyHitStep s = r.template step<BvhT, false>(bvh, deep, nullptr);
-      if (s != AnyHitStep::kGoing) {
-        store(current, s == AnyHitStep::kBlocked);
-        current = -1;
-      }
-    }
-  }
-};
-
-template <class Store>
-struct StoreClear {
-  Store store;
-  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t i) const { store(i, false); }
-};
-
 }  // namespace detail
 
-// Any hit of rays 0..n-1 with the kernel K: ray_of(i) is ray i, store(i, blocked) records its
-// answer. `counter` is a one-element View the call resets (the caller keeps it, so timed calls
-// allocate nothing). The persistent kernels run one thread per resident thread of the device
-// (the space's concurrency), each looping until the counter passes n; the others one thread per
-// ray.
-template <AnyHitKernel K, class ExecSpace, class BvhT, class RayOf, class Store, class Counter>
+// Any hit of rays 0..n-1 with the kernel K, one thread per ray: ray_of(i) is ray i,
+// store(i, blocked) records its answer.
+template <AnyHitKernel K, class ExecSpace, class BvhT, class RayOf, class Store>
 void any_hit_all(const ExecSpace& space, const BvhT& bvh, std::int64_t n, const RayOf& ray_of,
-                 const Store& store, const Counter& counter) {
-  if constexpr (!fetches_rays(K)) {
-    (void)counter;
-    Kokkos::parallel_for("rtmini::bvh::any_hit_all", Kokkos::RangePolicy<ExecSpace>(space, 0, n),
-                         detail::AnyHitEachRay<K, BvhT, RayOf, Store>{bvh, ray_of, store});
-  } else {
-    if (n == 0 || bvh.num_prims == 0) {
-      Kokkos::parallel_for("rtmini::bvh::any_hit_all_empty",
-                           Kokkos::RangePolicy<ExecSpace>(space, 0, n),
-                           detail::StoreClear<Store>{store});
-      return;
-    }
-    Kokkos::deep_copy(space, counter, 0);
-    const std::int64_t threads = std::max<std::int64_t>(1, space.concurrency());
-    Kokkos::parallel_for(
-        "rtmini::bvh::any_hit_all_persistent", Kokkos::RangePolicy<ExecSpace>(space, 0, threads),
-        detail::AnyHitPersistent<register_stack_entries(K), replaces_lazily(K), BvhT, RayOf, Store,
-                                 Counter>{bvh, ray_of, store, counter, n});
-  }
+                 const Store& store) {
+  Kokkos::parallel_for("rtmini::bvh::any_hit_all", Kokkos::RangePolicy<ExecSpace>(space, 0, n),
+                       detail::AnyHitEachRay<K, BvhT, RayOf, Store>{bvh, ray_of, store});
 }
 
 }  // namespace rtmini::bvh
