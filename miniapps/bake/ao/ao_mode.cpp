@@ -220,8 +220,9 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
   // Rank 0 maps, solves and writes; the others time the same (empty) phases so
   // every rank reduces the same phase list in RunReport::finish.
   ao::SampleValues values;
-  // Steps, not an ETA: the mapping and each solve step are single loops that cannot report
-  // partial work.
+  // Steps, not an ETA: the mapping and the Cholesky fit's steps are single loops or library
+  // calls that cannot report partial work. The CG fit's iterations draw their own line with an
+  // ETA (ao::fit_least_squares_cg).
   const int mapping_steps = o.least_squares ? ao::kLeastSquaresSteps : 1;
   ProgressLine mapping_line("bake ao mapping", "steps", o.progress && root);
   mapping_line.update(0, mapping_steps, 0, mapping_steps);

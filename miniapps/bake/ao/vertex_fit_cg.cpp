@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <string>
 
 #include "device_scene.hpp"
@@ -523,6 +524,22 @@ int count_active(const CgSolver& cg) {
   return active;
 }
 
+// Orders of magnitude the residual of the slowest active receiver has fallen since its start:
+// 0.5 log10(rz0 / rz), rz the preconditioned squared norm CG tracks. Receivers that stopped
+// are done and do not count; with none active the solve is complete.
+double residual_digits(const CgSolver& cg, double goal_digits) {
+  const CgScalars sc = cg.sc;
+  double worst = 0.0;  // the largest rz / rz0 over active receivers
+  Kokkos::parallel_reduce(
+      "rtmini::bake::ao::cg_worst_residual", Policy(0, cg.receivers),
+      KOKKOS_LAMBDA(std::int64_t k, double& w) {
+        if (sc.state(k) == kActive && sc.rz0(k) > 0.0) w = math::fmax(w, sc.rz(k) / sc.rz0(k));
+      },
+      Kokkos::Max<double>(worst));
+  if (!(worst > 0.0)) return goal_digits;
+  return std::clamp(0.5 * std::log10(1.0 / worst), 0.0, goal_digits);
+}
+
 }  // namespace cg_detail
 
 CgFit fit_least_squares_cg(const AoScene& scene, const SampleValues& sv, double weight,
@@ -597,10 +614,21 @@ CgFit fit_least_squares_cg(const AoScene& scene, const SampleValues& sv, double 
   // Checking for the end costs a device round trip: only every few steps (stopped receivers
   // do not move, so this changes no value).
   constexpr int kCheckEvery = 8;
+  // The solve's own progress line, in orders of magnitude of residual reduction: CG converges
+  // about linearly in log(residual), so the digits gained so far measure the work done and the
+  // ETA is the digits still to gain at the rate so far (the slowest receiver's; the others stop
+  // earlier). Steps 1-3 above are single loops; this is the only part with many iterations.
+  const double goal_digits = -0.5 * std::log10(kCgRelativeResidual2);
+  ProgressLine solve_line("bake ao solve", "digits", progress && progress->enabled());
   for (int it = 0; it < kCgMaxIterations; it += kCheckEvery) {
     if (count_active(cg) == 0) break;
+    if (solve_line.due()) {
+      const double digits = residual_digits(cg, goal_digits);
+      solve_line.update(digits, goal_digits);
+    }
     for (int k = 0; k < kCheckEvery; ++k) cg_step(cg, kCgRelativeResidual2, kCgMaxIterations);
   }
+  solve_line.finish(goal_digits, goal_digits);
   std::vector<double> x;
   std::vector<int> state, iterations;
   compat::download(cg.x, x);
