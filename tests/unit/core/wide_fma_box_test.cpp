@@ -174,7 +174,9 @@ TEST(WideFmaBox, AcceptsEveryBoxTheRobustTestAndExactArithmeticAccept) {
     // coordinates' rounding, few hits beyond the robust test's (measured: 0-5 %, the most where
     // rays from far away have a small direction component). Boxes of a few float ulps, as in the
     // last two placements, are widened by about their own size.
-    if (cs.scale > 1e-5 * cs.offset) EXPECT_LT(t.fma_extra, t.fma_hits / 10 + 10) << cs.name;
+    if (cs.scale > 1e-5 * cs.offset) {
+      EXPECT_LT(t.fma_extra, t.fma_hits / 10 + 10) << cs.name;
+    }
   }
 }
 
