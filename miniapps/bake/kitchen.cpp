@@ -498,8 +498,13 @@ void BakeRun::rebalance_by_traced_cost() {
 
 // The traced hits of ownership `from` to this rank's batches (the current ownership).
 void BakeRun::move_traced_hits(const std::vector<Batch>& from) {
+  const auto same = [](const Batch& a, const Batch& b) {
+    return a.begin == b.begin && a.end == b.end && a.rank == b.rank;
+  };
+  if (std::equal(from.begin(), from.end(), batches_.begin(), batches_.end(), same)) return;
+  // Two statements, so the old hits are freed before the new ones are uploaded.
   const std::vector<TracedHit> hits =
-      move_entries(comm_, host_, from, batches_, chef_->traced_hits());
+      move_entries(comm_, host_, from, batches_, chef_->take_traced_hits());
   chef_->adopt_traced_hits(hits);
   // Hits received from other ranks: the entries of this rank's ranges it did not own before.
   moved_hits_ = 0;
