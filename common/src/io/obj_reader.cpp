@@ -395,7 +395,13 @@ class ObjScan {
     if (!detail::fits_real(*value))
       fail("value '" + std::string(field) + "' in " + what + " is beyond the " +
            detail::real_range_name() + " range (non-finite once uploaded)");
-    return *value;
+    // The value stored is tinyobjloader's reading of the checked number (off from the correctly
+    // rounded one by up to 2 ulp, the same float): meshes and the .bs files made from them keep
+    // the bytes they had when tinyobjloader parsed the geometry.
+    double stored = *value;
+    if (!tinyobj::tryParseDouble(field.data(), field.data() + field.size(), &stored))
+      stored = *value;
+    return stored;
   }
 
   // A 1-based (or negative, relative to the end) index checked against the `count` defined so
