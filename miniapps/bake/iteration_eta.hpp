@@ -4,9 +4,9 @@
 // traces N colours' rays, one of diffuse vertices a single colour's), and whole iterations
 // differ by hit-cache mode (the base map, the iteration that fills the cache, the ones that
 // reuse it). So the rest of the current iteration is the rest of the last iteration of the
-// same mode, batch by batch, scaled by how fast this iteration has been so far (while its mode
-// is new: linear in batches for the base map, no estimate for a gather mode); each later
-// iteration costs the last
+// same mode, batch by batch, scaled by how fast this iteration has been so far (linear in
+// batches while its mode is new: batches are cut to about equal work, colour entries are not
+// a measure of it, since the gather rays go per vertex); each later iteration costs the last
 // measured one of its mode (of any gather mode, for a gather mode not seen yet), or, failing
 // that, this iteration's projected total. While the base map is all that is known of a run
 // with gather iterations to come there is no estimate.
@@ -40,11 +40,6 @@ class IterationEta {
       const double ref_done = sum(*ref, 0, current_.size());
       const double ref_left = sum(*ref, current_.size(), ref->size());
       left = ref_done > 0 ? ref_left * spent / ref_done : ref_left;
-    } else if (mode != 0) {
-      // A gather iteration with none measured before it: its pieces cost in proportions no count
-      // predicts (gather rays go per vertex, mirror rays per colour), and linear in pieces was
-      // +100 % off on cornell_big_raw (results/progress/). No estimate until one has run.
-      return -1.0;
     } else if (current_.size() >= 2) {
       // The first batch of an iteration also pays its setup (measured: ~15x a later batch on
       // cornell_big), so the rest is extrapolated from the batches after it.

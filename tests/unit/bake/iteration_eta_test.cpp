@@ -36,14 +36,5 @@ TEST(IterationEta, AnotherGatherModeStandsInForOneNotSeenYet) {
   EXPECT_DOUBLE_EQ(eta.remaining(kUse, 4, {kOff}), 7.0 + 2.0);
 }
 
-TEST(IterationEta, NoEstimateDuringTheFirstGatherIteration) {
-  // Its pieces mix per-vertex gather rays and per-colour mirror rays: no count predicts the rest.
-  IterationEta eta;
-  eta.batch_done(1.0);
-  eta.iteration_done(kOff);
-  for (const double s : {5.0, 5.0, 1.0}) eta.batch_done(s);
-  EXPECT_LT(eta.remaining(kFill, 8, {kUse}), 0.0);
-}
-
 }  // namespace
 }  // namespace rtmini::bake
