@@ -306,8 +306,10 @@ struct WideRay {
 // as well; hence the ray's conditions: tmin >= 0, tmax <= 1e30, max |o_k inv_k| <= 1e30.
 // S is an absolute slack in t, ~4u |o_k| / |d_k|: small unless one direction component is tiny
 // against the others (then nearly every box would pass), so such rays keep the robust test
-// (fma_box_test_pays): the choice is speed only, both tests are conservative.
-#if defined(__GNUC__) && !defined(__CUDACC__) && defined(__AVX__) && defined(__FMA__)
+// (fma_box_test_pays): the choice is speed only, both tests are conservative. The constants
+// are float's (u = 2^-24): a double build (RTMINI_USE_DOUBLE) keeps the robust test.
+#if defined(__GNUC__) && !defined(__CUDACC__) && defined(__AVX__) && defined(__FMA__) && \
+    !defined(RTMINI_USE_DOUBLE)
 #define RTMINI_FMA_BOX_TEST 1
 #else
 #define RTMINI_FMA_BOX_TEST 0
