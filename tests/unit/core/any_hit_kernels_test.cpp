@@ -23,15 +23,7 @@ using Policy = Kokkos::RangePolicy<TestExecSpace>;
 using Kernel = bvh::AnyHitKernel;
 
 Kokkos::View<Triangle*, TestMemSpace> mesh_triangles(const std::string& name) {
-  const Mesh mesh = read_mesh(std::string(scenes_dir()) + "/" + name);
-  const TriangleList tl = triangulate(mesh);
-  Kokkos::View<Triangle*, TestMemSpace> tris("tris", tl.vertices.size());
-  auto h = Kokkos::create_mirror_view(tris);
-  for (std::size_t t = 0; t < tl.vertices.size(); ++t)
-    h(t) = {Vec3(mesh.positions[tl.vertices[t][0]]), Vec3(mesh.positions[tl.vertices[t][1]]),
-            Vec3(mesh.positions[tl.vertices[t][2]])};
-  Kokkos::deep_copy(tris, h);
-  return tris;
+  return upload_triangles(read_mesh(std::string(scenes_dir()) + "/" + name));
 }
 
 // AO-like rays: from points just off random triangles, cosine directions about the normal,

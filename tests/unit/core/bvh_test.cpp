@@ -24,17 +24,6 @@ namespace {
 
 using Policy = Kokkos::RangePolicy<TestExecSpace>;
 
-Kokkos::View<Triangle*, TestMemSpace> upload_triangles(const Mesh& mesh) {
-  const TriangleList tl = triangulate(mesh);
-  Kokkos::View<Triangle*, TestMemSpace> tris("tris", tl.vertices.size());
-  auto h = Kokkos::create_mirror_view(tris);
-  for (std::size_t t = 0; t < tl.vertices.size(); ++t)
-    h(t) = {Vec3(mesh.positions[tl.vertices[t][0]]), Vec3(mesh.positions[tl.vertices[t][1]]),
-            Vec3(mesh.positions[tl.vertices[t][2]])};
-  Kokkos::deep_copy(tris, h);
-  return tris;
-}
-
 // Random rays: origins in a box 1.5x the scene, directions uniform; half of
 // them aimed at a random triangle's vertex or edge point (the hard cases).
 Kokkos::View<Ray*, TestMemSpace> random_rays(Kokkos::View<const Triangle*, TestMemSpace> tris,
