@@ -519,21 +519,21 @@ std::vector<float> Chef::lookup_hits(std::int64_t begin, std::int64_t end,
   return out;
 }
 
-std::vector<TracedHit> Chef::take_traced_hits() {
-  std::vector<TracedHit> out;
-  compat::download(traced_, out);
+Kokkos::View<TracedHit*, MemSpace> Chef::take_traced_hits() {
+  Kokkos::View<TracedHit*, MemSpace> out = traced_;
   traced_ = Kokkos::View<TracedHit*, MemSpace>();
   return out;
 }
 
-void Chef::adopt_traced_hits(const std::vector<TracedHit>& hits) {
-  local_items_ = static_cast<std::int64_t>(hits.size());
-  traced_ = compat::upload<MemSpace>("rtmini::bake::traced_hits", hits);
+void Chef::adopt_traced_hits(Kokkos::View<TracedHit*, MemSpace> hits) {
+  local_items_ = static_cast<std::int64_t>(hits.extent(0));
+  traced_ = hits;
   if (cache_.extent(0) == 0) return;
   // The float cache holds the same hits as the trace filled it with (the old one goes first:
   // on a large map each is hundreds of MB).
   cache_ = Kokkos::View<CachedHit*, MemSpace>();
-  cache_ = Kokkos::View<CachedHit*, MemSpace>("rtmini::bake::hit_cache", local_items_);
+  cache_ = Kokkos::View<CachedHit*, MemSpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::hit_cache"), local_items_);
   auto cache = cache_;
   auto traced = traced_;
   Kokkos::parallel_for(

@@ -86,10 +86,10 @@ class Chef {
                                  std::int64_t cache_offset) const;
   // The traced hits of all this rank's batches, in slot order, handed over (the Chef keeps none;
   // they move between ranks when the ownership changes after the trace), and their
-  // replacement: `hits` become the traced hits of a rank whose batches hold hits.size() colour
-  // entries, and refill the float hit cache.
-  std::vector<TracedHit> take_traced_hits();
-  void adopt_traced_hits(const std::vector<TracedHit>& hits);
+  // replacement: `hits` become the traced hits of a rank whose batches hold hits.extent(0)
+  // colour entries, and refill the float hit cache. Both stay in MemSpace.
+  Kokkos::View<TracedHit*, MemSpace> take_traced_hits();
+  void adopt_traced_hits(Kokkos::View<TracedHit*, MemSpace> hits);
   // After trace_mirror_hits and set_map_offset: flags in `items` (one per entry of the map
   // layout) every colour of a vertex that is not `owned` that the lookups at the traced hits
   // of vertices [begin, end) read: the remote colours this rank needs, entry by entry.

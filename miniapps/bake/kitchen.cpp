@@ -503,9 +503,8 @@ void BakeRun::move_traced_hits(const std::vector<Batch>& from) {
     return a.begin == b.begin && a.end == b.end && a.rank == b.rank;
   };
   if (std::equal(from.begin(), from.end(), batches_.begin(), batches_.end(), same)) return;
-  // Two statements, so the old hits are freed before the new ones are uploaded.
-  const std::vector<TracedHit> hits =
-      move_entries(comm_, host_, from, batches_, chef_->take_traced_hits());
+  // Two statements, so the old hits are freed before the Chef refills its float cache.
+  const auto hits = move_entries(comm_, host_, from, batches_, chef_->take_traced_hits());
   chef_->adopt_traced_hits(hits);
   // Hits received from other ranks: the entries of this rank's ranges it did not own before.
   moved_hits_ = 0;
@@ -831,13 +830,7 @@ std::vector<char> BakeRun::read_items() const {
 // The colours (global entry numbers, ascending) this rank reads from other ranks: every colour of
 // a present remote vertex, or with the traced (sparse) halo only those the lookups read.
 std::vector<std::int64_t> BakeRun::halo_entries() const {
-  std::vector<std::int64_t> halo;
-  for (std::int64_t v = 0; v < host_.vertices(); ++v) {
-    if (owner_[v] == comm_.rank() || !layout_.present(v)) continue;
-    for (std::int64_t j = 0; j < host_.color_count(v); ++j)
-      if (layout_.keeps(v, j)) halo.push_back(host_.color_offset[v] + j);
-  }
-  return halo;
+  return remote_entries(host_, layout_, owner_, comm_.rank());
 }
 
 // Base colours of this rank's vertices (needed by every iteration, also after a restart).
