@@ -93,14 +93,36 @@ void host_parallel_for(const char* label, std::int64_t n, const F& f) {
   Host().fence();
 }
 
+// The vertex of each global colour entry of `global`. The lists planned here are ascending (per
+// owner), so each piece of them searches once and then walks the offsets (a binary search per
+// entry cost a 16 x 1 rank about a tenth of a second for its 0.35 M halo entries).
+std::vector<std::int64_t> vertices_of(const BakeSceneHost& scene,
+                                      const std::vector<std::int64_t>& global) {
+  constexpr std::int64_t kPiece = 4096, kWalk = 16;
+  const auto& off = scene.color_offset;
+  const std::int64_t n = static_cast<std::int64_t>(global.size());
+  std::vector<std::int64_t> vertex(global.size());
+  host_parallel_for(
+      "rtmini::bake::vertices_of_entries", (n + kPiece - 1) / kPiece, [&](std::int64_t piece) {
+        std::int64_t v = -1;
+        for (std::int64_t k = piece * kPiece; k < std::min(n, (piece + 1) * kPiece); ++k) {
+          const std::int64_t g = global[k];
+          for (std::int64_t step = 0; v >= 0 && step < kWalk && off[v + 1] <= g; ++step) ++v;
+          if (v < 0 || g < off[v] || off[v + 1] <= g) v = vertex_of_entry(scene, g);
+          vertex[k] = v;
+        }
+      });
+  return vertex;
+}
+
 // The local entries of global colour entries `global` (in order).
 std::vector<std::int64_t> entries_of(const BakeSceneHost& scene, const MapLayout& layout,
                                      const std::vector<std::int64_t>& global) {
+  const std::vector<std::int64_t> vertex = vertices_of(scene, global);
   std::vector<std::int64_t> items(global.size());
   host_parallel_for("rtmini::bake::exchange_entries", static_cast<std::int64_t>(global.size()),
                     [&](std::int64_t k) {
-                      const std::int64_t v = vertex_of_entry(scene, global[k]);
-                      items[k] = layout.entry(v, global[k] - scene.color_offset[v]);
+                      items[k] = layout.entry(vertex[k], global[k] - scene.color_offset[vertex[k]]);
                     });
   return items;
 }
@@ -237,10 +259,9 @@ MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
   const int ranks = comm.size();
   // Requests: the halo entries grouped by owner (ascending within each group, as `halo` is).
   std::vector<int> ask(ranks, 0);
+  const std::vector<std::int64_t> halo_vertex = vertices_of(scene, halo);
   std::vector<int> owner_of(halo.size());
-  host_parallel_for("rtmini::bake::exchange_owners", static_cast<std::int64_t>(halo.size()),
-                    [&](std::int64_t k) { owner_of[k] = owner[vertex_of_entry(scene, halo[k])]; });
-  for (const int r : owner_of) ++ask[r];
+  for (std::size_t k = 0; k < halo.size(); ++k) ++ask[owner_of[k] = owner[halo_vertex[k]]];
   std::vector<std::int64_t> asked(halo.size());
   {
     std::vector<int> pos = displacements(ask);
