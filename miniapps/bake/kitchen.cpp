@@ -256,8 +256,12 @@ std::vector<Batch> make_spatial_batches(const BakeSceneHost& scene,
     lo = vmin(lo, centre[k]);
     hi = vmax(hi, centre[k]);
   }
+  // One scale for all three axes (the Morton grid's cells are cubes): scaled per axis, a thin
+  // axis would weigh as much as the longest, and two facing sheets (make_sheets_scene.py) were
+  // ordered sheet by sheet: the diffuse ceiling fell to one or two ranks, read remotely by all.
   const Vec3 ext = hi - lo;
-  const Vec3 inv(ext.x > 0 ? 1 / ext.x : 0, ext.y > 0 ? 1 / ext.y : 0, ext.z > 0 ? 1 / ext.z : 0);
+  const Real longest = std::max(ext.x, std::max(ext.y, ext.z));
+  const Real inv = longest > 0 ? 1 / longest : 0;
   std::vector<std::uint64_t> key(static_cast<std::size_t>(count));
   for (std::int64_t k = 0; k < count; ++k)
     key[k] = bvh::detail::morton_key((centre[k] - lo) * inv, static_cast<std::uint32_t>(k));
