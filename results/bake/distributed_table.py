@@ -79,6 +79,33 @@ def balance(out, prefixes):
                   f"{ratio('lookups')} | {ratio('items')} | {ratio('remote_reads')} | {100 * moved:.1f} % |")
 
 
+def busy_table(out, weak, weakspatial):
+    """P concurrent 1-rank bakes of the 1-rank scene (busy_P_i): the node as full as a P-rank run
+    without communication. Their mean bake time is what a P-rank run's ranks would take if the
+    distributed map cost nothing; weak_P against it is the distributed map's own efficiency."""
+    groups = {}
+    for path in glob.glob(os.path.join(out, "busy_*_*.json")):
+        np_ = int(os.path.basename(path).split("_")[1])
+        p = json.load(open(path))["phases"]
+        groups.setdefault(np_, []).append(
+            p.get("base", 0) + p.get("map", 0) + p.get("halo", 0) + p.get("iterate", 0))
+    if not groups:
+        return
+    by_ranks = lambda found: {r["ranks"]: r["time"] for r in found}
+    w, ws = by_ranks(weak), by_ranks(weakspatial)
+    t1 = w.get(1, 0)
+    print("\n### Weak scaling against the node as full without communication (busy_P)\n")
+    print("| P | P concurrent 1 x 1: bake time mean / max (s) | vs weak_1 alone | weak_P (s) | "
+          "weak_P vs busy mean | weakspatial_P (s) | weakspatial_P vs busy mean |")
+    print("|---|---|---|---|---|---|---|")
+    for np_ in sorted(groups):
+        t = groups[np_]
+        mean, mx = sum(t) / len(t), max(t)
+        eff = lambda d: f"{d[np_]:.3f} | {100 * mean / d[np_]:.0f} %" if np_ in d else "- | -"
+        print(f"| {np_} | {mean:.3f} / {mx:.3f} ({len(t)} runs) | "
+              f"{100 * t1 / mean if mean > 0 else 0:.0f} % | {eff(w)} | {eff(ws)} |")
+
+
 out = sys.argv[1]
 table("Strong scaling (bunny_room, N=300, K=4)", rows(out, "strong"), False)
 spatial = rows(out, "spatial")
@@ -90,6 +117,11 @@ if pilot:
     strong = rows(out, "strong")
     table("Strong scaling, --balance pilot (the cut before the recount; against strong_1x1)",
           strong[:1] + pilot, False)
-balance(out, ["strong", "pilot", "spatial"])
-table("Weak scaling (two sheets, side 150 sqrt(P), N=200, K=3)", rows(out, "weak"), True)
+balance(out, ["strong", "pilot", "spatial", "weak", "weakspatial"])
+weak = rows(out, "weak")
+table("Weak scaling (two sheets, side 150 sqrt(P), N=200, K=3)", weak, True)
+weakspatial = rows(out, "weakspatial")
+if weakspatial:
+    table("Weak scaling, --balance spatial (efficiency against weak_1)", weak[:1] + weakspatial, True)
+busy_table(out, weak, weakspatial)
 table("1M vertices, N=1000, K=2", rows(out, "big"), True)

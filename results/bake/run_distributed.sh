@@ -5,7 +5,10 @@
 #     the counted recut) and 2x8 4x4 16x1 with --balance spatial; table.md ends with the balance
 #     of each run (phases, slowest rank's iteration, max / mean of the counted work);
 #   weak scaling, 1..16 ranks x 1 thread on the two-sheet scene (make_sheets_scene.py) grown
-#     with the ranks (side 150 sqrt(P)), N=200 K=3;
+#     with the ranks (side 150 sqrt(P)), N=200 K=3; again with --balance spatial (2..16 ranks);
+#     and P concurrent 1-rank bakes of the 1-rank scene, one per core (busy_P_i): the node as
+#     full as a P-rank run (shared L3 and memory bandwidth) without any communication, the
+#     baseline that separates the node's saturation from the distributed map's own cost;
 #   one bake that does not fit replicated: 1,008,204 vertices (side 710) at N=1000 K=2 on 16x1.
 # Every run writes its summary (verification hash, peak RSS per rank, map statistics) and
 # timings (.h5) to OUT_DIR; table.md collects them. Usage (from the repository root, build/ built):
@@ -53,11 +56,33 @@ if [ "$what" = strong ] || [ "$what" = all ]; then
   done
   rm -f "$out/strong.bsb"
 fi
+# busy NP SCENE ARGS...: NP single-rank bakes of SCENE at once, the i-th pinned to core i.
+busy() {
+  local np=$1 scene=$2
+  shift 2
+  echo "== busy_$np ($np concurrent 1 x 1)" >&2
+  for ((i = 0; i < np; i++)); do
+    OMP_NUM_THREADS=1 taskset -c "$i" mpirun -n 1 --bind-to none "$bake" "$scene" \
+      -o "$out/busy_$i.bsb" "$@" --summary "$out/busy_${np}_$i.json" \
+      >"$out/busy_${np}_$i.log" 2>&1 &
+  done
+  wait
+  rm -f "$out"/busy_*.bsb
+}
+
 if [ "$what" = weak ] || [ "$what" = all ]; then
+  python3 "$src/results/bake/make_sheets_scene.py" 150 "$out/sheets_1.bs"
+  for np in 2 4 8 16; do
+    busy "$np" "$out/sheets_1.bs" --viewpoints 200 --iterations 3
+  done
   for np in 1 2 4 8 16; do
     side=$(python3 -c "import math; print(round(150 * math.sqrt($np)))")
     python3 "$src/results/bake/make_sheets_scene.py" "$side" "$out/sheets_$np.bs"
     run "weak_$np" "$np" 1 "$out/sheets_$np.bs" -o "$out/weak.bsb" --viewpoints 200 --iterations 3
+    if [ "$np" -gt 1 ]; then
+      run "weakspatial_$np" "$np" 1 "$out/sheets_$np.bs" -o "$out/weak.bsb" --viewpoints 200 \
+        --iterations 3 --balance spatial
+    fi
     rm -f "$out/sheets_$np.bs" "$out/weak.bsb"
   done
 fi
