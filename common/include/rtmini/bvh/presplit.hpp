@@ -38,9 +38,10 @@ inline constexpr double kPresplitMinGain = 0.1;
 // Auto: each doubling of the references must remove this fraction of the summed box area left.
 inline constexpr double kAutoStepMinGain = 0.25;
 // Auto: at most this many references per triangle (on the 100K-sliver fan: ~70 tests per ray)
-// and this many in all. The total bounds the memory: the whole SAH build peaks at about 330
+// and this many in all. The total bounds the memory: the whole SAH build peaks at about 250
 // bytes per reference on the host (the pre-split parts and their undo record, the builder's
-// items, the binary and the 8-wide trees; measured in results/bvh/slivers.md), so ~5.5 GB.
+// items, the binary and the 8-wide trees: 3.2 GB for the fan's 12.8M references,
+// results/bvh/slivers.md), so at most ~4 GB; the finished host tree keeps ~120 of them.
 inline constexpr double kAutoMaxReferencesPerTriangle = 128;
 inline constexpr std::size_t kAutoMaxReferences = std::size_t(1) << 24;
 // Spatial splits (build_sah.cpp) under the auto budget use this fixed one.
