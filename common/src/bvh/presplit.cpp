@@ -57,7 +57,7 @@ class PartQueue {
     top_ = std::max(top_, k + 1);
   }
 
-  bool empty() {
+  bool empty() {  // (first drops the empty buckets above the largest queued part)
     while (top_ > 0 && buckets_[top_ - 1].empty()) --top_;
     return top_ == 0;
   }
@@ -151,13 +151,14 @@ class Splitter {
   // only, and the results are applied in batch order, so the outcome is thread-count free).
   void split_batch(const std::vector<SplitReference>& refs) {
     halves_.resize(batch_.size());
-    const auto cut = [&](const std::size_t i) { halves_[i] = split_part(refs[batch_[i]]); };
+    const auto cut = [&](const std::int64_t i) { halves_[i] = split_part(refs[batch_[i]]); };
+    const auto n = static_cast<std::int64_t>(batch_.size());
     if (batch_.size() < kMinParallelBatch) {
-      for (std::size_t i = 0; i < batch_.size(); ++i) cut(i);
+      for (std::int64_t i = 0; i < n; ++i) cut(i);
       return;
     }
     Kokkos::parallel_for("rtmini::bvh::presplit::batch",
-                         Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace>(0, batch_.size()),
+                         Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace>(std::int64_t(0), n),
                          cut);
     Kokkos::DefaultHostExecutionSpace().fence();
   }
