@@ -47,7 +47,7 @@ struct Options {
   std::string time_builds = "lbvh,ploc,sah";
   bool build_phases = false;
   int copies = 1;
-  double split_budget = bvh::kDefaultSplitBudget;
+  std::string split_budget = bvh::split_budget_to_string(bvh::kDefaultSplitBudget);
   int samples_per_face = 3;
   int rays = 64;
   int width = 1024, height = 1024;
@@ -565,6 +565,9 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
   bvh::SpatialSplits spatial;
   if (!bvh::parse_spatial_splits(o.spatial_splits, spatial))
     throw InputError("--spatial-splits must be off, on or auto, got '" + o.spatial_splits + "'");
+  double split_budget;
+  if (!bvh::parse_split_budget(o.split_budget, split_budget))
+    throw InputError("--split-budget must be auto or a number >= 0, got '" + o.split_budget + "'");
   const bool any = o.workload == "ao" || o.workload == "shadow";
   bvh::AnyHitKernel kernel;
   if (!bvh::parse_any_hit_kernel(o.gpu_trace, kernel))
@@ -581,10 +584,13 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
   std::cout << "threads " << compat::concurrency() << ", mesh " << o.mesh << ": "
             << mesh.positions.size() << " vertices, " << mesh.triangle_count() << " triangles\n";
 
-  DeviceMesh<Mem> dm = upload_mesh(mesh, quality);
-  if (quality == bvh::BuildQuality::kSah)  // again, with the split settings asked for
+  // The SAH tree is built below with the split settings asked for (the cheap LBVH until then,
+  // so that no second SAH tree is alive at the peak).
+  DeviceMesh<Mem> dm =
+      upload_mesh(mesh, quality == bvh::BuildQuality::kSah ? bvh::BuildQuality::kLbvh : quality);
+  if (quality == bvh::BuildQuality::kSah)
     dm.accel = bvh::build<Exec, Mem>(Exec(), dm.tris, quality, bvh::QuantizedWide::kOnDevices,
-                                     o.split_budget, spatial);
+                                     split_budget, spatial);
   const int repeats = std::max(1, o.repeats);
   Peer peer(o.peer, dm.tris);
   // Build timings: the best of several builds of the already-uploaded triangles (the raw LBVH
@@ -610,7 +616,7 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
       const auto t0 = Clock::now();
       double c0 = cpu_seconds();
       const auto b = bvh::build<Exec, Mem>(Exec(), dm.tris, bvh::BuildQuality::kSah,
-                                           bvh::QuantizedWide::kOnDevices, o.split_budget, spatial);
+                                           bvh::QuantizedWide::kOnDevices, split_budget, spatial);
       Kokkos::fence();
       sah_s.push_back(seconds_since(t0));
       sah_cpu.push_back(cpu_seconds() - c0);
@@ -627,10 +633,11 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
               build_ms("sah", timed.sah, timed.sah ? best_of(sah_s) : 0).c_str(),
               bvh::to_string(quality), q.to_string().c_str());
   if (o.build_phases) print_build_phases(dm.tris, repeats);
-  print_sah_costs(dm.tris, timed, o.split_budget, spatial);
+  print_sah_costs(dm.tris, timed, split_budget, spatial);
 
-  std::printf("sah splits: spatial %s, budget %g; %d leaf triangles (%d input)\n",
-              o.spatial_splits.c_str(), o.split_budget, dm.accel.num_prims, int(dm.tris.extent(0)));
+  std::printf("sah splits: spatial %s, budget %s; %d leaf triangles (%d input)\n",
+              o.spatial_splits.c_str(), o.split_budget.c_str(), dm.accel.num_prims,
+              int(dm.tris.extent(0)));
   print_wide_layout(dm.accel);
   if (o.build_only) {
     if (peer.active()) print_paired_builds(sah_s, peer_build_s, sah_cpu, peer_build_cpu);
@@ -854,9 +861,9 @@ int bench_main(Communicator& comm, int argc, char** argv) {
                  "SAH build: spatial splits off, on, or auto (the builder's default)")
       ->capture_default_str();
   app.add_option("--split-budget", o.split_budget,
-                 "SAH build: extra references for slivers, as a fraction of the triangles")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+                 "SAH build: extra references for slivers, as a fraction of the triangles, or "
+                 "auto (grown while the SAH says it pays: bvh/presplit.hpp)")
+      ->capture_default_str();
   app.add_option("--gpu-trace", o.gpu_trace,
                  "any-hit kernel (issue 21): default (today's dispatch), wide, stored, short8 or "
                  "short16 (bvh/any_hit_gpu.hpp)")

@@ -635,7 +635,9 @@ HostBvh build_sah_host(const std::vector<Triangle>& input, double split_budget,
   HostBvh out;
   const bool spatial = uses_spatial_splits(input, spatial_splits);
   Items items = make_items(input, split_budget, spatial);
-  const double budget = split_budget * double(input.size());
+  const double per_triangle =
+      is_auto_split_budget(split_budget) ? kSpatialSplitAutoBudget : split_budget;
+  const double budget = per_triangle * double(input.size());
   build_tree(items, input, spatial, budget, out);
   gather_leaf_triangles(input, out);
   out.spatial_splits = spatial;

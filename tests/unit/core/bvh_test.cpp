@@ -10,6 +10,7 @@
 #include "rtmini/bvh/brute_force.hpp"
 #include "rtmini/bvh/build.hpp"
 #include "rtmini/bvh/gpu_collapse.hpp"
+#include "rtmini/bvh/presplit.hpp"
 #include "rtmini/bvh/quality.hpp"
 #include "rtmini/bvh/traverse.hpp"
 #include "rtmini/io/obj_reader.hpp"
@@ -430,8 +431,8 @@ TEST(QuantizedWide, TinyAndDegenerateInputs) {
 // The sliver fan of issue 18, scaled down: 800 triangles sharing one apex over one radian
 // (aspect 800). Every diagonal sliver's box is mostly empty, so without pre-splitting a ray
 // through the fan tests a third of them. The tests per ray of a flat fan fall only as
-// 1 / (references per triangle) (results/bvh/slivers.md), so the default budget (2x) halves
-// them: 800 is the size where that half is under the issue's bound of 150.
+// 1 / (references per triangle) (results/bvh/slivers.md), so a budget of 1 (2x) halves them:
+// 800 is the size where that half is under the issue's bound of 150.
 Mesh sliver_fan() {
   Mesh m;
   m.materials.push_back(Material{});
@@ -493,39 +494,127 @@ double host_tests_per_ray(const bvh::Bvh<Kokkos::HostSpace>& accel,
   return tests / double(rays.extent(0));
 }
 
-TEST(Bvh, PresplitSliverFanTestsPerRay) {
-  using Host = Kokkos::DefaultHostExecutionSpace;
-  const TriangleList tl = triangulate(sliver_fan());
+Kokkos::View<Triangle*, Kokkos::HostSpace> host_triangles(const Mesh& mesh) {
+  const TriangleList tl = triangulate(mesh);
   Kokkos::View<Triangle*, Kokkos::HostSpace> tris("tris", tl.vertices.size());
-  const Mesh mesh = sliver_fan();
   for (std::size_t t = 0; t < tl.vertices.size(); ++t)
     tris(t) = {Vec3(mesh.positions[tl.vertices[t][0]]), Vec3(mesh.positions[tl.vertices[t][1]]),
                Vec3(mesh.positions[tl.vertices[t][2]])};
+  return tris;
+}
+
+// The fan's tests per ray fall as 1 / (references per triangle) whatever the splitter: a fixed
+// budget of 1 halves them; the auto budget doubles the references while each doubling removes a
+// quarter of the summed box area (here up to 64 per triangle, where the parts near the apex stop
+// being slivers).
+TEST(Bvh, PresplitSliverFanTestsPerRay) {
+  using Host = Kokkos::DefaultHostExecutionSpace;
+  const auto tris = host_triangles(sliver_fan());
+  const int n = int(tris.extent(0));
   const auto rays = fan_rays<Host>(4000);
   double unsplit = 0;
-  for (const auto spatial : {bvh::SpatialSplits::kOff, bvh::SpatialSplits::kOn})
-    for (const double budget : {0.0, bvh::kDefaultSplitBudget}) {
-      if (spatial == bvh::SpatialSplits::kOn && budget == 0.0) continue;
-      auto accel = bvh::build<Host, Kokkos::HostSpace>(
-          Host(), tris, bvh::BuildQuality::kSah, bvh::QuantizedWide::kOnDevices, budget, spatial);
-      const double wide = host_tests_per_ray(accel, rays);
-      accel.wide = {};  // the binary layout, as traversed on devices
-      const double binary = host_tests_per_ray(accel, rays);
-      std::printf(
-          "spatial splits %s, split budget %.2f: %d references, %.1f tests per ray (8-wide), "
-          "%.1f (binary)\n",
-          bvh::to_string(spatial), budget, accel.num_prims, wide, binary);
-      if (budget == 0.0) {
-        unsplit = binary;
-        EXPECT_GT(binary, 200.0) << "without pre-splitting the fan must be a hard case";
-      } else if (spatial == bvh::SpatialSplits::kOff) {
-        EXPECT_LE(wide, 150.0);
-        EXPECT_LE(binary, 150.0);
-      } else {
-        EXPECT_LE(binary, 0.75 * unsplit);
-        EXPECT_LE(wide, 0.75 * unsplit);
-      }
+  struct Case {
+    bvh::SpatialSplits spatial;
+    double budget;
+  };
+  for (const Case c : {Case{bvh::SpatialSplits::kOff, 0.0}, Case{bvh::SpatialSplits::kOff, 1.0},
+                       Case{bvh::SpatialSplits::kOff, bvh::kAutoSplitBudget},
+                       Case{bvh::SpatialSplits::kOn, 1.0}}) {
+    auto accel = bvh::build<Host, Kokkos::HostSpace>(
+        Host(), tris, bvh::BuildQuality::kSah, bvh::QuantizedWide::kOnDevices, c.budget, c.spatial);
+    const double wide = host_tests_per_ray(accel, rays);
+    accel.wide = {};  // the binary layout, as traversed on devices
+    const double binary = host_tests_per_ray(accel, rays);
+    std::printf(
+        "spatial splits %s, split budget %s: %d references, %.1f tests per ray (8-wide), "
+        "%.1f (binary)\n",
+        bvh::to_string(c.spatial), bvh::split_budget_to_string(c.budget).c_str(), accel.num_prims,
+        wide, binary);
+    if (c.budget == 0.0) {
+      unsplit = binary;
+      EXPECT_GT(binary, 200.0) << "without pre-splitting the fan must be a hard case";
+    } else if (c.spatial == bvh::SpatialSplits::kOn) {
+      EXPECT_LE(binary, 0.75 * unsplit);
+      EXPECT_LE(wide, 0.75 * unsplit);
+    } else if (c.budget == 1.0) {
+      EXPECT_LE(wide, 150.0);
+      EXPECT_LE(binary, 150.0);
+    } else {  // auto: stops at 64 references per triangle (the 128th halves no more)
+      EXPECT_GE(accel.num_prims, 32 * n);
+      EXPECT_LE(accel.num_prims, int(bvh::kAutoMaxReferencesPerTriangle) * n);
+      EXPECT_LE(wide, 10.0);
+      EXPECT_LE(binary, 10.0);
     }
+  }
+}
+
+// The auto budget on a mesh whose triangles fill their boxes: no candidate passes the first
+// check, so the SAH build gets the triangles as they are (the same tree as budget 0).
+TEST(Bvh, AutoSplitBudgetLeavesOrdinaryMeshesUnsplit) {
+  for (const char* name : {"teapot.obj", "spot.obj", "cow.obj", "CornellBox-Original.obj"}) {
+    const auto tris = host_triangles(load_scene(name));
+    const std::vector<Triangle> v(tris.data(), tris.data() + tris.extent(0));
+    Aabb box;
+    for (const Triangle& t : v) {
+      box.expand(t.a);
+      box.expand(t.b);
+      box.expand(t.c);
+    }
+    EXPECT_TRUE(bvh::presplit_triangles(v, box, bvh::kAutoSplitBudget).empty()) << name;
+  }
+}
+
+// Four long thin diagonal slivers over a grid of 1,600 small right triangles: the first step
+// (budget 1) cuts the slivers into ~400 parts each and removes most of the summed box area; the
+// next doubling could still cut them finer, but what is left of their boxes is ~1 % of the
+// grid's, so that step is undone. The hits stay exact.
+TEST(Bvh, AutoSplitBudgetStopsWhenSplittingNoLongerPays) {
+  Mesh m;
+  m.materials.push_back(Material{});
+  auto add_triangle = [&m](const Vec3d& a, const Vec3d& b, const Vec3d& c) {
+    const int base = int(m.positions.size());
+    m.positions.insert(m.positions.end(), {a, b, c});
+    Face f;
+    f.v = {base, base + 1, base + 2, -1};
+    m.faces.push_back(f);
+  };
+  constexpr int kGrid = 40;
+  const double h = 1.0 / kGrid;
+  for (int i = 0; i < kGrid; ++i)
+    for (int j = 0; j < kGrid; ++j)
+      add_triangle({i * h, j * h, 0}, {i * h + h, j * h, 0}, {i * h, j * h + h, 0});
+  for (int k = 1; k <= 4; ++k) {  // aspect ~1e6, each at its own height
+    const double z = 0.2 * k, w = 1e-6;
+    add_triangle({0, 0, z}, {1, 1, z}, {1 + w, 1 - w, z});
+  }
+  auto tris = upload_triangles(m);
+  const int n = int(tris.extent(0));
+  const auto accel = bvh::build<TestExecSpace, TestMemSpace>(
+      TestExecSpace(), tris, bvh::BuildQuality::kSah, bvh::QuantizedWide::kOnDevices,
+      bvh::kAutoSplitBudget);
+  std::printf("grid and slivers, auto budget: %d references for %d triangles\n", accel.num_prims,
+              n);
+  EXPECT_GT(accel.num_prims, n + 1000) << "the slivers must be split";
+  EXPECT_LE(accel.num_prims, 2 * n) << "the second step must not pay here";
+  const bvh::BruteForce<TestMemSpace> ref{tris};
+  expect_same_hits(accel, ref, random_rays(tris, accel.bounds, 20000, 29),
+                   "grid and slivers, auto budget");
+}
+
+TEST(Bvh, SplitBudgetParsesAutoAndNumbers) {
+  double b = 7;
+  EXPECT_TRUE(bvh::parse_split_budget("auto", b));
+  EXPECT_TRUE(bvh::is_auto_split_budget(b));
+  EXPECT_TRUE(bvh::parse_split_budget("2.5", b));
+  EXPECT_EQ(b, 2.5);
+  EXPECT_TRUE(bvh::parse_split_budget("0", b));
+  EXPECT_EQ(b, 0.0);
+  for (const char* bad : {"", "-1", "1x", "nan", "inf", "Auto"})
+    EXPECT_FALSE(bvh::parse_split_budget(bad, b)) << bad;
+  EXPECT_EQ(b, 0.0);
+  EXPECT_EQ(bvh::split_budget_to_string(bvh::kAutoSplitBudget), "auto");
+  EXPECT_EQ(bvh::split_budget_to_string(2.5), "2.5");
+  EXPECT_EQ(bvh::split_budget_to_string(1.0), "1");
 }
 
 }  // namespace

@@ -85,8 +85,9 @@ Bvh<MemorySpace> build_sah(Kokkos::View<const Triangle*, MemorySpace> tris, doub
 }
 
 // split_budget (SAH only): extra references for slivers (pre-split parts or spatial splits), as
-// a fraction of the triangle count; 0 builds from the triangles as they are. spatial_splits (SAH
-// only): build_quality.hpp.
+// a fraction of the triangle count; 0 builds from the triangles as they are, kAutoSplitBudget
+// (the default) grows it while the SAH says it pays (presplit.hpp). spatial_splits (SAH only):
+// build_quality.hpp.
 template <class ExecSpace, class MemorySpace = typename ExecSpace::memory_space>
 Bvh<MemorySpace> build(const ExecSpace& space, Kokkos::View<const Triangle*, MemorySpace> tris,
                        BuildQuality quality,

@@ -2,7 +2,9 @@
 // Which BVH build an app asks for: the fast Morton-code LBVH, PLOC (SAH quality, built on the
 // execution space: build_ploc.hpp) or the binned-SAH build on the host.
 // Kokkos-free, so host-only settings code can name it.
+#include <cmath>
 #include <cstddef>
+#include <cstdlib>
 #include <string>
 
 namespace rtmini::bvh {
@@ -83,6 +85,34 @@ inline bool parse_spatial_splits(const std::string& name, SpatialSplits& out) {
       return true;
     }
   return false;
+}
+
+// Extra references the SAH build may make for slivers (pre-split parts or spatial splits), as a
+// fraction of the triangle count: a number >= 0, or auto (kAutoSplitBudget, any negative
+// value), which grows the budget while the surface-area heuristic says it pays (presplit.hpp).
+inline constexpr double kAutoSplitBudget = -1;
+
+inline bool is_auto_split_budget(double budget) { return budget < 0; }
+
+inline std::string split_budget_to_string(double budget) {
+  if (is_auto_split_budget(budget)) return "auto";
+  std::string s = std::to_string(budget);  // fixed, six decimals: drop the trailing zeros
+  s.erase(s.find_last_not_of('0') + 1);
+  if (s.back() == '.') s.pop_back();
+  return s;
+}
+
+// False (and `out` untouched) unless `text` is auto or a finite number >= 0.
+inline bool parse_split_budget(const std::string& text, double& out) {
+  if (text == "auto") {
+    out = kAutoSplitBudget;
+    return true;
+  }
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v) || v < 0) return false;
+  out = v;
+  return true;
 }
 
 }  // namespace rtmini::bvh

@@ -32,7 +32,7 @@ bool uses_spatial_splits(const std::vector<Triangle>& input, SpatialSplits s);
 inline constexpr SpatialSplits kDefaultSpatialSplits = SpatialSplits::kAuto;
 
 // split_budget: extra references allowed (pre-split parts, or those added by spatial splits), as
-// a fraction of the triangle count (0: never split).
+// a fraction of the triangle count (0: never split), or kAutoSplitBudget (presplit.hpp).
 HostBvh build_sah_host(const std::vector<Triangle>& input,
                        double split_budget = kDefaultSplitBudget,
                        SpatialSplits spatial_splits = kDefaultSpatialSplits);
