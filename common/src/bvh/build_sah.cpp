@@ -106,6 +106,10 @@ static_assert(offsetof(Item, box) == 0 && sizeof(Aabb) == 6 * sizeof(Real) &&
                   sizeof(Item) >= sizeof(Aabb) + 4 * sizeof(Real),
               "an item's box can be read as two 4-lane loads");
 
+// The lowest / highest set bit of a non-zero mask.
+int lowest_bit(unsigned m) { return __builtin_ctz(m); }
+int highest_bit(unsigned m) { return 31 - __builtin_clz(m); }
+
 // The two halves of a split, as tasks whose boxes are already known.
 struct Split {
   Task left, right;
@@ -397,11 +401,18 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
   Aabb best_left, best_right;
   for (int axis = 0; axis < 3; ++axis) {
     if (!(ext[axis] > Real(0))) continue;
-    BinBox right_box[kBins];
+    // The sweeps visit occupied bins only: an empty bin adds nothing to a running box or count,
+    // and a candidate plane after one repeats the previous candidate's cost, which never wins
+    // (strict <). Most nodes are small, so most of their 16 bins are empty.
+    unsigned occupied = 0;
+    for (int k = 0; k < kBins; ++k) occupied |= (counts[axis][k] != 0 ? 1u : 0u) << k;
+    BinBox right_box[kBins];  // [k]: bins k.. (read only at occupied k)
     int right_count[kBins];
     BinBox acc;
     int cnt = 0;
-    for (int k = kBins - 1; k > 0; --k) {
+    for (unsigned m = occupied & ~1u; m != 0;) {
+      const int k = highest_bit(m);
+      m &= ~(1u << k);
       acc.expand(bins[axis][k]);
       cnt += counts[axis][k];
       right_box[k] = acc;
@@ -409,21 +420,22 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
     }
     acc = BinBox();
     cnt = 0;
-    for (int k = 0; k < kBins - 1; ++k) {
-      // An empty bin would repeat the previous candidate's cost, which never wins (strict <).
-      if (counts[axis][k] == 0) continue;
+    for (unsigned m = occupied; m != 0;) {
+      const int k = lowest_bit(m);
+      m &= m - 1;
+      if (m == 0) break;  // no occupied bin right of k
+      const int next = lowest_bit(m);
       acc.expand(bins[axis][k]);
       cnt += counts[axis][k];
-      if (right_count[k + 1] == 0) continue;
       const Real c = kTraversalCost * parent_area +
                      kTriangleCost * (cnt * acc.surface_area() +
-                                      right_count[k + 1] * right_box[k + 1].surface_area());
+                                      right_count[next] * right_box[next].surface_area());
       if (c < best) {
         best = c;
         best_axis = axis;
         best_bin = k;
         best_left = acc.aabb();
-        best_right = right_box[k + 1].aabb();
+        best_right = right_box[next].aabb();
       }
     }
   }
