@@ -492,6 +492,8 @@ void build_fragment(const SpatialContext& ctx, const Task& top, Fragment& f) {
     else
       f.nodes[t.node].set_child(t.slot, t.box, ref);
   };
+  f.nodes.reserve(top.end - top.begin);  // as in build_tree: no regrowth
+  f.prim.reserve(top.end - top.begin);
   std::vector<Task> stack{top};
   ItemLists lists;
   Split sp;
@@ -569,7 +571,10 @@ void build_tree(Items& items, const std::vector<Triangle>& input, bool spatial, 
     ctx.margin = kClipMargin * double(std::max(e.x, std::max(e.y, e.z)));
     root.budget = budget;
   }
-  out.nodes.reserve(std::max(1, 2 * n / kMaxLeafSize + 1));
+  // A binary tree over n items, one or more per leaf, has at most n nodes with the root (more
+  // only where spatial splits add references). Reserving them all costs address space only,
+  // while growing the vector would copy it twice.
+  out.nodes.reserve(n + 1);
   out.prim.reserve(n);
 
   // The root is always an internal node with two slots.
