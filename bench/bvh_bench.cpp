@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <ctime>
 #include <iostream>
+#include <thread>
 
 #include "ray_buffer.hpp"
 #include "rtmini/bvh/any_hit_gpu.hpp"
@@ -54,6 +55,7 @@ struct Options {
   int repeats = 3;
   std::uint64_t seed = 1;
   bool build_only = false;
+  int settle_ms = 0;
 };
 
 double seconds_since(Clock::time_point t) {
@@ -64,6 +66,14 @@ double seconds_since(Clock::time_point t) {
 // counts the work done rather than the wait for a core, so paired CPU-time ratios stay
 // meaningful under load where wall-clock ratios do not (OpenMP spin-waiting is counted too).
 double cpu_seconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
+
+// --settle-ms: idle worker threads spin-wait for a while after each parallel region before they
+// sleep (libgomp by default: ~7 ms here, results/bvh/README.md), and that CPU time lands in
+// whatever is timed next. Sleeping `ms` before a timed build lets earlier work's workers fall
+// asleep, and reading the CPU clock `ms` after it charges the build with its own workers' spin.
+void settle(int ms) {
+  if (ms > 0) std::this_thread::sleep_for(std::chrono::milliseconds(ms));
+}
 
 double best_of(const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); }
 double worst_of(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
@@ -613,16 +623,19 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
       ploc_s = std::min(ploc_s, seconds_since(t0));
     }
     if (timed.sah) {
+      settle(o.settle_ms);
       const auto t0 = Clock::now();
       double c0 = cpu_seconds();
       const auto b = bvh::build<Exec, Mem>(Exec(), dm.tris, bvh::BuildQuality::kSah,
                                            bvh::QuantizedWide::kOnDevices, split_budget, spatial);
       Kokkos::fence();
       sah_s.push_back(seconds_since(t0));
+      settle(o.settle_ms);
       sah_cpu.push_back(cpu_seconds() - c0);
       if (peer.active()) {
         c0 = cpu_seconds();
         peer_build_s.push_back(peer.build());
+        settle(o.settle_ms);
         peer_build_cpu.push_back(cpu_seconds() - c0);
       }
     }
@@ -876,6 +889,11 @@ int bench_main(Communicator& comm, int argc, char** argv) {
   app.add_flag(
       "--build-only", o.build_only,
       "time the builds (and the peer's), print the tree and its fingerprint; trace nothing");
+  app.add_option("--settle-ms", o.settle_ms,
+                 "build timings: sleep this long before each timed SAH and peer build and read "
+                 "its CPU time this long after it, so each build's CPU time holds its own idle "
+                 "workers' spin-waiting and none of earlier work's (0: back to back)")
+      ->capture_default_str();
   if (const auto done = parse_command_line(app, argc, argv, common, comm.is_root())) return *done;
   RunReport report;
   report.app = "rtmini-bvh-bench";
@@ -891,7 +909,8 @@ int bench_main(Communicator& comm, int argc, char** argv) {
                        {"seed", o.seed},
                        {"spatial_splits", o.spatial_splits},
                        {"split_budget", o.split_budget},
-                       {"build_only", o.build_only}};
+                       {"build_only", o.build_only},
+                       {"settle_ms", o.settle_ms}};
   const int code = run(o, report, comm, common.memory_limit());
   // Phases only: the program has no dispatch loop of its own to record.
   if (!common.timings.empty())

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstring>
 #include <memory>
+#include <numeric>
 #include <type_traits>
 
 #include "rtmini/bvh/clip.hpp"
@@ -105,6 +106,10 @@ struct BinBox {
 static_assert(offsetof(Item, box) == 0 && sizeof(Aabb) == 6 * sizeof(Real) &&
                   sizeof(Item) >= sizeof(Aabb) + 4 * sizeof(Real),
               "an item's box can be read as two 4-lane loads");
+
+// The lowest / highest set bit of a non-zero mask.
+int lowest_bit(unsigned m) { return __builtin_ctz(m); }
+int highest_bit(unsigned m) { return 31 - __builtin_clz(m); }
 
 // The two halves of a split, as tasks whose boxes are already known.
 struct Split {
@@ -397,11 +402,18 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
   Aabb best_left, best_right;
   for (int axis = 0; axis < 3; ++axis) {
     if (!(ext[axis] > Real(0))) continue;
-    BinBox right_box[kBins];
+    // The sweeps visit occupied bins only: an empty bin adds nothing to a running box or count,
+    // and a candidate plane after one repeats the previous candidate's cost, which never wins
+    // (strict <). Most nodes are small, so most of their 16 bins are empty.
+    unsigned occupied = 0;
+    for (int k = 0; k < kBins; ++k) occupied |= (counts[axis][k] != 0 ? 1u : 0u) << k;
+    BinBox right_box[kBins];  // [k]: bins k.. (read only at occupied k)
     int right_count[kBins];
     BinBox acc;
     int cnt = 0;
-    for (int k = kBins - 1; k > 0; --k) {
+    for (unsigned m = occupied & ~1u; m != 0;) {
+      const int k = highest_bit(m);
+      m &= ~(1u << k);
       acc.expand(bins[axis][k]);
       cnt += counts[axis][k];
       right_box[k] = acc;
@@ -409,21 +421,22 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
     }
     acc = BinBox();
     cnt = 0;
-    for (int k = 0; k < kBins - 1; ++k) {
-      // An empty bin would repeat the previous candidate's cost, which never wins (strict <).
-      if (counts[axis][k] == 0) continue;
+    for (unsigned m = occupied; m != 0;) {
+      const int k = lowest_bit(m);
+      m &= m - 1;
+      if (m == 0) break;  // no occupied bin right of k
+      const int next = lowest_bit(m);
       acc.expand(bins[axis][k]);
       cnt += counts[axis][k];
-      if (right_count[k + 1] == 0) continue;
       const Real c = kTraversalCost * parent_area +
                      kTriangleCost * (cnt * acc.surface_area() +
-                                      right_count[k + 1] * right_box[k + 1].surface_area());
+                                      right_count[next] * right_box[next].surface_area());
       if (c < best) {
         best = c;
         best_axis = axis;
         best_bin = k;
         best_left = acc.aabb();
-        best_right = right_box[k + 1].aabb();
+        best_right = right_box[next].aabb();
       }
     }
   }
@@ -453,15 +466,28 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
 // One subtree built on its own (possibly by another thread): nodes and leaf triangle ids with
 // local indices, appended to the whole tree afterwards.
 struct Fragment {
-  std::vector<BvhNode> nodes;
+  std::vector<BvhNode> nodes;  // child boxes padded, except the root's (in the parent's slot)
   std::vector<int> prim;
+  std::vector<Triangle> tris;   // the leaves' triangles, in prim's order
   std::uint32_t root = 0;       // reference for the parent's slot (local node index or local leaf)
   std::int64_t references = 0;  // items in its leaves
 };
 
+// The leaves' triangles in leaf order, zero-area ones as points. Gathered in one loop after a
+// fragment's build rather than leaf by leaf within it: the reads are scattered over the input,
+// and a loop of nothing else keeps many of them in flight.
+void gather_leaf_triangles(const std::vector<Triangle>& input, const std::vector<int>& prim,
+                           std::vector<Triangle>& tris) {
+  tris.resize(prim.size());
+  for (std::size_t i = 0; i < prim.size(); ++i) tris[i] = point_if_zero_area(input[prim[i]]);
+}
+
 // The serial top-down build of items[task.begin, task.end), depth first (the left child is
 // processed next, so it lands next to its parent).
-void build_fragment(const SpatialContext& ctx, const Task& top, Fragment& f) {
+// Its triangles are gathered and its boxes padded here too, so that this work is shared by the
+// threads that build fragments rather than left to one after them.
+void build_fragment(const SpatialContext& ctx, const std::vector<Triangle>& input, const Task& top,
+                    Fragment& f) {
   // A leaf stores each triangle once, even when several of its split parts landed here.
   auto emit_leaf = [&](const Task& t) {
     const auto first = static_cast<std::uint32_t>(f.prim.size());
@@ -480,6 +506,8 @@ void build_fragment(const SpatialContext& ctx, const Task& top, Fragment& f) {
     else
       f.nodes[t.node].set_child(t.slot, t.box, ref);
   };
+  f.nodes.reserve(top.end - top.begin);  // as in build_tree: no regrowth
+  f.prim.reserve(top.end - top.begin);
   std::vector<Task> stack{top};
   ItemLists lists;
   Split sp;
@@ -497,6 +525,8 @@ void build_fragment(const SpatialContext& ctx, const Task& top, Fragment& f) {
     stack.push_back(sp.right);
     stack.push_back(sp.left);
   }
+  gather_leaf_triangles(input, f.prim, f.tris);
+  for (BvhNode& node : f.nodes) pad_child_boxes(node);
 }
 
 // Appends a fragment to the tree and returns its root reference with global indices.
@@ -512,6 +542,7 @@ std::uint32_t append_fragment(const Fragment& f, HostBvh& out) {
     out.nodes.push_back(n);
   }
   out.prim.insert(out.prim.end(), f.prim.begin(), f.prim.end());
+  out.tris.insert(out.tris.end(), f.tris.begin(), f.tris.end());
   out.references += static_cast<int>(f.references);
   return global(f.root);
 }
@@ -540,7 +571,7 @@ std::vector<Item> make_items(const std::vector<Triangle>& input, double split_bu
   return items;
 }
 
-// The tree over all items (sets out.bounds), its child boxes as the SAH saw them (not yet padded);
+// The tree over all items (sets out.bounds) with padded child boxes and the leaves' triangles;
 // with spatial splits, up to `budget` references more than items.
 void build_tree(Items& items, const std::vector<Triangle>& input, bool spatial, double budget,
                 HostBvh& out) {
@@ -557,8 +588,12 @@ void build_tree(Items& items, const std::vector<Triangle>& input, bool spatial, 
     ctx.margin = kClipMargin * double(std::max(e.x, std::max(e.y, e.z)));
     root.budget = budget;
   }
-  out.nodes.reserve(std::max(1, 2 * n / kMaxLeafSize + 1));
+  // A binary tree over n items, one or more per leaf, has at most n nodes with the root (more
+  // only where spatial splits add references). Reserving them all costs address space only,
+  // while growing the vector would copy it twice.
+  out.nodes.reserve(n + 1);
   out.prim.reserve(n);
+  out.tris.reserve(n);
 
   // The root is always an internal node with two slots.
   out.nodes.emplace_back();
@@ -567,10 +602,11 @@ void build_tree(Items& items, const std::vector<Triangle>& input, bool spatial, 
   if (n == 1 || !split_range(ctx, root, lists, sp)) {
     Fragment leaf;
     root.depth = kMaxDepth;
-    build_fragment(ctx, root, leaf);
+    build_fragment(ctx, input, root, leaf);
     const std::uint32_t ref = append_fragment(leaf, out);
     out.nodes[0].set_child(0, out.bounds, ref);
     out.nodes[0].set_child(1, Aabb(), kEmptyLeaf);
+    pad_child_boxes(out.nodes[0]);
     return;
   }
   // Top levels serially, down to ranges of at most kFragmentShare of the input; those subtrees
@@ -595,29 +631,31 @@ void build_tree(Items& items, const std::vector<Triangle>& input, bool spatial, 
     stack.push_back(sp.right);
     stack.push_back(sp.left);
   }
+  // Largest first, one at a time: the last fragments handed out are the smallest, so no thread
+  // waits long at the end for another's big one (the tree does not depend on this order).
+  std::vector<int> largest_first(fragments.size());
+  std::iota(largest_first.begin(), largest_first.end(), 0);
+  std::stable_sort(largest_first.begin(), largest_first.end(), [&](int x, int y) {
+    return fragments[x].end - fragments[x].begin > fragments[y].end - fragments[y].begin;
+  });
   std::vector<Fragment> built(fragments.size());
   Kokkos::parallel_for(
       "rtmini::bvh::build_sah::fragments",
       Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace, Kokkos::Schedule<Kokkos::Dynamic>>(
-          0, static_cast<int>(fragments.size())),
-      [&](const int i) {
+          0, static_cast<int>(fragments.size()))
+          .set_chunk_size(1),
+      [&](const int k) {
+        const int i = largest_first[k];
         Task t = fragments[i];
         t.node = -1;  // the fragment's root reference goes to the parent slot below
-        build_fragment(ctx, t, built[i]);
+        build_fragment(ctx, input, t, built[i]);
       });
+  const std::size_t top_nodes = out.nodes.size();
   for (std::size_t i = 0; i < fragments.size(); ++i) {
     const std::uint32_t ref = append_fragment(built[i], out);  // may reallocate out.nodes
     out.nodes[fragments[i].node].set_child(fragments[i].slot, fragments[i].box, ref);
   }
-}
-
-// The leaves' triangles in leaf order, zero-area ones as points. Gathered in one loop after the
-// build rather than leaf by leaf within it: the reads are scattered over the input, and a loop
-// of nothing else keeps many of them in flight.
-void gather_leaf_triangles(const std::vector<Triangle>& input, HostBvh& out) {
-  out.tris.resize(out.prim.size());
-  for (std::size_t i = 0; i < out.prim.size(); ++i)
-    out.tris[i] = point_if_zero_area(input[out.prim[i]]);
+  for (std::size_t i = 0; i < top_nodes; ++i) pad_child_boxes(out.nodes[i]);
 }
 
 }  // namespace
@@ -639,9 +677,7 @@ HostBvh build_sah_host(const std::vector<Triangle>& input, double split_budget,
       is_auto_split_budget(split_budget) ? kSpatialSplitAutoBudget : split_budget;
   const double budget = per_triangle * double(input.size());
   build_tree(items, input, spatial, budget, out);
-  gather_leaf_triangles(input, out);
   out.spatial_splits = spatial;
-  for (BvhNode& node : out.nodes) pad_child_boxes(node);
   return out;
 }
 

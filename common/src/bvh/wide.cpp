@@ -93,7 +93,10 @@ WideBvh collapse_to_wide(const std::vector<BvhNode>& binary, const Triangle* tri
     r = ranges[ref];
     return r.contiguous && r.count <= std::uint32_t(merge);
   };
+  // Each wide leaf holds one binary leaf or more (at most binary.size() + 1 of them): reserved
+  // whole, untouched pages cost nothing, and the leaves are never copied by regrowth.
   out.nodes.reserve(binary.size() / 2 + 1);
+  out.leaves.reserve(binary.size() + 1);
   // Each work item: a binary node to turn into the wide node `dst`.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> work{{0u, 0u}};
   out.nodes.emplace_back();
