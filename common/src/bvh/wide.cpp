@@ -1,6 +1,7 @@
 #include "rtmini/bvh/wide.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <utility>
 
 namespace rtmini::bvh {
@@ -76,6 +77,86 @@ TriangleLanes make_lanes(const Triangle* tris, const int* prim, std::uint32_t fi
   return l;
 }
 
+// The cheapest ways to lay out one binary internal node's subtree in the wide tree, by the SAH
+// (Ylitie et al. 2017's dynamic programme, with this traversal's costs: a wide node visit and a
+// SIMD leaf test each cost the same whatever their count, so a leaf is costed as one block of
+// eight lanes, not per triangle). Costs are expected work per unit of the root's area.
+struct CollapsePlan {
+  double cost[kWidth + 1] = {};  // cost[i]: cheapest using at most i slots of the parent (i >= 1)
+  std::uint8_t split[kWidth + 1] = {};  // 0: one slot (cost[1]); k: k slots to child 0, i - k to 1
+  std::uint8_t node_split = 1;          // the split of the eight slots when it is a wide node
+  bool as_leaf = false;                 // in one slot: a wide leaf (else a wide node)
+};
+
+double leaf_cost(const Aabb& box) { return kWideLeafCost * double(box.surface_area()); }
+
+// Cost of binary child reference `ref` (box `box`) given at most `slots` slots.
+double child_cost(const std::vector<CollapsePlan>& plans, std::uint32_t ref, const Aabb& box,
+                  int slots) {
+  if (ref == kEmptyLeaf) return 0;
+  return is_leaf(ref) ? leaf_cost(box) : plans[ref].cost[slots];
+}
+
+// Plans every internal node, children before parents. A subtree may be a wide leaf when its
+// triangles are contiguous and at most `merge`.
+std::vector<CollapsePlan> plan_collapse(const std::vector<BvhNode>& binary,
+                                        const std::vector<Range>& ranges, int merge) {
+  std::vector<CollapsePlan> plans(binary.size());
+  std::vector<std::pair<std::uint32_t, bool>> work{{0u, false}};
+  while (!work.empty()) {
+    const auto [node, children_done] = work.back();
+    work.pop_back();
+    const BvhNode& nd = binary[node];
+    if (!children_done) {
+      work.push_back({node, true});
+      for (int k = 0; k < 2; ++k)
+        if (!is_leaf(nd.child[k])) work.push_back({nd.child[k], false});
+      continue;
+    }
+    // The two children sharing i slots (i >= 2), best split first found.
+    double shared[kWidth + 1];
+    std::uint8_t shared_split[kWidth + 1] = {};
+    for (int i = 2; i <= kWidth; ++i) {
+      shared[i] = std::numeric_limits<double>::infinity();
+      for (int k = 1; k < i; ++k) {
+        const double c = child_cost(plans, nd.child[0], nd.box(0), k) +
+                         child_cost(plans, nd.child[1], nd.box(1), i - k);
+        if (c < shared[i]) {
+          shared[i] = c;
+          shared_split[i] = std::uint8_t(k);
+        }
+      }
+    }
+    Aabb box = nd.box(0);
+    box.expand(nd.box(1));
+    CollapsePlan& p = plans[node];
+    const double as_node = kWideNodeCost * double(box.surface_area()) + shared[kWidth];
+    const Range& r = ranges[node];
+    p.as_leaf = r.contiguous && r.count <= std::uint32_t(merge) && leaf_cost(box) <= as_node;
+    p.node_split = shared_split[kWidth];
+    p.cost[1] = p.as_leaf ? leaf_cost(box) : as_node;
+    for (int i = 2; i <= kWidth; ++i) {
+      const bool open = shared[i] < p.cost[1];
+      p.cost[i] = open ? shared[i] : p.cost[1];
+      p.split[i] = open ? shared_split[i] : 0;
+    }
+  }
+  return plans;
+}
+
+// Appends the wide children that binary child `ref` becomes when given `slots` slots.
+void gather_slots(const std::vector<BvhNode>& binary, const std::vector<CollapsePlan>& plans,
+                  std::uint32_t ref, const Aabb& box, int slots, Slot* out, int& n) {
+  if (is_leaf(ref) || plans[ref].split[slots] == 0) {
+    out[n++] = {box, ref};
+    return;
+  }
+  const BvhNode& nd = binary[ref];
+  const int k = plans[ref].split[slots];
+  gather_slots(binary, plans, nd.child[0], nd.box(0), k, out, n);
+  gather_slots(binary, plans, nd.child[1], nd.box(1), slots - k, out, n);
+}
+
 }  // namespace
 
 WideBvh collapse_to_wide(const std::vector<BvhNode>& binary, const Triangle* tris, const int* prim,
@@ -84,15 +165,7 @@ WideBvh collapse_to_wide(const std::vector<BvhNode>& binary, const Triangle* tri
   if (binary.empty()) return out;
   merge = std::min(merge, kMaxLeafSize);
   const std::vector<Range> ranges = subtree_ranges(binary);
-  // A child becomes a wide leaf when it is a binary leaf or a small enough subtree.
-  auto leaf_range = [&](std::uint32_t ref, Range& r) {
-    if (is_leaf(ref)) {
-      r = {leaf_first(ref), leaf_count(ref), true};
-      return true;
-    }
-    r = ranges[ref];
-    return r.contiguous && r.count <= std::uint32_t(merge);
-  };
+  const std::vector<CollapsePlan> plans = plan_collapse(binary, ranges, merge);
   out.nodes.reserve(binary.size() / 2 + 1);
   // Each work item: a binary node to turn into the wide node `dst`.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> work{{0u, 0u}};
@@ -102,25 +175,10 @@ WideBvh collapse_to_wide(const std::vector<BvhNode>& binary, const Triangle* tri
     work.pop_back();
     Slot slots[kWidth];
     int n = 0;
-    for (int k = 0; k < 2; ++k) slots[n++] = {binary[src].box(k), binary[src].child[k]};
-    // Open the internal child with the largest surface area until kWidth children.
-    while (n < kWidth) {
-      int best = -1;
-      Real best_area = -1;
-      for (int k = 0; k < n; ++k) {
-        Range r;
-        if (leaf_range(slots[k].ref, r)) continue;
-        const Real a = slots[k].box.surface_area();
-        if (a > best_area) {
-          best_area = a;
-          best = k;
-        }
-      }
-      if (best < 0) break;
-      const BvhNode& open = binary[slots[best].ref];
-      slots[best] = {open.box(0), open.child[0]};
-      slots[n++] = {open.box(1), open.child[1]};
-    }
+    const BvhNode& nd = binary[src];
+    const int split = plans[src].node_split;
+    gather_slots(binary, plans, nd.child[0], nd.box(0), split, slots, n);
+    gather_slots(binary, plans, nd.child[1], nd.box(1), kWidth - split, slots, n);
     for (int k = 0; k < kWidth; ++k) {
       if (k >= n || slots[k].ref == kEmptyLeaf) {
         Aabb empty;  // lo > hi on every axis: never hit by the wide slab test
@@ -128,8 +186,8 @@ WideBvh collapse_to_wide(const std::vector<BvhNode>& binary, const Triangle* tri
         continue;
       }
       std::uint32_t ref = slots[k].ref;
-      Range r;
-      if (leaf_range(ref, r)) {
+      if (is_leaf(ref) || plans[ref].as_leaf) {
+        const Range r = is_leaf(ref) ? Range{leaf_first(ref), leaf_count(ref), true} : ranges[ref];
         ref = make_leaf(static_cast<std::uint32_t>(out.leaves.size()), r.count);
         out.leaves.push_back(make_lanes(tris, prim, r.first, r.count));
       } else {

@@ -514,5 +514,73 @@ TEST(Bvh, PresplitSliverFanTestsPerRay) {
     }
 }
 
+// Host copies of a mesh's triangles, for the host-only builders.
+std::vector<Triangle> host_triangles(const Mesh& mesh) {
+  const auto tris = upload_triangles(mesh);
+  const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), tris);
+  return std::vector<Triangle>(h.data(), h.data() + h.extent(0));
+}
+
+bool encloses(const Aabb& outer, const Aabb& inner) {
+  return outer.lo.x <= inner.lo.x && outer.lo.y <= inner.lo.y && outer.lo.z <= inner.lo.z &&
+         inner.hi.x <= outer.hi.x && inner.hi.y <= outer.hi.y && inner.hi.z <= outer.hi.z;
+}
+
+Aabb wide_child_box(const bvh::WideNode& n, int k) {
+  Aabb b;
+  b.lo = Vec3(n.lo_x[k], n.lo_y[k], n.lo_z[k]);
+  b.hi = Vec3(n.hi_x[k], n.hi_y[k], n.hi_z[k]);
+  return b;
+}
+
+// The SAH-optimal 8-wide collapse (wide.cpp) lays every binary leaf slot out exactly once, in a
+// leaf of at most eight lanes, each wide node and leaf referenced once, every child box enclosing
+// what is under it (its leaf's triangles, or the child node's own child boxes).
+TEST(WideCollapse, EveryTriangleOnceUnderEnclosingBoxes) {
+  std::vector<std::vector<Triangle>> inputs = {host_triangles(load_scene("stanford-bunny.obj"))};
+  for (const int count : {1, 2, 9, 40})
+    inputs.push_back({inputs[0].begin(), inputs[0].begin() + count});
+  for (const auto& input : inputs) {
+    const bvh::HostBvh h = bvh::build_sah_host(input);
+    const bvh::WideBvh w = bvh::collapse_to_wide(h.nodes, h.tris.data(), h.prim.data());
+    const std::string what = std::to_string(input.size()) + " triangles";
+    std::vector<int> slot_seen(h.prim.size(), 0), node_refs(w.nodes.size(), 0),
+        leaf_refs(w.leaves.size(), 0);
+    std::vector<int> prim_expected(input.size(), 0), prim_seen(input.size(), 0);
+    for (const int p : h.prim) ++prim_expected[p];
+    node_refs[0] = 1;  // the root
+    for (const bvh::WideNode& n : w.nodes)
+      for (int k = 0; k < bvh::kWidth; ++k) {
+        const std::uint32_t c = n.child[k];
+        if (c == bvh::kEmptyLeaf) continue;
+        const Aabb box = wide_child_box(n, k);
+        if (!bvh::is_leaf(c)) {
+          ++node_refs[c];
+          for (int j = 0; j < bvh::kWidth; ++j)
+            if (w.nodes[c].child[j] != bvh::kEmptyLeaf)
+              EXPECT_TRUE(encloses(box, wide_child_box(w.nodes[c], j))) << what;
+          continue;
+        }
+        ASSERT_LE(bvh::leaf_count(c), std::uint32_t(bvh::kMaxLeafSize));
+        ++leaf_refs[bvh::leaf_first(c)];
+        const bvh::TriangleLanes& l = w.leaves[bvh::leaf_first(c)];
+        for (int j = 0; j < int(bvh::leaf_count(c)); ++j) {
+          ++prim_seen[l.prim[j]];
+          const Triangle t = bvh::detail::lane_triangle(l, j);
+          Aabb tb;
+          tb.expand(t.a);
+          tb.expand(t.b);
+          tb.expand(t.c);
+          EXPECT_TRUE(encloses(box, tb)) << what;
+        }
+      }
+    EXPECT_EQ(prim_seen, prim_expected) << what;
+    EXPECT_EQ(std::count(node_refs.begin(), node_refs.end(), 1), std::ptrdiff_t(w.nodes.size()))
+        << what;
+    EXPECT_EQ(std::count(leaf_refs.begin(), leaf_refs.end(), 1), std::ptrdiff_t(w.leaves.size()))
+        << what;
+  }
+}
+
 }  // namespace
 }  // namespace rtmini::test
