@@ -29,37 +29,24 @@ void set_lane(WideNode& n, int k, const Aabb& b, std::uint32_t ref) {
   n.child[k] = ref;
 }
 
-// Triangle ranges of every internal node's subtree, children before parents (both builders
-// store a subtree's triangles contiguously; `contiguous` guards the merge if one ever does not).
-std::vector<Range> subtree_ranges(const std::vector<BvhNode>& binary) {
-  std::vector<Range> out(binary.size());
-  std::vector<std::pair<std::uint32_t, bool>> work{{0u, false}};
-  while (!work.empty()) {
-    const auto [node, children_done] = work.back();
-    work.pop_back();
-    const BvhNode& nd = binary[node];
-    if (!children_done) {
-      work.push_back({node, true});
-      for (int k = 0; k < 2; ++k)
-        if (!is_leaf(nd.child[k])) work.push_back({nd.child[k], false});
-      continue;
-    }
-    Range r;
-    r.first = ~0u;
-    std::uint32_t end = 0;
-    for (int k = 0; k < 2; ++k) {
-      const std::uint32_t c = nd.child[k];
-      if (c == kEmptyLeaf) continue;
-      const Range sub = is_leaf(c) ? Range{leaf_first(c), leaf_count(c), true} : out[c];
-      r.first = std::min(r.first, sub.first);
-      end = std::max(end, sub.first + sub.count);
-      r.count += sub.count;
-      r.contiguous = r.contiguous && sub.contiguous;
-    }
-    r.contiguous = r.contiguous && end - r.first == r.count;
-    out[node] = r;
+// The leaf-order triangle range of internal node `nd`'s subtree, from its children's (both
+// builders store a subtree's triangles contiguously; `contiguous` guards the merge if one ever
+// does not).
+Range subtree_range(const BvhNode& nd, const std::vector<Range>& ranges) {
+  Range r;
+  r.first = ~0u;
+  std::uint32_t end = 0;
+  for (int k = 0; k < 2; ++k) {
+    const std::uint32_t c = nd.child[k];
+    if (c == kEmptyLeaf) continue;
+    const Range sub = is_leaf(c) ? Range{leaf_first(c), leaf_count(c), true} : ranges[c];
+    r.first = std::min(r.first, sub.first);
+    end = std::max(end, sub.first + sub.count);
+    r.count += sub.count;
+    r.contiguous = r.contiguous && sub.contiguous;
   }
-  return out;
+  r.contiguous = r.contiguous && end - r.first == r.count;
+  return r;
 }
 
 // Unused lanes repeat the first triangle; the traversal masks them by the leaf's count.
@@ -82,26 +69,66 @@ TriangleLanes make_lanes(const Triangle* tris, const int* prim, std::uint32_t fi
 // SIMD leaf test each cost the same whatever their count, so a leaf is costed as one block of
 // eight lanes, not per triangle). Costs are expected work per unit of the root's area.
 struct CollapsePlan {
-  double cost[kWidth + 1] = {};  // cost[i]: cheapest using at most i slots of the parent (i >= 1)
-  std::uint8_t split[kWidth + 1] = {};  // 0: one slot (cost[1]); k: k slots to child 0, i - k to 1
-  std::uint8_t node_split = 1;          // the split of the eight slots when it is a wide node
-  bool as_leaf = false;                 // in one slot: a wide leaf (else a wide node)
+  float cost[kWidth] = {};          // cost[i - 1]: cheapest using at most i slots of the parent
+  std::uint8_t split[kWidth] = {};  // split[i - 1] = 0: one slot; k: k slots to child 0, i - k to 1
+  std::uint8_t node_split = 1;      // the split of the eight slots when it is a wide node
+  bool as_leaf = false;             // in one slot: a wide leaf (else a wide node)
 };
 
-double leaf_cost(const Aabb& box) { return kWideLeafCost * double(box.surface_area()); }
+float leaf_cost(const Aabb& box) { return float(kWideLeafCost) * box.surface_area(); }
 
-// Cost of binary child reference `ref` (box `box`) given at most `slots` slots.
-double child_cost(const std::vector<CollapsePlan>& plans, std::uint32_t ref, const Aabb& box,
-                  int slots) {
-  if (ref == kEmptyLeaf) return 0;
-  return is_leaf(ref) ? leaf_cost(box) : plans[ref].cost[slots];
+// Costs of binary child `k` of `nd` given at most 1 .. kWidth slots.
+void child_costs(const std::vector<CollapsePlan>& plans, const BvhNode& nd, int k,
+                 float cost[kWidth]) {
+  const std::uint32_t ref = nd.child[k];
+  if (!is_leaf(ref)) {
+    std::copy(plans[ref].cost, plans[ref].cost + kWidth, cost);
+    return;
+  }
+  std::fill(cost, cost + kWidth, ref == kEmptyLeaf ? 0.0f : leaf_cost(nd.box(k)));
 }
 
-// Plans every internal node, children before parents. A subtree may be a wide leaf when its
+// Plans internal node `node` from its children's plans. A subtree may be a wide leaf when its
 // triangles are contiguous and at most `merge`.
-std::vector<CollapsePlan> plan_collapse(const std::vector<BvhNode>& binary,
-                                        const std::vector<Range>& ranges, int merge) {
-  std::vector<CollapsePlan> plans(binary.size());
+void plan_node(const std::vector<BvhNode>& binary, std::uint32_t node, const Range& r, int merge,
+               std::vector<CollapsePlan>& plans) {
+  const BvhNode& nd = binary[node];
+  float c0[kWidth], c1[kWidth];
+  child_costs(plans, nd, 0, c0);
+  child_costs(plans, nd, 1, c1);
+  // The two children sharing i slots (i >= 2), the first best split.
+  float shared[kWidth + 1];
+  std::uint8_t shared_split[kWidth + 1] = {};
+  for (int i = 2; i <= kWidth; ++i) {
+    shared[i] = std::numeric_limits<float>::infinity();
+    for (int k = 1; k < i; ++k) {
+      const float c = c0[k - 1] + c1[i - k - 1];
+      if (c < shared[i]) {
+        shared[i] = c;
+        shared_split[i] = std::uint8_t(k);
+      }
+    }
+  }
+  Aabb box = nd.box(0);
+  box.expand(nd.box(1));
+  CollapsePlan& p = plans[node];
+  const float as_node = float(kWideNodeCost) * box.surface_area() + shared[kWidth];
+  const float as_leaf = leaf_cost(box);
+  p.as_leaf = r.contiguous && r.count <= std::uint32_t(merge) && as_leaf <= as_node;
+  p.node_split = shared_split[kWidth];
+  p.cost[0] = p.as_leaf ? as_leaf : as_node;
+  for (int i = 2; i <= kWidth; ++i) {
+    const bool open = shared[i] < p.cost[0];
+    p.cost[i - 1] = open ? shared[i] : p.cost[0];
+    p.split[i - 1] = open ? shared_split[i] : 0;
+  }
+}
+
+// Triangle ranges and plans of every internal node, children before parents.
+void plan_collapse(const std::vector<BvhNode>& binary, int merge, std::vector<Range>& ranges,
+                   std::vector<CollapsePlan>& plans) {
+  ranges.assign(binary.size(), Range{});
+  plans.assign(binary.size(), CollapsePlan{});
   std::vector<std::pair<std::uint32_t, bool>> work{{0u, false}};
   while (!work.empty()) {
     const auto [node, children_done] = work.back();
@@ -113,46 +140,20 @@ std::vector<CollapsePlan> plan_collapse(const std::vector<BvhNode>& binary,
         if (!is_leaf(nd.child[k])) work.push_back({nd.child[k], false});
       continue;
     }
-    // The two children sharing i slots (i >= 2), best split first found.
-    double shared[kWidth + 1];
-    std::uint8_t shared_split[kWidth + 1] = {};
-    for (int i = 2; i <= kWidth; ++i) {
-      shared[i] = std::numeric_limits<double>::infinity();
-      for (int k = 1; k < i; ++k) {
-        const double c = child_cost(plans, nd.child[0], nd.box(0), k) +
-                         child_cost(plans, nd.child[1], nd.box(1), i - k);
-        if (c < shared[i]) {
-          shared[i] = c;
-          shared_split[i] = std::uint8_t(k);
-        }
-      }
-    }
-    Aabb box = nd.box(0);
-    box.expand(nd.box(1));
-    CollapsePlan& p = plans[node];
-    const double as_node = kWideNodeCost * double(box.surface_area()) + shared[kWidth];
-    const Range& r = ranges[node];
-    p.as_leaf = r.contiguous && r.count <= std::uint32_t(merge) && leaf_cost(box) <= as_node;
-    p.node_split = shared_split[kWidth];
-    p.cost[1] = p.as_leaf ? leaf_cost(box) : as_node;
-    for (int i = 2; i <= kWidth; ++i) {
-      const bool open = shared[i] < p.cost[1];
-      p.cost[i] = open ? shared[i] : p.cost[1];
-      p.split[i] = open ? shared_split[i] : 0;
-    }
+    ranges[node] = subtree_range(nd, ranges);
+    plan_node(binary, node, ranges[node], merge, plans);
   }
-  return plans;
 }
 
 // Appends the wide children that binary child `ref` becomes when given `slots` slots.
 void gather_slots(const std::vector<BvhNode>& binary, const std::vector<CollapsePlan>& plans,
                   std::uint32_t ref, const Aabb& box, int slots, Slot* out, int& n) {
-  if (is_leaf(ref) || plans[ref].split[slots] == 0) {
+  if (is_leaf(ref) || plans[ref].split[slots - 1] == 0) {
     out[n++] = {box, ref};
     return;
   }
   const BvhNode& nd = binary[ref];
-  const int k = plans[ref].split[slots];
+  const int k = plans[ref].split[slots - 1];
   gather_slots(binary, plans, nd.child[0], nd.box(0), k, out, n);
   gather_slots(binary, plans, nd.child[1], nd.box(1), slots - k, out, n);
 }
@@ -164,8 +165,9 @@ WideBvh collapse_to_wide(const std::vector<BvhNode>& binary, const Triangle* tri
   WideBvh out;
   if (binary.empty()) return out;
   merge = std::min(merge, kMaxLeafSize);
-  const std::vector<Range> ranges = subtree_ranges(binary);
-  const std::vector<CollapsePlan> plans = plan_collapse(binary, ranges, merge);
+  std::vector<Range> ranges;
+  std::vector<CollapsePlan> plans;
+  plan_collapse(binary, merge, ranges, plans);
   out.nodes.reserve(binary.size() / 2 + 1);
   // Each work item: a binary node to turn into the wide node `dst`.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> work{{0u, 0u}};
