@@ -1,6 +1,7 @@
 #include "rtmini/bvh/wide.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 #include <utility>
 
@@ -49,20 +50,46 @@ Range subtree_range(const BvhNode& nd, const std::vector<Range>& ranges) {
   return r;
 }
 
-// Unused lanes repeat the first triangle; the traversal masks them by the leaf's count.
-TriangleLanes make_lanes(const Triangle* tris, const int* prim, std::uint32_t first,
-                         std::uint32_t count) {
-  TriangleLanes l;
-  for (int k = 0; k < kMaxLeafSize; ++k) {
+// Writes triangles [first, first + count) as a leaf's rows of `lanes` lanes at `rows` (nine
+// rows a.x .. c.z, then the prim ids). Unused lanes repeat the first triangle; the traversal
+// masks them by the leaf's count.
+void write_leaf_rows(const Triangle* tris, const int* prim, std::uint32_t first,
+                     std::uint32_t count, int lanes, char* rows) {
+  for (int k = 0; k < lanes; ++k) {
     const std::uint32_t i = first + (k < int(count) ? std::uint32_t(k) : 0u);
     const Triangle& t = tris[i];
-    l.ax[k] = t.a.x, l.ay[k] = t.a.y, l.az[k] = t.a.z;
-    l.bx[k] = t.b.x, l.by[k] = t.b.y, l.bz[k] = t.b.z;
-    l.cx[k] = t.c.x, l.cy[k] = t.c.y, l.cz[k] = t.c.z;
-    l.prim[k] = prim[i];
+    const Real v[9] = {t.a.x, t.a.y, t.a.z, t.b.x, t.b.y, t.b.z, t.c.x, t.c.y, t.c.z};
+    for (int r = 0; r < 9; ++r)
+      std::memcpy(rows + (r * lanes + k) * sizeof(Real), &v[r], sizeof(Real));
+    std::memcpy(rows + (9 * lanes) * sizeof(Real) + k * sizeof(int), &prim[i], sizeof(int));
   }
-  return l;
 }
+
+// Places leaves in blocks: a full leaf takes a block, a compact one (at most kCompactLeafSize
+// triangles) the free half of the last block that has one, so siblings' compact leaves share
+// one. Returns the leaf's reference.
+struct LeafPlacer {
+  std::vector<TriangleLanes>& blocks;
+  std::uint32_t free_half = ~0u;
+
+  std::uint32_t place(const Triangle* tris, const int* prim, std::uint32_t first,
+                      std::uint32_t count) {
+    std::uint32_t half;
+    const bool compact = count <= std::uint32_t(kCompactLeafSize);
+    if (compact && free_half != ~0u) {
+      half = free_half;
+      free_half = ~0u;
+    } else {
+      half = 2 * static_cast<std::uint32_t>(blocks.size());
+      blocks.emplace_back();
+      if (compact) free_half = half + 1;
+    }
+    char* rows =
+        reinterpret_cast<char*>(&blocks[half / 2]) + (half & 1u) * (sizeof(TriangleLanes) / 2);
+    write_leaf_rows(tris, prim, first, count, compact ? kCompactLeafSize : kMaxLeafSize, rows);
+    return make_leaf(half, count);
+  }
+};
 
 // The cheapest ways to lay out one binary internal node's subtree in the wide tree, by the SAH
 // (Ylitie et al. 2017's dynamic programme, with this traversal's costs: a wide node visit and a
@@ -169,6 +196,7 @@ WideBvh collapse_to_wide(const std::vector<BvhNode>& binary, const Triangle* tri
   std::vector<CollapsePlan> plans;
   plan_collapse(binary, merge, ranges, plans);
   out.nodes.reserve(binary.size() / 2 + 1);
+  LeafPlacer leaves{out.leaves};
   // Each work item: a binary node to turn into the wide node `dst`.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> work{{0u, 0u}};
   out.nodes.emplace_back();
@@ -190,8 +218,7 @@ WideBvh collapse_to_wide(const std::vector<BvhNode>& binary, const Triangle* tri
       std::uint32_t ref = slots[k].ref;
       if (is_leaf(ref) || plans[ref].as_leaf) {
         const Range r = is_leaf(ref) ? Range{leaf_first(ref), leaf_count(ref), true} : ranges[ref];
-        ref = make_leaf(static_cast<std::uint32_t>(out.leaves.size()), r.count);
-        out.leaves.push_back(make_lanes(tris, prim, r.first, r.count));
+        ref = leaves.place(tris, prim, r.first, r.count);
       } else {
         const auto id = static_cast<std::uint32_t>(out.nodes.size());
         out.nodes.emplace_back();
@@ -202,6 +229,23 @@ WideBvh collapse_to_wide(const std::vector<BvhNode>& binary, const Triangle* tri
     }
   }
   return out;
+}
+
+void offset_leaf_prims(const WideNode* nodes, std::size_t count, TriangleLanes* blocks, int delta) {
+  for (std::size_t i = 0; i < count; ++i)
+    for (const std::uint32_t c : nodes[i].child) {
+      if (!is_leaf(c) || c == kEmptyLeaf) continue;
+      const int lanes =
+          leaf_count(c) <= std::uint32_t(kCompactLeafSize) ? kCompactLeafSize : kMaxLeafSize;
+      char* ids = reinterpret_cast<char*>(&blocks[leaf_first(c) / 2]) +
+                  (leaf_first(c) & 1u) * (sizeof(TriangleLanes) / 2) + 9 * lanes * sizeof(Real);
+      for (int k = 0; k < lanes; ++k) {
+        int id;
+        std::memcpy(&id, ids + k * sizeof(int), sizeof id);
+        id += delta;
+        std::memcpy(ids + k * sizeof(int), &id, sizeof id);
+      }
+    }
 }
 
 }  // namespace rtmini::bvh

@@ -534,8 +534,9 @@ Aabb wide_child_box(const bvh::WideNode& n, int k) {
 }
 
 // The SAH-optimal 8-wide collapse (wide.cpp) lays every binary leaf slot out exactly once, in a
-// leaf of at most eight lanes, each wide node and leaf referenced once, every child box enclosing
-// what is under it (its leaf's triangles, or the child node's own child boxes).
+// leaf of at most eight lanes (compact leaves of at most four in half a block), each wide node and
+// leaf referenced once, every child box enclosing what is under it (its leaf's triangles, or the
+// child node's own child boxes).
 TEST(WideCollapse, EveryTriangleOnceUnderEnclosingBoxes) {
   std::vector<std::vector<Triangle>> inputs = {host_triangles(load_scene("stanford-bunny.obj"))};
   for (const int count : {1, 2, 9, 40})
@@ -544,8 +545,7 @@ TEST(WideCollapse, EveryTriangleOnceUnderEnclosingBoxes) {
     const bvh::HostBvh h = bvh::build_sah_host(input);
     const bvh::WideBvh w = bvh::collapse_to_wide(h.nodes, h.tris.data(), h.prim.data());
     const std::string what = std::to_string(input.size()) + " triangles";
-    std::vector<int> slot_seen(h.prim.size(), 0), node_refs(w.nodes.size(), 0),
-        leaf_refs(w.leaves.size(), 0);
+    std::vector<int> node_refs(w.nodes.size(), 0), half_refs(2 * w.leaves.size(), 0);
     std::vector<int> prim_expected(input.size(), 0), prim_seen(input.size(), 0);
     for (const int p : h.prim) ++prim_expected[p];
     node_refs[0] = 1;  // the root
@@ -556,17 +556,33 @@ TEST(WideCollapse, EveryTriangleOnceUnderEnclosingBoxes) {
         const Aabb box = wide_child_box(n, k);
         if (!bvh::is_leaf(c)) {
           ++node_refs[c];
-          for (int j = 0; j < bvh::kWidth; ++j)
-            if (w.nodes[c].child[j] != bvh::kEmptyLeaf)
-              EXPECT_TRUE(encloses(box, wide_child_box(w.nodes[c], j))) << what;
+          for (int j = 0; j < bvh::kWidth; ++j) {
+            if (w.nodes[c].child[j] == bvh::kEmptyLeaf) continue;
+            EXPECT_TRUE(encloses(box, wide_child_box(w.nodes[c], j))) << what;
+          }
           continue;
         }
         ASSERT_LE(bvh::leaf_count(c), std::uint32_t(bvh::kMaxLeafSize));
-        ++leaf_refs[bvh::leaf_first(c)];
-        const bvh::TriangleLanes& l = w.leaves[bvh::leaf_first(c)];
+        const bool compact = bvh::leaf_count(c) <= std::uint32_t(bvh::kCompactLeafSize);
+        const std::uint32_t half = bvh::leaf_first(c);
+        ASSERT_LT(half / 2, w.leaves.size());
+        ++half_refs[half];
+        if (!compact) {
+          EXPECT_EQ(half % 2, 0u) << what;  // a full leaf fills its block
+          ++half_refs[half + 1];
+        }
+        const Real* rows = bvh::detail::leaf_rows(w.leaves[half / 2], c);
         for (int j = 0; j < int(bvh::leaf_count(c)); ++j) {
-          ++prim_seen[l.prim[j]];
-          const Triangle t = bvh::detail::lane_triangle(l, j);
+          Triangle t;
+          int id;
+          if (compact) {
+            const bvh::detail::LeafRows<bvh::kCompactLeafSize> l{rows};
+            t = l.triangle(j), id = l.prim(j);
+          } else {
+            const bvh::detail::LeafRows<bvh::kMaxLeafSize> l{rows};
+            t = l.triangle(j), id = l.prim(j);
+          }
+          ++prim_seen[id];
           Aabb tb;
           tb.expand(t.a);
           tb.expand(t.b);
@@ -577,8 +593,10 @@ TEST(WideCollapse, EveryTriangleOnceUnderEnclosingBoxes) {
     EXPECT_EQ(prim_seen, prim_expected) << what;
     EXPECT_EQ(std::count(node_refs.begin(), node_refs.end(), 1), std::ptrdiff_t(w.nodes.size()))
         << what;
-    EXPECT_EQ(std::count(leaf_refs.begin(), leaf_refs.end(), 1), std::ptrdiff_t(w.leaves.size()))
+    // Every block holds a leaf, no half holds two (the last block's second half may be free).
+    EXPECT_EQ(std::count_if(half_refs.begin(), half_refs.end(), [](int r) { return r > 1; }), 0)
         << what;
+    for (std::size_t b = 0; b < w.leaves.size(); ++b) EXPECT_EQ(half_refs[2 * b], 1) << what;
   }
 }
 

@@ -26,7 +26,7 @@ inline constexpr double kWideLeafCost = 1.0;
 
 struct WideBvh {
   std::vector<WideNode> nodes;
-  std::vector<TriangleLanes> leaves;
+  std::vector<TriangleLanes> leaves;  // blocks: one full leaf or two compact ones (bvh.hpp)
 };
 
 // Collapses a binary tree (host copies of its nodes, and its triangles and prim ids in leaf
@@ -34,5 +34,9 @@ struct WideBvh {
 // leaf order) may become one leaf.
 WideBvh collapse_to_wide(const std::vector<BvhNode>& binary, const Triangle* tris, const int* prim,
                          int merge = kWideLeafMerge);
+
+// Adds `delta` to the prim ids of every leaf that nodes [0, count) reference in `blocks` (trees
+// appended into one array, whose ids become global).
+void offset_leaf_prims(const WideNode* nodes, std::size_t count, TriangleLanes* blocks, int delta);
 
 }  // namespace rtmini::bvh
