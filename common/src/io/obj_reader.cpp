@@ -26,6 +26,7 @@
 #include "rtmini/io/image.hpp"
 #include "rtmini/io/path.hpp"
 #include "rtmini/io/text_fields.hpp"
+#include "rtmini/parallel/host_threads.hpp"
 
 namespace rtmini {
 namespace {
@@ -466,15 +467,6 @@ class ObjScan {
   long missing_mtl_line_ = 0;
   std::string missing_mtl_;
 };
-
-// Calls fn(i) for i < n, each on a thread of its own (fn must not throw).
-template <class Fn>
-void on_threads(std::size_t n, const Fn& fn) {
-  std::vector<std::thread> threads;
-  for (std::size_t i = 1; i < n; ++i) threads.emplace_back(fn, i);
-  if (n > 0) fn(0);
-  for (std::thread& t : threads) t.join();
-}
 
 // `text` cut into about n pieces of whole lines.
 std::vector<std::string_view> split_at_lines(std::string_view text, std::size_t n) {

@@ -196,9 +196,13 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
   }
 
   report.timer.start("build");
+  const double build_start = report.timer.now();
   const ao::DeviceScene device(scene, build_quality_named(o.bvh), ground);
+  const double bvh_built = report.timer.now();
   const ao::DeviceSamplePlan dplan = ao::upload_plan(scene, plan);
   report.timer.stop();
+  const double plan_upload_s = report.timer.now() - bvh_built;
+  const double mesh_bvh_s = bvh_built - build_start;
 
   ao::TraceSettings ts;
   ts.rays = o.rays;
@@ -265,6 +269,8 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
     std::printf("Load scene ...               %10.2f ms\n", 1e3 * t[0]);
     std::printf("Plan sample points ...       %10.2f ms\n", 1e3 * t[1]);
     std::printf("Build BVHs ...               %10.2f ms\n", 1e3 * t[2]);
+    std::printf("    mesh BVHs ...                     %10.2f ms\n", 1e3 * mesh_bvh_s);
+    std::printf("    upload receivers and plan ...     %10.2f ms\n", 1e3 * plan_upload_s);
     std::printf("Generate sample points ...   %10.2f ms\n", 1e3 * t[3]);
     std::printf("Compute AO (rays) ...        %10.2f ms  (%.4g Mrays/s)\n", 1e3 * t[4],
                 t[4] > 0 ? total_rays / t[4] * 1e-6 : 0.0);

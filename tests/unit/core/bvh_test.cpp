@@ -315,6 +315,20 @@ TEST(Bvh, QualityReportIsConsistent) {
   EXPECT_LT(pl.sah_cost, lb.sah_cost) << "PLOC must beat the LBVH's SAH cost";
 }
 
+// --bvh auto's choice depends on rays per triangle only, each builder owning one interval
+// (crossovers of the measured costs in build_quality.hpp; results/bvh/README.md "--bvh auto").
+TEST(Bvh, AutoBuildFollowsRaysPerTriangle) {
+  const double tris = 1e5;
+  const auto device = [&](double rays_per_tri) {
+    return bvh::choose_build_quality(tris, rays_per_tri * tris, true);
+  };
+  EXPECT_EQ(device(192), bvh::BuildQuality::kLbvh) << "AO's default 3 x 64 rays per triangle";
+  EXPECT_EQ(device(2000), bvh::BuildQuality::kPloc);
+  EXPECT_EQ(device(50000), bvh::BuildQuality::kSah);
+  EXPECT_EQ(bvh::choose_build_quality(tris, 10 * tris, false), bvh::BuildQuality::kLbvh);
+  EXPECT_EQ(bvh::choose_build_quality(tris, 192 * tris, false), bvh::BuildQuality::kSah);
+}
+
 // The compressed 8-wide layout (built on devices by default) asked for explicitly, so the host
 // backends check it too: every hit equal to brute force, for both builders.
 template <class BvhT>
