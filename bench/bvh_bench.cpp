@@ -412,16 +412,20 @@ void print_wide_layout(const bvh::Bvh<Mem>& accel) {
   if (accel.wide.extent(0) == 0) return;
   const auto nodes = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), accel.wide);
   long long tris = 0;
+  std::size_t leaves = 0, compact = 0;
   for (std::size_t i = 0; i < nodes.extent(0); ++i)
     for (int k = 0; k < bvh::kWidth; ++k) {
       const std::uint32_t c = nodes(i).child[k];
-      if (bvh::is_leaf(c) && c != bvh::kEmptyLeaf) tris += bvh::leaf_count(c);
+      if (!bvh::is_leaf(c) || c == bvh::kEmptyLeaf) continue;
+      tris += bvh::leaf_count(c);
+      ++leaves;
+      compact += bvh::leaf_count(c) <= std::uint32_t(bvh::kCompactLeafSize) ? 1 : 0;
     }
-  const std::size_t leaves = accel.leaves.extent(0);
   const double bytes = double(accel.wide.span()) * sizeof(bvh::WideNode) +
-                       double(leaves) * sizeof(bvh::TriangleLanes);
-  std::printf("wide tree: %zu nodes, %zu leaves (mean %.2f triangles), %.2f MiB\n", nodes.extent(0),
-              leaves, double(tris) / std::max<std::size_t>(1, leaves), bytes / (1 << 20));
+                       double(accel.leaves.span()) * sizeof(bvh::TriangleLanes);
+  std::printf("wide tree: %zu nodes, %zu leaves (mean %.2f triangles, %zu compact), %.2f MiB\n",
+              nodes.extent(0), leaves, double(tris) / std::max<std::size_t>(1, leaves), compact,
+              bytes / (1 << 20));
 }
 
 // Which builders the benchmark times (--time-builds): the host SAH build of 10M triangles takes

@@ -121,10 +121,10 @@ DeviceMotion<MemSpaceT> upload_motion(const HostScene& s, const TriangleList& tl
       append(tris, tree.tris);
       append(prim, tree.prim);
       append(wide, tree.wide);
-      const std::size_t leaf0 = leaves.size();
+      const std::size_t leaf0 = leaves.size(), wide0 = wide.size() - tree.wide.extent(0);
       append(leaves, tree.leaves);
-      for (std::size_t l = leaf0; l < leaves.size(); ++l)
-        for (int& p : leaves[l].prim) p += static_cast<int>(first);
+      bvh::offset_leaf_prims(wide.data() + wide0, tree.wide.extent(0), leaves.data() + leaf0,
+                             static_cast<int>(first));
     }
     objects.push_back(o);
     // Everywhere the object reaches while rays sample times in [-max_abs_time, max_abs_time].

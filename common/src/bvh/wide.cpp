@@ -1,6 +1,8 @@
 #include "rtmini/bvh/wide.hpp"
 
 #include <algorithm>
+#include <cstring>
+#include <limits>
 #include <utility>
 
 namespace rtmini::bvh {
@@ -28,10 +30,132 @@ void set_lane(WideNode& n, int k, const Aabb& b, std::uint32_t ref) {
   n.child[k] = ref;
 }
 
-// Triangle ranges of every internal node's subtree, children before parents (both builders
-// store a subtree's triangles contiguously; `contiguous` guards the merge if one ever does not).
-std::vector<Range> subtree_ranges(const std::vector<BvhNode>& binary) {
-  std::vector<Range> out(binary.size());
+// The leaf-order triangle range of internal node `nd`'s subtree, from its children's (both
+// builders store a subtree's triangles contiguously; `contiguous` guards the merge if one ever
+// does not).
+Range subtree_range(const BvhNode& nd, const std::vector<Range>& ranges) {
+  Range r;
+  r.first = ~0u;
+  std::uint32_t end = 0;
+  for (int k = 0; k < 2; ++k) {
+    const std::uint32_t c = nd.child[k];
+    if (c == kEmptyLeaf) continue;
+    const Range sub = is_leaf(c) ? Range{leaf_first(c), leaf_count(c), true} : ranges[c];
+    r.first = std::min(r.first, sub.first);
+    end = std::max(end, sub.first + sub.count);
+    r.count += sub.count;
+    r.contiguous = r.contiguous && sub.contiguous;
+  }
+  r.contiguous = r.contiguous && end - r.first == r.count;
+  return r;
+}
+
+// Writes triangles [first, first + count) as a leaf's rows of `lanes` lanes at `rows` (nine
+// rows a.x .. c.z, then the prim ids). Unused lanes repeat the first triangle; the traversal
+// masks them by the leaf's count.
+void write_leaf_rows(const Triangle* tris, const int* prim, std::uint32_t first,
+                     std::uint32_t count, int lanes, char* rows) {
+  for (int k = 0; k < lanes; ++k) {
+    const std::uint32_t i = first + (k < int(count) ? std::uint32_t(k) : 0u);
+    const Triangle& t = tris[i];
+    const Real v[9] = {t.a.x, t.a.y, t.a.z, t.b.x, t.b.y, t.b.z, t.c.x, t.c.y, t.c.z};
+    for (int r = 0; r < 9; ++r)
+      std::memcpy(rows + (r * lanes + k) * sizeof(Real), &v[r], sizeof(Real));
+    std::memcpy(rows + (9 * lanes) * sizeof(Real) + k * sizeof(int), &prim[i], sizeof(int));
+  }
+}
+
+// Places leaves in blocks: a full leaf takes a block, a compact one (at most kCompactLeafSize
+// triangles) the free half of the last block that has one, so siblings' compact leaves share
+// one. Returns the leaf's reference.
+struct LeafPlacer {
+  std::vector<TriangleLanes>& blocks;
+  std::uint32_t free_half = ~0u;
+
+  std::uint32_t place(const Triangle* tris, const int* prim, std::uint32_t first,
+                      std::uint32_t count) {
+    std::uint32_t half;
+    const bool compact = count <= std::uint32_t(kCompactLeafSize);
+    if (compact && free_half != ~0u) {
+      half = free_half;
+      free_half = ~0u;
+    } else {
+      half = 2 * static_cast<std::uint32_t>(blocks.size());
+      blocks.emplace_back();
+      if (compact) free_half = half + 1;
+    }
+    char* rows =
+        reinterpret_cast<char*>(&blocks[half / 2]) + (half & 1u) * (sizeof(TriangleLanes) / 2);
+    write_leaf_rows(tris, prim, first, count, compact ? kCompactLeafSize : kMaxLeafSize, rows);
+    return make_leaf(half, count);
+  }
+};
+
+// The cheapest ways to lay out one binary internal node's subtree in the wide tree, by the SAH
+// (Ylitie et al. 2017's dynamic programme, with this traversal's costs: a wide node visit and a
+// SIMD leaf test each cost the same whatever their count, so a leaf is costed as one block of
+// eight lanes, not per triangle). Costs are expected work per unit of the root's area.
+struct CollapsePlan {
+  float cost[kWidth] = {};          // cost[i - 1]: cheapest using at most i slots of the parent
+  std::uint8_t split[kWidth] = {};  // split[i - 1] = 0: one slot; k: k slots to child 0, i - k to 1
+  std::uint8_t node_split = 1;      // the split of the eight slots when it is a wide node
+  bool as_leaf = false;             // in one slot: a wide leaf (else a wide node)
+};
+
+float leaf_cost(const Aabb& box) { return float(kWideLeafCost) * box.surface_area(); }
+
+// Costs of binary child `k` of `nd` given at most 1 .. kWidth slots.
+void child_costs(const std::vector<CollapsePlan>& plans, const BvhNode& nd, int k,
+                 float cost[kWidth]) {
+  const std::uint32_t ref = nd.child[k];
+  if (!is_leaf(ref)) {
+    std::copy(plans[ref].cost, plans[ref].cost + kWidth, cost);
+    return;
+  }
+  std::fill(cost, cost + kWidth, ref == kEmptyLeaf ? 0.0f : leaf_cost(nd.box(k)));
+}
+
+// Plans internal node `node` from its children's plans. A subtree may be a wide leaf when its
+// triangles are contiguous and at most `merge`.
+void plan_node(const std::vector<BvhNode>& binary, std::uint32_t node, const Range& r, int merge,
+               std::vector<CollapsePlan>& plans) {
+  const BvhNode& nd = binary[node];
+  float c0[kWidth], c1[kWidth];
+  child_costs(plans, nd, 0, c0);
+  child_costs(plans, nd, 1, c1);
+  // The two children sharing i slots (i >= 2), the first best split.
+  float shared[kWidth + 1];
+  std::uint8_t shared_split[kWidth + 1] = {};
+  for (int i = 2; i <= kWidth; ++i) {
+    shared[i] = std::numeric_limits<float>::infinity();
+    for (int k = 1; k < i; ++k) {
+      const float c = c0[k - 1] + c1[i - k - 1];
+      if (c < shared[i]) {
+        shared[i] = c;
+        shared_split[i] = std::uint8_t(k);
+      }
+    }
+  }
+  Aabb box = nd.box(0);
+  box.expand(nd.box(1));
+  CollapsePlan& p = plans[node];
+  const float as_node = float(kWideNodeCost) * box.surface_area() + shared[kWidth];
+  const float as_leaf = leaf_cost(box);
+  p.as_leaf = r.contiguous && r.count <= std::uint32_t(merge) && as_leaf <= as_node;
+  p.node_split = shared_split[kWidth];
+  p.cost[0] = p.as_leaf ? as_leaf : as_node;
+  for (int i = 2; i <= kWidth; ++i) {
+    const bool open = shared[i] < p.cost[0];
+    p.cost[i - 1] = open ? shared[i] : p.cost[0];
+    p.split[i - 1] = open ? shared_split[i] : 0;
+  }
+}
+
+// Triangle ranges and plans of every internal node, children before parents.
+void plan_collapse(const std::vector<BvhNode>& binary, int merge, std::vector<Range>& ranges,
+                   std::vector<CollapsePlan>& plans) {
+  ranges.assign(binary.size(), Range{});
+  plans.assign(binary.size(), CollapsePlan{});
   std::vector<std::pair<std::uint32_t, bool>> work{{0u, false}};
   while (!work.empty()) {
     const auto [node, children_done] = work.back();
@@ -43,37 +167,22 @@ std::vector<Range> subtree_ranges(const std::vector<BvhNode>& binary) {
         if (!is_leaf(nd.child[k])) work.push_back({nd.child[k], false});
       continue;
     }
-    Range r;
-    r.first = ~0u;
-    std::uint32_t end = 0;
-    for (int k = 0; k < 2; ++k) {
-      const std::uint32_t c = nd.child[k];
-      if (c == kEmptyLeaf) continue;
-      const Range sub = is_leaf(c) ? Range{leaf_first(c), leaf_count(c), true} : out[c];
-      r.first = std::min(r.first, sub.first);
-      end = std::max(end, sub.first + sub.count);
-      r.count += sub.count;
-      r.contiguous = r.contiguous && sub.contiguous;
-    }
-    r.contiguous = r.contiguous && end - r.first == r.count;
-    out[node] = r;
+    ranges[node] = subtree_range(nd, ranges);
+    plan_node(binary, node, ranges[node], merge, plans);
   }
-  return out;
 }
 
-// Unused lanes repeat the first triangle; the traversal masks them by the leaf's count.
-TriangleLanes make_lanes(const Triangle* tris, const int* prim, std::uint32_t first,
-                         std::uint32_t count) {
-  TriangleLanes l;
-  for (int k = 0; k < kMaxLeafSize; ++k) {
-    const std::uint32_t i = first + (k < int(count) ? std::uint32_t(k) : 0u);
-    const Triangle& t = tris[i];
-    l.ax[k] = t.a.x, l.ay[k] = t.a.y, l.az[k] = t.a.z;
-    l.bx[k] = t.b.x, l.by[k] = t.b.y, l.bz[k] = t.b.z;
-    l.cx[k] = t.c.x, l.cy[k] = t.c.y, l.cz[k] = t.c.z;
-    l.prim[k] = prim[i];
+// Appends the wide children that binary child `ref` becomes when given `slots` slots.
+void gather_slots(const std::vector<BvhNode>& binary, const std::vector<CollapsePlan>& plans,
+                  std::uint32_t ref, const Aabb& box, int slots, Slot* out, int& n) {
+  if (is_leaf(ref) || plans[ref].split[slots - 1] == 0) {
+    out[n++] = {box, ref};
+    return;
   }
-  return l;
+  const BvhNode& nd = binary[ref];
+  const int k = plans[ref].split[slots - 1];
+  gather_slots(binary, plans, nd.child[0], nd.box(0), k, out, n);
+  gather_slots(binary, plans, nd.child[1], nd.box(1), slots - k, out, n);
 }
 
 }  // namespace
@@ -83,20 +192,14 @@ WideBvh collapse_to_wide(const std::vector<BvhNode>& binary, const Triangle* tri
   WideBvh out;
   if (binary.empty()) return out;
   merge = std::min(merge, kMaxLeafSize);
-  const std::vector<Range> ranges = subtree_ranges(binary);
-  // A child becomes a wide leaf when it is a binary leaf or a small enough subtree.
-  auto leaf_range = [&](std::uint32_t ref, Range& r) {
-    if (is_leaf(ref)) {
-      r = {leaf_first(ref), leaf_count(ref), true};
-      return true;
-    }
-    r = ranges[ref];
-    return r.contiguous && r.count <= std::uint32_t(merge);
-  };
+  std::vector<Range> ranges;
+  std::vector<CollapsePlan> plans;
+  plan_collapse(binary, merge, ranges, plans);
   // Each wide leaf holds one binary leaf or more (at most binary.size() + 1 of them): reserved
   // whole, untouched pages cost nothing, and the leaves are never copied by regrowth.
   out.nodes.reserve(binary.size() / 2 + 1);
   out.leaves.reserve(binary.size() + 1);
+  LeafPlacer leaves{out.leaves};
   // Each work item: a binary node to turn into the wide node `dst`.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> work{{0u, 0u}};
   out.nodes.emplace_back();
@@ -105,25 +208,10 @@ WideBvh collapse_to_wide(const std::vector<BvhNode>& binary, const Triangle* tri
     work.pop_back();
     Slot slots[kWidth];
     int n = 0;
-    for (int k = 0; k < 2; ++k) slots[n++] = {binary[src].box(k), binary[src].child[k]};
-    // Open the internal child with the largest surface area until kWidth children.
-    while (n < kWidth) {
-      int best = -1;
-      Real best_area = -1;
-      for (int k = 0; k < n; ++k) {
-        Range r;
-        if (leaf_range(slots[k].ref, r)) continue;
-        const Real a = slots[k].box.surface_area();
-        if (a > best_area) {
-          best_area = a;
-          best = k;
-        }
-      }
-      if (best < 0) break;
-      const BvhNode& open = binary[slots[best].ref];
-      slots[best] = {open.box(0), open.child[0]};
-      slots[n++] = {open.box(1), open.child[1]};
-    }
+    const BvhNode& nd = binary[src];
+    const int split = plans[src].node_split;
+    gather_slots(binary, plans, nd.child[0], nd.box(0), split, slots, n);
+    gather_slots(binary, plans, nd.child[1], nd.box(1), kWidth - split, slots, n);
     for (int k = 0; k < kWidth; ++k) {
       if (k >= n || slots[k].ref == kEmptyLeaf) {
         Aabb empty;  // lo > hi on every axis: never hit by the wide slab test
@@ -131,10 +219,9 @@ WideBvh collapse_to_wide(const std::vector<BvhNode>& binary, const Triangle* tri
         continue;
       }
       std::uint32_t ref = slots[k].ref;
-      Range r;
-      if (leaf_range(ref, r)) {
-        ref = make_leaf(static_cast<std::uint32_t>(out.leaves.size()), r.count);
-        out.leaves.push_back(make_lanes(tris, prim, r.first, r.count));
+      if (is_leaf(ref) || plans[ref].as_leaf) {
+        const Range r = is_leaf(ref) ? Range{leaf_first(ref), leaf_count(ref), true} : ranges[ref];
+        ref = leaves.place(tris, prim, r.first, r.count);
       } else {
         const auto id = static_cast<std::uint32_t>(out.nodes.size());
         out.nodes.emplace_back();
@@ -145,6 +232,23 @@ WideBvh collapse_to_wide(const std::vector<BvhNode>& binary, const Triangle* tri
     }
   }
   return out;
+}
+
+void offset_leaf_prims(const WideNode* nodes, std::size_t count, TriangleLanes* blocks, int delta) {
+  for (std::size_t i = 0; i < count; ++i)
+    for (const std::uint32_t c : nodes[i].child) {
+      if (!is_leaf(c) || c == kEmptyLeaf) continue;
+      const int lanes =
+          leaf_count(c) <= std::uint32_t(kCompactLeafSize) ? kCompactLeafSize : kMaxLeafSize;
+      char* ids = reinterpret_cast<char*>(&blocks[leaf_first(c) / 2]) +
+                  (leaf_first(c) & 1u) * (sizeof(TriangleLanes) / 2) + 9 * lanes * sizeof(Real);
+      for (int k = 0; k < lanes; ++k) {
+        int id;
+        std::memcpy(&id, ids + k * sizeof(int), sizeof id);
+        id += delta;
+        std::memcpy(ids + k * sizeof(int), &id, sizeof id);
+      }
+    }
 }
 
 }  // namespace rtmini::bvh

@@ -617,5 +617,91 @@ TEST(Bvh, SplitBudgetParsesAutoAndNumbers) {
   EXPECT_EQ(bvh::split_budget_to_string(1.0), "1");
 }
 
+// Host copies of a mesh's triangles, for the host-only builders.
+std::vector<Triangle> host_triangles(const Mesh& mesh) {
+  const auto tris = upload_triangles(mesh);
+  const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), tris);
+  return std::vector<Triangle>(h.data(), h.data() + h.extent(0));
+}
+
+bool encloses(const Aabb& outer, const Aabb& inner) {
+  return outer.lo.x <= inner.lo.x && outer.lo.y <= inner.lo.y && outer.lo.z <= inner.lo.z &&
+         inner.hi.x <= outer.hi.x && inner.hi.y <= outer.hi.y && inner.hi.z <= outer.hi.z;
+}
+
+Aabb wide_child_box(const bvh::WideNode& n, int k) {
+  Aabb b;
+  b.lo = Vec3(n.lo_x[k], n.lo_y[k], n.lo_z[k]);
+  b.hi = Vec3(n.hi_x[k], n.hi_y[k], n.hi_z[k]);
+  return b;
+}
+
+// The SAH-optimal 8-wide collapse (wide.cpp) lays every binary leaf slot out exactly once, in a
+// leaf of at most eight lanes (compact leaves of at most four in half a block), each wide node and
+// leaf referenced once, every child box enclosing what is under it (its leaf's triangles, or the
+// child node's own child boxes).
+TEST(WideCollapse, EveryTriangleOnceUnderEnclosingBoxes) {
+  std::vector<std::vector<Triangle>> inputs = {host_triangles(load_scene("stanford-bunny.obj"))};
+  for (const int count : {1, 2, 9, 40})
+    inputs.push_back({inputs[0].begin(), inputs[0].begin() + count});
+  for (const auto& input : inputs) {
+    const bvh::HostBvh h = bvh::build_sah_host(input);
+    const bvh::WideBvh w = bvh::collapse_to_wide(h.nodes, h.tris.data(), h.prim.data());
+    const std::string what = std::to_string(input.size()) + " triangles";
+    std::vector<int> node_refs(w.nodes.size(), 0), half_refs(2 * w.leaves.size(), 0);
+    std::vector<int> prim_expected(input.size(), 0), prim_seen(input.size(), 0);
+    for (const int p : h.prim) ++prim_expected[p];
+    node_refs[0] = 1;  // the root
+    for (const bvh::WideNode& n : w.nodes)
+      for (int k = 0; k < bvh::kWidth; ++k) {
+        const std::uint32_t c = n.child[k];
+        if (c == bvh::kEmptyLeaf) continue;
+        const Aabb box = wide_child_box(n, k);
+        if (!bvh::is_leaf(c)) {
+          ++node_refs[c];
+          for (int j = 0; j < bvh::kWidth; ++j) {
+            if (w.nodes[c].child[j] == bvh::kEmptyLeaf) continue;
+            EXPECT_TRUE(encloses(box, wide_child_box(w.nodes[c], j))) << what;
+          }
+          continue;
+        }
+        ASSERT_LE(bvh::leaf_count(c), std::uint32_t(bvh::kMaxLeafSize));
+        const bool compact = bvh::leaf_count(c) <= std::uint32_t(bvh::kCompactLeafSize);
+        const std::uint32_t half = bvh::leaf_first(c);
+        ASSERT_LT(half / 2, w.leaves.size());
+        ++half_refs[half];
+        if (!compact) {
+          EXPECT_EQ(half % 2, 0u) << what;  // a full leaf fills its block
+          ++half_refs[half + 1];
+        }
+        const Real* rows = bvh::detail::leaf_rows(w.leaves[half / 2], c);
+        for (int j = 0; j < int(bvh::leaf_count(c)); ++j) {
+          Triangle t;
+          int id;
+          if (compact) {
+            const bvh::detail::LeafRows<bvh::kCompactLeafSize> l{rows};
+            t = l.triangle(j), id = l.prim(j);
+          } else {
+            const bvh::detail::LeafRows<bvh::kMaxLeafSize> l{rows};
+            t = l.triangle(j), id = l.prim(j);
+          }
+          ++prim_seen[id];
+          Aabb tb;
+          tb.expand(t.a);
+          tb.expand(t.b);
+          tb.expand(t.c);
+          EXPECT_TRUE(encloses(box, tb)) << what;
+        }
+      }
+    EXPECT_EQ(prim_seen, prim_expected) << what;
+    EXPECT_EQ(std::count(node_refs.begin(), node_refs.end(), 1), std::ptrdiff_t(w.nodes.size()))
+        << what;
+    // Every block holds a leaf, no half holds two (the last block's second half may be free).
+    EXPECT_EQ(std::count_if(half_refs.begin(), half_refs.end(), [](int r) { return r > 1; }), 0)
+        << what;
+    for (std::size_t b = 0; b < w.leaves.size(); ++b) EXPECT_EQ(half_refs[2 * b], 1) << what;
+  }
+}
+
 }  // namespace
 }  // namespace rtmini::test

@@ -105,6 +105,25 @@ __attribute__((always_inline)) inline RealLanes load_lanes(const Real* p) {
   return v;
 }
 
+// A row of kLanes values (8, or 4 of a compact leaf) in the low lanes, zeros above.
+template <int kLanes>
+__attribute__((always_inline)) inline RealLanes load_row(const Real* p) {
+  if constexpr (kLanes == kWidth) return load_lanes(p);
+#if defined(__AVX__)
+  // One 128-bit load, zero-extended (a memcpy into a zeroed vector went through the stack: a
+  // store-forwarding stall per row).
+  if constexpr (sizeof(Real) == 4 && kLanes == 4) {
+    const __m256 w = _mm256_zextps128_ps256(_mm_loadu_ps(p));
+    RealLanes v;
+    std::memcpy(&v, &w, sizeof v);
+    return v;
+  }
+#endif
+  RealLanes v{};
+  std::memcpy(&v, p, kLanes * sizeof(Real));
+  return v;
+}
+
 // One bit per lane of a comparison result (all ones = true).
 __attribute__((always_inline)) inline int lane_bits(const IntLanes& m) {
 #if defined(__AVX__)
@@ -132,19 +151,17 @@ struct LeafLaneHits {
   RealLanes t, u, v;
 };
 
-// intersect_triangle on every lane of a leaf at once. Each lane runs the scalar test's
-// operations in the same order (and -ffp-contract=off keeps products unfused), so t, u and v
-// are bit for bit the scalar results; only the double-precision redo of zero edge functions is
-// left to the scalar test (flagged in `redo`).
-__attribute__((always_inline)) inline LeafLaneHits watertight_lanes(const TriangleLanes& l,
-                                                                    int count,
+// intersect_triangle on every lane of a leaf at once (rows of kLanes values from `rows`). Each
+// lane runs the scalar test's operations in the same order (and -ffp-contract=off keeps products
+// unfused), so t, u and v are bit for bit the scalar results; only the double-precision redo of
+// zero edge functions is left to the scalar test (flagged in `redo`).
+template <int kLanes>
+__attribute__((always_inline)) inline LeafLaneHits watertight_lanes(const Real* rows, int count,
                                                                     const WatertightRay& r,
                                                                     Real tmin, Real tmax) {
   // Rows of the leaf by the ray's axis permutation: vertex v's axis k lies at row 3 v + k.
-  const char* base = reinterpret_cast<const char*>(&l);
   auto row = [&](int vertex, int axis) {
-    return load_lanes(
-        reinterpret_cast<const Real*>(base + (3 * vertex + axis) * sizeof(RealLanes)));
+    return load_row<kLanes>(rows + (3 * vertex + axis) * kLanes);
   };
   const Real ox = r.org[r.kx], oy = r.org[r.ky], oz = r.org[r.kz];
   const RealLanes Az = row(0, r.kz) - oz, Bz = row(1, r.kz) - oz, Cz = row(2, r.kz) - oz;
@@ -390,9 +407,26 @@ KOKKOS_FORCEINLINE_FUNCTION Real cull_limit(Real tmax, const WideRay& r) {
   return tmax * slab_widening();
 }
 
-KOKKOS_INLINE_FUNCTION Triangle lane_triangle(const TriangleLanes& l, int k) {
-  return {Vec3(l.ax[k], l.ay[k], l.az[k]), Vec3(l.bx[k], l.by[k], l.bz[k]),
-          Vec3(l.cx[k], l.cy[k], l.cz[k])};
+// A wide leaf's rows and prim ids: kLanes values per row, nine rows a.x .. c.z, then the ids.
+template <int kLanes>
+struct LeafRows {
+  const Real* rows;
+  KOKKOS_INLINE_FUNCTION Real at(int row, int k) const { return rows[row * kLanes + k]; }
+  KOKKOS_INLINE_FUNCTION int prim(int k) const {
+    int id;
+    std::memcpy(&id, rows + 9 * kLanes + k, sizeof id);
+    return id;
+  }
+  KOKKOS_INLINE_FUNCTION Triangle triangle(int k) const {
+    return {Vec3(at(0, k), at(1, k), at(2, k)), Vec3(at(3, k), at(4, k), at(5, k)),
+            Vec3(at(6, k), at(7, k), at(8, k))};
+  }
+};
+
+// The rows of leaf `ref` in its block (the half its `first` names).
+KOKKOS_FORCEINLINE_FUNCTION const Real* leaf_rows(const TriangleLanes& block, std::uint32_t ref) {
+  return reinterpret_cast<const Real*>(reinterpret_cast<const char*>(&block) +
+                                       (leaf_first(ref) & 1u) * (sizeof(TriangleLanes) / 2));
 }
 
 // One candidate from a leaf lane, under the scalar traversal's rule: closest t, and the lower
@@ -411,34 +445,49 @@ KOKKOS_FORCEINLINE_FUNCTION bool take_hit(Real t, Real u, Real v, int id, Real& 
   return kAnyHit;
 }
 
-// A wide-tree leaf: updates hit/tmax; true when any-hit may stop.
-template <bool kAnyHit, bool kStats>
-KOKKOS_FORCEINLINE_FUNCTION bool intersect_wide_leaf(const TriangleLanes& l, std::uint32_t ref,
+// A wide-tree leaf of kLanes lanes per row: updates hit/tmax; true when any-hit may stop.
+template <int kLanes, bool kAnyHit, bool kStats>
+KOKKOS_FORCEINLINE_FUNCTION bool intersect_leaf_rows(const Real* rows, int count,
                                                      const WatertightRay& wr, const Ray& ray,
                                                      Real& tmax, Hit& hit, bool& found,
                                                      TraversalStats* stats) {
-  const int count = static_cast<int>(leaf_count(ref));
+  const LeafRows<kLanes> l{rows};
   if (kStats) stats->tests += count;
   // Lanes the scalar test decides: all of them without vector extensions, else the redo lanes.
   int scalar_lanes = (1 << count) - 1;
 #if defined(__GNUC__) && !defined(__CUDACC__)
-  const LeafLaneHits lanes = watertight_lanes(l, count, wr, ray.tmin, tmax);
+  const LeafLaneHits lanes = watertight_lanes<kLanes>(rows, count, wr, ray.tmin, tmax);
   for (int m = lanes.hit; m != 0; m &= m - 1) {
     const int k = __builtin_ctz(m);
     if (!(lanes.t[k] <= tmax)) continue;  // a closer hit in this leaf came first
-    if (take_hit<kAnyHit>(lanes.t[k], lanes.u[k], lanes.v[k], l.prim[k], tmax, hit, found))
+    if (take_hit<kAnyHit>(lanes.t[k], lanes.u[k], lanes.v[k], l.prim(k), tmax, hit, found))
       return true;
   }
   scalar_lanes = lanes.redo;
 #endif
   for (int k = 0; k < count; ++k) {
     if (!(scalar_lanes >> k & 1)) continue;
-    const Triangle tri = lane_triangle(l, k);
+    const Triangle tri = l.triangle(k);
     Real t, u, v;
     if (!intersect_triangle(wr, tri.a, tri.b, tri.c, ray.tmin, tmax, t, u, v)) continue;
-    if (take_hit<kAnyHit>(t, u, v, l.prim[k], tmax, hit, found)) return true;
+    if (take_hit<kAnyHit>(t, u, v, l.prim(k), tmax, hit, found)) return true;
   }
   return false;
+}
+
+// A wide-tree leaf (compact or full by its count): updates hit/tmax; true when any-hit may stop.
+template <bool kAnyHit, bool kStats>
+KOKKOS_FORCEINLINE_FUNCTION bool intersect_wide_leaf(const TriangleLanes& block, std::uint32_t ref,
+                                                     const WatertightRay& wr, const Ray& ray,
+                                                     Real& tmax, Hit& hit, bool& found,
+                                                     TraversalStats* stats) {
+  const int count = static_cast<int>(leaf_count(ref));
+  const Real* rows = leaf_rows(block, ref);
+  if (count <= kCompactLeafSize)
+    return intersect_leaf_rows<kCompactLeafSize, kAnyHit, kStats>(rows, count, wr, ray, tmax, hit,
+                                                                  found, stats);
+  return intersect_leaf_rows<kMaxLeafSize, kAnyHit, kStats>(rows, count, wr, ray, tmax, hit, found,
+                                                            stats);
 }
 
 // Starts fetching a node the traversal will visit later (a sibling pushed on the stack), so its
@@ -514,8 +563,8 @@ KOKKOS_INLINE_FUNCTION bool traverse_wide_with(const BvhT& bvh, const Ray& ray,
     for (int m = hitmask & leaves; m != 0; m &= m - 1) {
       const std::uint32_t c = nd.child[lowest_bit(m)];
       if (c == kEmptyLeaf) continue;
-      if (intersect_wide_leaf<kAnyHit, kStats>(bvh.leaves(leaf_first(c)), c, wr, ray, tmax, hit,
-                                               found, stats))
+      if (intersect_wide_leaf<kAnyHit, kStats>(bvh.leaves(leaf_first(c) >> 1), c, wr, ray, tmax,
+                                               hit, found, stats))
         return true;
     }
     // Inner children still within tmax (any hit: tmax has not moved since the box test).
