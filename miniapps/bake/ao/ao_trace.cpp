@@ -4,7 +4,6 @@
 #include <functional>
 
 #include "rtmini/geometry/offset.hpp"
-#include "rtmini/parallel/host_threads.hpp"
 #include "rtmini/parallel/spread_order.hpp"
 
 namespace rtmini::ao {
@@ -128,25 +127,21 @@ DeviceSamplePlan upload_plan(const AoScene& scene, const SamplePlan& plan) {
   auto th = Kokkos::create_mirror_view(d.tris);
   auto ih = Kokkos::create_mirror_view(d.items);
   auto kh = Kokkos::create_mirror_view(d.ray_keys);
-  // World triangles in double on the host (the same bits as the host's sample points), on
-  // threads: in the CUDA build the Kokkos host space is serial, and dragon x4's 400K triangles
-  // took 17 ms on one core of the H200 host.
+  // World triangles in double on the host (the same bits as the host's sample points). The
+  // upload of dragon x4's 400K triangles takes ~17 ms on the H200 machine whether this loop runs
+  // on one thread or sixteen (results/gpu/README.md, 2026-11-24): the cost is the allocation and
+  // the pageable copies, not the transform.
   for (std::size_t r = 0; r < plan.receivers.size(); ++r) {
     const AoInstance& inst = scene.instances[plan.receivers[r]];
     const AoMesh& mesh = scene.meshes[inst.mesh];
-    const std::int64_t base = plan.tri_base[r];
-    const auto count = static_cast<std::size_t>(plan.tri_base[r + 1] - base);
-    for_blocks_on_threads(count, 16384, 16, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t t = begin; t < end; ++t) {
-        const auto& v = mesh.tris[t];
-        const std::int64_t g = base + static_cast<std::int64_t>(t);
-        th(g) = {Vec3(inst.xform.point(mesh.positions[v[0]])),
-                 Vec3(inst.xform.point(mesh.positions[v[1]])),
-                 Vec3(inst.xform.point(mesh.positions[v[2]]))};
-        ih(g) = plan.item(r, g);
-        kh(g) = static_cast<std::uint32_t>(plan.receivers[r]);
-      }
-    });
+    for (std::int64_t g = plan.tri_base[r]; g < plan.tri_base[r + 1]; ++g) {
+      const auto& t = mesh.tris[g - plan.tri_base[r]];
+      th(g) = {Vec3(inst.xform.point(mesh.positions[t[0]])),
+               Vec3(inst.xform.point(mesh.positions[t[1]])),
+               Vec3(inst.xform.point(mesh.positions[t[2]]))};
+      ih(g) = plan.item(r, g);
+      kh(g) = static_cast<std::uint32_t>(plan.receivers[r]);
+    }
   }
   Kokkos::deep_copy(d.tris, th);
   Kokkos::deep_copy(d.items, ih);

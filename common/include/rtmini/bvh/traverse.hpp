@@ -113,7 +113,8 @@ __attribute__((always_inline)) inline RealLanes load_row(const Real* p) {
   // One 128-bit load, zero-extended (a memcpy into a zeroed vector went through the stack: a
   // store-forwarding stall per row).
   if constexpr (sizeof(Real) == 4 && kLanes == 4) {
-    const __m256 w = _mm256_zextps128_ps256(_mm_loadu_ps(p));
+    // (the cast is a no-op here; it keeps the double build's discarded branch well-formed)
+    const __m256 w = _mm256_zextps128_ps256(_mm_loadu_ps(reinterpret_cast<const float*>(p)));
     RealLanes v;
     std::memcpy(&v, &w, sizeof v);
     return v;
