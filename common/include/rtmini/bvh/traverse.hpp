@@ -415,7 +415,8 @@ struct LeafRows {
   KOKKOS_INLINE_FUNCTION Real at(int row, int k) const { return rows[row * kLanes + k]; }
   KOKKOS_INLINE_FUNCTION int prim(int k) const {
     int id;
-    std::memcpy(&id, rows + 9 * kLanes + k, sizeof id);
+    // The ids are ints after the nine rows (write_leaf_rows), whatever the size of Real.
+    std::memcpy(&id, reinterpret_cast<const char*>(rows + 9 * kLanes) + k * sizeof id, sizeof id);
     return id;
   }
   KOKKOS_INLINE_FUNCTION Triangle triangle(int k) const {
