@@ -5,11 +5,11 @@
 # threads); odd runs start with main's bench, even runs with the branch's. AO uses the dev size
 # (`--samples-per-face 1 --rays 16`, the issue's distribution, 1/12 of the rays) as in raw_cpu22.
 # Usage: BASE=/path/to/main/rtmini-bvh-bench BASE_COMMIT=<main's commit> [BRANCH=/path/to/copy]
-#        results/bvh/raw_cputrav2/run.sh [FIRST_RUN] [LAST_RUN]
+#        [OUT=FOLDER] results/bvh/raw_cputrav2/run.sh [FIRST_RUN] [LAST_RUN]   (issue 22, cputrav2 and cputrav3)
 # (BASE: a copy of main's bench binary; BRANCH: a copy of this branch's, build/bench's by default,
 # so that building during the runs does not swap it.)
 cd "$(dirname "$0")/../../.."
-out=results/bvh/raw_cputrav2
+out=${OUT:-results/bvh/raw_cputrav2}
 first=${1:-1}
 last=${2:-5}
 workloads=${WORKLOADS:-ao shadow primary diffuse}
