@@ -10,8 +10,10 @@ namespace rtmini::bake {
 
 enum class Lookup { kKdTree, kSphericalFibonacci };
 // kCost: cut by the traced cost (kitchen.cpp, BakeRun::rebalance_by_traced_cost); kPilot: by the
-// pilot's estimate alone (the cut before that, kept to compare).
-enum class Balance { kStatic, kCost, kSpatial, kPilot };
+// pilot's estimate alone (the cut before that, kept to compare); kMeasured: kCost, then recut
+// once more after the first mirror iteration by each rank's measured time of it
+// (BakeRun::recut_by_measured_time).
+enum class Balance { kStatic, kCost, kSpatial, kPilot, kMeasured };
 // Which viewpoints a view-dependent vertex stores: the N shared Fibonacci directions, or the N/2
 // of them on its front side, in its own frame (one-sided mirrors only; map_reader.hpp).
 enum class Directions { kSphere, kHemisphere };
@@ -37,7 +39,10 @@ struct BakeConfig {
   bool cache_hits = true;
   bool two_sided = false;  // mirrors reflect on both sides (README: why one-sided is the default)
   bool progress = false;
-  int stop_after_iteration = -1;    // hidden test hook: checkpoint, then exit 4
+  int stop_after_iteration = -1;  // hidden test hook: checkpoint, then exit 4
+  // Hidden test hook of --balance measured: rank r's measured time is taken as its counted cost
+  // x (1 + recut_test_skew x r), so the recut moves work deterministically (0: measured).
+  double recut_test_skew = 0;
   bool all_view_dependent = false;  // hidden, measurement: N colours for every vertex
   Directions directions = Directions::kSphere;
 
@@ -51,10 +56,11 @@ inline const char* to_string(Directions d) {
   return d == Directions::kSphere ? "sphere" : "hemisphere";
 }
 inline const char* to_string(Balance b) {
-  return b == Balance::kStatic  ? "static"
-         : b == Balance::kCost  ? "cost"
-         : b == Balance::kPilot ? "pilot"
-                                : "spatial";
+  return b == Balance::kStatic     ? "static"
+         : b == Balance::kCost     ? "cost"
+         : b == Balance::kPilot    ? "pilot"
+         : b == Balance::kMeasured ? "measured"
+                                   : "spatial";
 }
 
 }  // namespace rtmini::bake

@@ -81,7 +81,9 @@ void MapCli::add_to(CLI::App& app, BakeConfig& c) {
   app.add_option("--balance", balance,
                  "batch cuts: cost (equal work, counted at the traced mirror hits), static (equal "
                  "vertex counts), spatial (blocks in Morton order, equal colours per rank) or "
-                 "pilot (equal work as a pilot of 8 rays per vertex estimates it)");
+                 "pilot (equal work as a pilot of 8 rays per vertex estimates it) or measured "
+                 "(cost, then recut once by each rank's measured time of the first mirror "
+                 "iteration: the ownership, not the output, varies from run to run)");
   app.add_option("--batch-size", c.batch_size, "vertices per batch (0 = vertices/ranks)");
   app.add_option("--time-limit", c.time_limit_minutes,
                  "minutes; checkpoint and exit 4 if the next iteration would not fit (0 = none)");
@@ -98,6 +100,7 @@ void MapCli::add_to(CLI::App& app, BakeConfig& c) {
   // Measurement only: store N colours for view-independent vertices too (same colours).
   app.add_flag("--all-view-dependent", c.all_view_dependent)->group("");
   app.add_option("--stop-after-iteration", c.stop_after_iteration)->group("");  // test hook
+  app.add_option("--recut-test-skew", c.recut_test_skew)->group("");            // test hook
 }
 
 // A hemisphere map relies on the fold of one-sided mirrors (a viewpoint behind a vertex has the
@@ -139,8 +142,11 @@ void MapCli::finish(BakeConfig& c) const {
     c.balance = Balance::kSpatial;
   else if (balance == "pilot")
     c.balance = Balance::kPilot;
+  else if (balance == "measured")
+    c.balance = Balance::kMeasured;
   else
-    throw InputError("--balance must be static, cost, spatial or pilot (got '" + balance + "')");
+    throw InputError("--balance must be static, cost, spatial, pilot or measured (got '" + balance +
+                     "')");
   if (!bvh::parse_build_quality(bvh_kind, c.bvh))
     throw InputError("--bvh must be lbvh, ploc or sah (got '" + bvh_kind + "')");
   finish_directions(c);

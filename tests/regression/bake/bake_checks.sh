@@ -148,6 +148,15 @@ case $case_name in
     run "$ranks" "${args[@]}" -o pilot.bs --balance pilot --summary pilot.json >log5.txt 2>&1 ||
       { cat log5.txt; fail "$ranks-rank bake with --balance pilot failed"; }
     cmp one.bs pilot.bs || fail "--balance pilot differs from 1 rank"
+    # The measured recut after iteration 1, from a skew that makes it move work for certain
+    # (rank r taken as 1 + r times slower than counted), and from the measured times.
+    run "$ranks" "${args[@]}" -o skew.bs --balance measured --recut-test-skew 1 --summary skew.json \
+      >log7.txt 2>&1 || { cat log7.txt; fail "$ranks-rank bake with a skewed measured recut failed"; }
+    cmp one.bs skew.bs || fail "--balance measured (skewed recut) differs from 1 rank"
+    grep -E "measured recut" log7.txt
+    run "$ranks" "${args[@]}" -o measured.bs --balance measured >log8.txt 2>&1 ||
+      { cat log8.txt; fail "$ranks-rank bake with --balance measured failed"; }
+    cmp one.bs measured.bs || fail "--balance measured differs from 1 rank"
     run "$ranks" "${args[@]}" -o part.bs --checkpoint cp.h5 --stop-after-iteration 1 >log3.txt 2>&1
     [ $? -eq 4 ] || { cat log3.txt; fail "stop after iteration 1 did not exit 4"; }
     run "$other" "${args[@]}" -o part.bs --checkpoint cp.h5 --restart cp.h5 --balance spatial \
@@ -180,6 +189,16 @@ for k in ("items", "trace_nodes", "lookups", "remote_reads", "iteration_cost"):
     print("work", k, "max/mean: cost %.3f, pilot %.3f" % (w[k]["max_over_mean"], wp[k]["max_over_mean"]))
 assert sum(w["items"]["per_rank"]) == sum(wp["items"]["per_rank"]) == colors
 assert w["iteration_cost"]["max_over_mean"] <= wp["iteration_cost"]["max_over_mean"] + 1e-9, (w, wp)
+# The skewed recut: rank r measured as 1 + r times its counted cost, so the cut gives the later
+# ranks less counted cost than the earlier ones and moves colours.
+if r > 1:
+    rc = json.load(open("skew.json"))["scene"]["recut"]
+    print("skewed recut: moved", rc["moved_colors"], "colours,", rc["bytes"], "bytes, cost after",
+          rc["counted_cost_after_per_rank"])
+    assert rc["moved_colors"] > 0 and rc["bytes"] > 0, rc
+    after = rc["counted_cost_after_per_rank"]
+    assert after[0] > after[-1], rc
+    assert abs(sum(after) - sum(rc["counted_cost_before_per_rank"])) < 1e-6 * sum(after), rc
 PY
     echo "owner-computes map: identical on 1 and $ranks ranks, restart on $other ranks"
     ;;
