@@ -567,10 +567,16 @@ struct MarkReadItems {
   HemisphereMap hemisphere{};
 
   KOKKOS_INLINE_FUNCTION void operator()(std::int64_t item) const {
+    const int prim = traced(cache_offset + (item - item_begin)).prim;
+    if (prim < 0) return;
+    // Most hits read only owned vertices: they skip the vertex search and the direction (the
+    // measured recut marks every kept item for the few vertices given away).
+    if (owned(tri_vertices(prim, 0)) && owned(tri_vertices(prim, 1)) &&
+        owned(tri_vertices(prim, 2)))
+      return;
     const std::int64_t v = vertex_of_item(color_offset, vbegin, vend, item);
     const std::int64_t first = color_offset(v);
-    const int prim = traced(cache_offset + (item - item_begin)).prim;
-    if (prim < 0 || color_offset(v + 1) - first <= 1) return;
+    if (color_offset(v + 1) - first <= 1) return;
     const Vec3 d = hemisphere.direction(v, order(item - first));
     const Vec3 r = mirror_direction(d, mirror_normal(d, normal(v), two_sided));
     ViewNeighbors nb;

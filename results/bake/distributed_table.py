@@ -79,6 +79,54 @@ def balance(out, prefixes):
                   f"{ratio('lookups')} | {ratio('items')} | {ratio('remote_reads')} | {100 * moved:.1f} % |")
 
 
+def cached_iterations(h5):
+    """Per rank, the median of its mirror iterations that read the hit cache (2..K); None without
+    h5py or the file."""
+    try:
+        import h5py
+        import numpy as np
+    except ImportError:
+        return None
+    if not os.path.exists(h5):
+        return None
+    t = h5py.File(h5, "r")["iterations/trace_time"][:]
+    return np.median(t[:, 2:], axis=1) if t.shape[1] > 2 else None
+
+
+def recut_table(out):
+    """--balance measured against cost (recut_BALANCE_PxT_I, alternated): per configuration the
+    median bake time and cached-iteration slowest / mean of each, and the recut's own figures
+    (the first mirror iteration's measured max / mean, the cut's predicted max / mean after, the
+    colours it moved, its bytes and seconds)."""
+    runs = {}
+    for path in glob.glob(os.path.join(out, "recut_*_*_*.json")):
+        _, b, pt, _ = os.path.basename(path)[:-5].split("_")
+        s = json.load(open(path))
+        p = s["phases"]
+        c = cached_iterations(path[:-5] + ".h5")
+        runs.setdefault((pt, b), []).append({
+            "time": p.get("base", 0) + p.get("map", 0) + p.get("halo", 0) + p.get("iterate", 0),
+            "slow": c.max() / c.mean() if c is not None else float("nan"),
+            "recut": s["scene"].get("recut"), "hash": s["verification_hash"]})
+    if not runs:
+        return
+    med = lambda x: sorted(x)[len(x) // 2]
+    print("\n### Measured recut against the counted cut (bunny_room N=300 K=4; alternated runs)\n")
+    print("| ranks x threads | balance | runs | bake time median [min-max] (s) | cached iteration "
+          "slowest / mean, median | first iteration max / mean | predicted after | colours moved | "
+          "recut MB | recut s | hashes |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for (pt, b) in sorted(runs, key=lambda k: (int(k[0].split("x")[0]), k[1])):
+        r = runs[(pt, b)]
+        t = [x["time"] for x in r]
+        rc = [x["recut"] for x in r if x["recut"]]
+        f = lambda k, scale=1.0, fmt="{:.3f}": fmt.format(med([x[k] * scale for x in rc])) if rc else "-"
+        print(f"| {pt} | {b} | {len(r)} | {med(t):.3f} [{min(t):.3f}-{max(t):.3f}] | "
+              f"{med([x['slow'] for x in r]):.3f} | {f('measured_max_over_mean')} | "
+              f"{f('predicted_max_over_mean')} | {f('moved_fraction', 100, '{:.1f} %')} | "
+              f"{f('bytes', 1e-6, '{:.2f}')} | {f('seconds')} | {' '.join(sorted(set(x['hash'] for x in r)))} |")
+
+
 def busy_table(out, weak, weakspatial):
     """P concurrent 1-rank bakes of the 1-rank scene (busy_P_i): the node as full as a P-rank run
     without communication. Their mean bake time is what a P-rank run's ranks would take if the
@@ -117,11 +165,15 @@ if pilot:
     strong = rows(out, "strong")
     table("Strong scaling, --balance pilot (the cut before the recount; against strong_1x1)",
           strong[:1] + pilot, False)
-balance(out, ["strong", "pilot", "spatial", "weak", "weakspatial"])
+balance(out, ["strong", "pilot", "spatial", "weak", "weakspatial", "weakmeasured"])
 weak = rows(out, "weak")
 table("Weak scaling (two sheets, side 150 sqrt(P), N=200, K=3)", weak, True)
 weakspatial = rows(out, "weakspatial")
 if weakspatial:
     table("Weak scaling, --balance spatial (efficiency against weak_1)", weak[:1] + weakspatial, True)
+weakmeasured = rows(out, "weakmeasured")
+if weakmeasured:
+    table("Weak scaling, --balance measured (efficiency against weak_1)", weak[:1] + weakmeasured, True)
 busy_table(out, weak, weakspatial)
+recut_table(out)
 table("1M vertices, N=1000, K=2", rows(out, "big"), True)

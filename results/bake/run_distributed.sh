@@ -4,8 +4,11 @@
 #     --map-by slot:PE=t --bind-to core), 4x4 16x1 again with --balance pilot (the cut before
 #     the counted recut) and 2x8 4x4 16x1 with --balance spatial; table.md ends with the balance
 #     of each run (phases, slowest rank's iteration, max / mean of the counted work);
+#   the measured recut (--balance measured) against the counted cut (cost) at 2x8 4x4 8x2 16x1,
+#     alternated three times (recut_BALANCE_PxT_I: the host's noise lands on both alike);
 #   weak scaling, 1..16 ranks x 1 thread on the two-sheet scene (make_sheets_scene.py) grown
-#     with the ranks (side 150 sqrt(P)), N=200 K=3; again with --balance spatial (2..16 ranks);
+#     with the ranks (side 150 sqrt(P)), N=200 K=3; again with --balance spatial and with
+#     --balance measured (2..16 ranks);
 #     and P concurrent 1-rank bakes of the 1-rank scene, one per core (busy_P_i): the node as
 #     full as a P-rank run (shared L3 and memory bandwidth) without any communication, the
 #     baseline that separates the node's saturation from the distributed map's own cost;
@@ -54,6 +57,14 @@ if [ "$what" = strong ] || [ "$what" = all ]; then
     run "spatial_$pt" "${pt%x*}" "${pt#*x}" "$out/bunny_room.bs" -o "$out/strong.bsb" \
       --viewpoints 300 --iterations 4 --balance spatial
   done
+  for i in 1 2 3; do  # the measured recut against the counted cut, alternated
+    for pt in 2x8 4x4 8x2 16x1; do
+      for b in cost measured; do
+        run "recut_${b}_${pt}_$i" "${pt%x*}" "${pt#*x}" "$out/bunny_room.bs" -o "$out/strong.bsb" \
+          --viewpoints 300 --iterations 4 --balance "$b"
+      done
+    done
+  done
   rm -f "$out/strong.bsb"
 fi
 # busy NP SCENE ARGS...: NP single-rank bakes of SCENE at once, the i-th pinned to core i.
@@ -82,6 +93,8 @@ if [ "$what" = weak ] || [ "$what" = all ]; then
     if [ "$np" -gt 1 ]; then
       run "weakspatial_$np" "$np" 1 "$out/sheets_$np.bs" -o "$out/weak.bsb" --viewpoints 200 \
         --iterations 3 --balance spatial
+      run "weakmeasured_$np" "$np" 1 "$out/sheets_$np.bs" -o "$out/weak.bsb" --viewpoints 200 \
+        --iterations 3 --balance measured
     fi
     rm -f "$out/sheets_$np.bs" "$out/weak.bsb"
   done
