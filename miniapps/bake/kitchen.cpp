@@ -93,6 +93,12 @@ MemoryEstimate estimate_memory(const Mesh& mesh, const BakeSceneHost& s, std::in
   return m;
 }
 
+bool same_batches(const std::vector<Batch>& a, const std::vector<Batch>& b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const Batch& x, const Batch& y) {
+    return x.begin == y.begin && x.end == y.end && x.rank == y.rank;
+  });
+}
+
 KOKKOS_INLINE_FUNCTION std::int64_t quantise(float x) {
   return static_cast<std::int64_t>(math::floor(double(x) * 65536.0 + 0.5));
 }
@@ -397,7 +403,6 @@ class BakeRun {
   // --balance measured: the recut after the first mirror iteration, per rank
   // (recut_by_measured_time).
   struct MeasuredRecut {
-    bool done = false;
     std::vector<double> measured;      // each rank's time of that iteration (s)
     std::vector<double> cost_before;   // counted iteration cost of each rank's vertices
     std::vector<double> cost_after;    // the same on the new ownership
@@ -528,10 +533,7 @@ bool BakeRun::counts_traced_cost() const {
 // The traced hits of ownership `from` to this rank's batches (the current ownership); returns
 // the hits received from other ranks.
 std::int64_t BakeRun::move_traced_hits(const std::vector<Batch>& from) {
-  const auto same = [](const Batch& a, const Batch& b) {
-    return a.begin == b.begin && a.end == b.end && a.rank == b.rank;
-  };
-  if (std::equal(from.begin(), from.end(), batches_.begin(), batches_.end(), same)) return 0;
+  if (same_batches(from, batches_)) return 0;
   // Two statements, so the old hits are freed before the Chef refills its float cache.
   const auto hits = move_entries(comm_, host_, from, batches_, chef_->take_traced_hits());
   chef_->adopt_traced_hits(hits);
@@ -786,6 +788,16 @@ void BakeRun::finish_fused_plan() {
   report_map_plan();
 }
 
+// The measured recut's threshold: the slowest rank's first mirror iteration over the mean.
+constexpr double kRecutMinImbalance = 1.03;
+
+// The largest of `x` over their mean (1 for none).
+double max_over_mean(const std::vector<double>& x) {
+  double sum = 0;
+  for (double e : x) sum += e;
+  return sum > 0 ? *std::max_element(x.begin(), x.end()) * double(x.size()) / sum : 1.0;
+}
+
 // --balance measured on a fresh run of several ranks and at least two mirror iterations: the
 // ranges are recut between the first mirror iteration and the exchange after it.
 bool BakeRun::recuts_by_measured_time() const {
@@ -801,6 +813,8 @@ bool BakeRun::recuts_by_measured_time() const {
 // So every vertex's counted cost is scaled by its rank's measured / counted of that iteration,
 // and the ranges are cut once more by that. Every colour is still computed from the same inputs:
 // the output is identical; only the ownership follows the measured times, which vary run to run.
+// Below kRecutMinImbalance (slowest rank over the mean) the cut stays: the recut costs a few %
+// of an iteration (the moves and the incremental re-plan), about what that imbalance would gain.
 void BakeRun::recut_by_measured_time(double my_time) {
   const double t0 = timer_.now();
   const int p = comm_.size(), rank = comm_.rank();
@@ -821,8 +835,17 @@ void BakeRun::recut_by_measured_time(double my_time) {
   std::vector<double> scaled(static_cast<std::size_t>(nv));
   for (std::int64_t v = 0; v < nv; ++v) scaled[v] = iteration_cost_[v] * rate[owner_[v]];
   const std::vector<Batch> from = batches_;
-  assign_batches(make_batches(host_, p, Balance::kCost, c_.batch_size, scaled));
   recut_.cost_before = counted;
+  if (max_over_mean(recut_.measured) >= kRecutMinImbalance)
+    assign_batches(make_batches(host_, p, Balance::kCost, c_.batch_size, scaled));
+  if (same_batches(batches_, from)) {  // nothing to move
+    if (chef_->has_hit_cache()) chef_->release_traced_hits();
+    recut_.cost_after = counted;
+    recut_.scaled_after = recut_.measured;
+    recut_.seconds = timer_.now() - t0;
+    report_recut();
+    return;
+  }
   recut_.cost_after.assign(static_cast<std::size_t>(p), 0.0);
   recut_.scaled_after.assign(static_cast<std::size_t>(p), 0.0);
   for (std::int64_t v = 0; v < nv; ++v) {
@@ -843,7 +866,6 @@ void BakeRun::recut_by_measured_time(double my_time) {
   if (chef_->has_hit_cache()) chef_->release_traced_hits();
   pieces_ = trace_pieces(progress_line_->enabled());
   recut_.seconds = timer_.now() - t0;
-  recut_.done = true;
   report_work();
   report_recut();
 }
@@ -900,14 +922,10 @@ void BakeRun::report_recut() {
   const double colors = static_cast<double>(comm_.sum(recut_.moved_colors));
   const double bytes = static_cast<double>(comm_.sum(recut_.bytes));
   const double seconds = comm_.max(recut_.seconds);
-  const auto max_over_mean = [](const std::vector<double>& x) {
-    double sum = 0;
-    for (double e : x) sum += e;
-    return sum > 0 ? *std::max_element(x.begin(), x.end()) * double(x.size()) / sum : 1.0;
-  };
   const double before = max_over_mean(recut_.measured);
   const double after = max_over_mean(recut_.scaled_after);
   report_.scene["recut"] = {{"after_iteration", 1},
+                            {"min_imbalance", kRecutMinImbalance},
                             {"measured_time_per_rank", recut_.measured},
                             {"counted_cost_before_per_rank", recut_.cost_before},
                             {"counted_cost_after_per_rank", recut_.cost_after},
@@ -1138,7 +1156,8 @@ void BakeRun::report_progress(int it, std::int64_t entries_done) {
 
 // The new map becomes the previous one; its halo entries come from their owners. One rank
 // holds everything: the map never leaves the device (on a GPU two host copies would cost more
-// than the iteration).
+// than the iteration). After the last iteration nothing reads another rank's colours (the
+// output, the hash, checkpoints and the comparison take each rank's own), so nothing moves.
 void BakeRun::exchange(int it, IterationRecord& rec) {
   const double t0 = timer_.now();
   if (pending_.active && it >= 1) {
@@ -1146,7 +1165,7 @@ void BakeRun::exchange(int it, IterationRecord& rec) {
     finish_fused_plan();
   }
   std::swap(prev_, next_);
-  rec.allgather_bytes = exchange_ ? exchange_->run(comm_, prev_) : 0;
+  rec.allgather_bytes = exchange_ && it < iterations_ ? exchange_->run(comm_, prev_) : 0;
   rec.allgather = timer_.now() - t0;
 }
 
