@@ -139,6 +139,38 @@ std::uint64_t map_hash(Kokkos::View<const std::int64_t*, MemSpace> off,
   return total;
 }
 
+// The read flags `from_flags` (one per colour of the vertices present in layout offsets `from`)
+// moved to layout offsets `to` (`colors` entries): a vertex present in both keeps its flags, the
+// others start unflagged. (Free functions: CUDA's device lambdas may not sit in private members.)
+Kokkos::View<char*, MemSpace> moved_read_flags(Kokkos::View<const std::int64_t*, MemSpace> from,
+                                               Kokkos::View<const char*, MemSpace> from_flags,
+                                               Kokkos::View<const std::int64_t*, MemSpace> to,
+                                               std::int64_t colors) {
+  Kokkos::View<char*, MemSpace> flags("rtmini::bake::read_items", static_cast<std::size_t>(colors));
+  Kokkos::parallel_for(
+      "rtmini::bake::moved_read_flags",
+      Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(
+          0, static_cast<std::int64_t>(to.extent(0)) - 1),
+      KOKKOS_LAMBDA(std::int64_t v) {
+        if (from(v + 1) == from(v)) return;
+        for (std::int64_t j = 0; j < to(v + 1) - to(v); ++j)
+          flags(to(v) + j) = from_flags(from(v) + j);
+      });
+  return flags;
+}
+
+// Per vertex, 0 for one owned before (owned_before) and not now (owned), else 1: the vertices
+// given away, as the `owned` argument of Chef::mark_read_items (which flags only the others).
+Kokkos::View<char*, MemSpace> not_given_away(Kokkos::View<const char*, MemSpace> owned_before,
+                                             Kokkos::View<const char*, MemSpace> owned) {
+  Kokkos::View<char*, MemSpace> out("rtmini::bake::not_given", owned.extent(0));
+  Kokkos::parallel_for(
+      "rtmini::bake::not_given_away",
+      Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(0, owned.extent(0)),
+      KOKKOS_LAMBDA(std::int64_t v) { out(v) = owned_before(v) && !owned(v) ? 0 : 1; });
+  return out;
+}
+
 nlohmann::json error_json(const MapErrors& e) {
   return {{"entries", e.entries},
           {"mean_abs", e.mean_abs},
@@ -888,23 +920,9 @@ void BakeRun::replan_first_reads(const std::vector<Batch>& from) {
     std::fill(own.begin() + r.begin, own.begin() + r.end, 1);
   }
   MapLayout dense = make_map_layout(host_, present);
-  Kokkos::View<char*, MemSpace> flags("rtmini::bake::read_items",
-                                      static_cast<std::size_t>(dense.colors()));
-  Kokkos::View<char*, MemSpace> not_given("rtmini::bake::not_given", static_cast<std::size_t>(nv));
-  {
-    auto old_at = pending_.dense.device, new_at = dense.device;
-    auto old_flags = pending_.flags;
-    auto owned = owned_;
-    Kokkos::parallel_for(
-        "rtmini::bake::keep_read_flags",
-        Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(0, nv),
-        KOKKOS_LAMBDA(std::int64_t v) {
-          not_given(v) = owned_before(v) && !owned(v) ? 0 : 1;
-          if (old_at(v + 1) == old_at(v) || new_at(v + 1) == new_at(v)) return;
-          for (std::int64_t j = 0; j < new_at(v + 1) - new_at(v); ++j)
-            flags(new_at(v) + j) = old_flags(old_at(v) + j);
-        });
-  }
+  const Kokkos::View<char*, MemSpace> flags =
+      moved_read_flags(pending_.dense.device, pending_.flags, dense.device, dense.colors());
+  const Kokkos::View<char*, MemSpace> not_given = not_given_away(owned_before, owned_);
   chef_->set_map_offset(dense.device);
   for (const TracePiece& piece : pieces_owned_before(from, true))
     chef_->mark_read_items(piece.begin, piece.end, piece.cache_offset, not_given, flags);
