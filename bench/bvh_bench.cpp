@@ -336,6 +336,12 @@ void trace_any(bvh::AnyHitKernel kernel, const bvh::Bvh<Mem>& accel,
       return bvh::any_hit_all<K::kCompact>(Exec(), accel, n, ray_at, store);
     case K::kCompactShared16:
       return bvh::any_hit_all<K::kCompactShared16>(Exec(), accel, n, ray_at, store);
+    case K::kSpeculative:
+      return bvh::any_hit_all<K::kSpeculative>(Exec(), accel, n, ray_at, store);
+    case K::kSpeculativeShared16:
+      return bvh::any_hit_all<K::kSpeculativeShared16>(Exec(), accel, n, ray_at, store);
+    case K::kSpeculativeCompact:
+      return bvh::any_hit_all<K::kSpeculativeCompact>(Exec(), accel, n, ray_at, store);
   }
 }
 

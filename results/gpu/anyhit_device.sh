@@ -36,7 +36,8 @@ t0=$(date +%s)
   "$BENCH" --help 2>/dev/null | grep -A2 -- '--gpu-trace' | head -3
 } > "$OUT/provenance.txt"
 KERNELS="default stored short8 default_lb stored_lb shared8 shared16 compact compact_lb
-  compact_shared16 wide wide_lb wide_shared short16"
+  compact_shared16 speculative speculative_shared16 speculative_compact wide wide_lb wide_shared
+  short16"
 REVERSED=$(echo $KERNELS | tr ' ' '\n' | tac | tr '\n' ' ')
 
 if [ "$phase" != ncu ]; then

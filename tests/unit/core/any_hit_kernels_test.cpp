@@ -136,7 +136,8 @@ void expect_all_kernels_match(const Accel& accel, const Kokkos::View<Ray*, TestM
                               const std::vector<int>& ref, const std::string& what) {
   expect_every_kernel_matches<Kernel::kDefault, Kernel::kWide, Kernel::kStored, Kernel::kShort8,
                               Kernel::kShort16, Kernel::kDefaultBounded, Kernel::kStoredBounded,
-                              Kernel::kShared8, Kernel::kShared16>(accel, rays, ref, what);
+                              Kernel::kShared8, Kernel::kShared16, Kernel::kSpeculative,
+                              Kernel::kSpeculativeShared16>(accel, rays, ref, what);
   // kWide's kernels with the compressed wide copy (built on devices already; on the host only
   // when asked).
   auto wide = accel;
@@ -147,8 +148,9 @@ void expect_all_kernels_match(const Accel& accel, const Kokkos::View<Ray*, TestM
   auto compact = accel;
   bvh::add_compact_binary(TestExecSpace(), compact);
   ASSERT_EQ(compact.compact.extent(0), compact.nodes.extent(0)) << what;
-  expect_every_kernel_matches<Kernel::kCompact, Kernel::kCompactBounded, Kernel::kCompactShared16>(
-      compact, rays, ref, what + " (32-byte nodes)");
+  expect_every_kernel_matches<Kernel::kCompact, Kernel::kCompactBounded, Kernel::kCompactShared16,
+                              Kernel::kSpeculativeCompact>(compact, rays, ref,
+                                                           what + " (32-byte nodes)");
 }
 
 class AnyHitKernelsVsBruteForce : public ::testing::TestWithParam<std::string> {};
@@ -187,6 +189,44 @@ TEST(AnyHitKernels, DragonMatchesBinaryTraversal) {
       EXPECT_EQ(w.first, base.first) << "node visits, " << bvh::to_string(q);
       EXPECT_EQ(w.second, base.second) << "triangle tests, " << bvh::to_string(q);
     }
+  }
+}
+
+// The speculative traversal as a lane of a warp that never agrees: each lane holds a leaf
+// pending while it visits nodes up to the next leaf, the path no host run takes otherwise (a
+// host thread is its own warp). Answers as brute force's.
+struct SpeculateAlways {
+  bvh::Bvh<TestMemSpace> accel;
+  Kokkos::View<Ray*, TestMemSpace> rays;
+  Kokkos::View<int*, TestMemSpace> out;
+  KOKKOS_INLINE_FUNCTION void operator()(int i) const {
+    using Stack = bvh::detail::ShortStack<0>;
+    const bool blocked = bvh::detail::any_hit_speculative<false, false, bvh::Bvh<TestMemSpace>,
+                                                          Stack, bvh::detail::NeverAllVote>(
+        accel, rays(i), Stack{}, nullptr);
+    out(i) = blocked ? 1 : 0;
+  }
+};
+
+TEST(AnyHitKernels, SpeculationKeepsBruteForceAnswers) {
+  auto tris = mesh_triangles("teapot.obj");
+  const bvh::BruteForce<TestMemSpace> brute{tris};
+  for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah}) {
+    const auto accel = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, q);
+    const auto rays = ao_like_rays(tris, 20000, 43);
+    const std::vector<int> ref = any_hits<Kernel::kDefault>(brute, rays);
+    Kokkos::View<int*, TestMemSpace> out("out", rays.extent(0));
+    Kokkos::parallel_for("test::speculate_always", Policy(0, int(rays.extent(0))),
+                         SpeculateAlways{accel, rays, out});
+    std::vector<int> got;
+    compat::download(out, got);
+    int mismatches = 0, blocked = 0;
+    for (std::size_t i = 0; i < ref.size(); ++i) {
+      mismatches += got[i] != ref[i] ? 1 : 0;
+      blocked += ref[i];
+    }
+    EXPECT_EQ(mismatches, 0) << bvh::to_string(q);
+    EXPECT_GT(blocked, int(ref.size()) / 20) << "too few blocked rays to mean much";
   }
 }
 

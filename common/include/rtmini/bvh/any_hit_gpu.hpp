@@ -27,6 +27,9 @@
 //  - kCompact / kCompactBounded / kCompactShared16: kStored's loop (or kShared16's) over the
 //    32-byte copy of the nodes (compact_node.hpp: planes as 16-bit counts on one grid per tree,
 //    half of BvhNode's bytes per visit); the binary default where the tree has no such copy.
+//  - kSpeculative / kSpeculativeShared16 / kSpeculativeCompact: Aila & Laine's while-while loop
+//    with postponed leaves and speculative node fetches (SpeculativeAnyHitRay) over BvhNode with a
+//    local stack, with kShared16's ring, or over the 32-byte nodes.
 //
 // Every binary variant answers exactly what brute force answers (same watertight test,
 // tests/unit/core); those on BvhNode visit the same nodes as detail::traverse (near child first,
@@ -53,7 +56,10 @@ enum class AnyHitKernel {
   kShared16,
   kWideShared,
   kCompact,
-  kCompactShared16
+  kCompactShared16,
+  kSpeculative,
+  kSpeculativeShared16,
+  kSpeculativeCompact
 };
 
 inline const char* to_string(AnyHitKernel k) {
@@ -86,16 +92,33 @@ inline const char* to_string(AnyHitKernel k) {
       return "compact";
     case AnyHitKernel::kCompactShared16:
       return "compact_shared16";
+    case AnyHitKernel::kSpeculative:
+      return "speculative";
+    case AnyHitKernel::kSpeculativeShared16:
+      return "speculative_shared16";
+    case AnyHitKernel::kSpeculativeCompact:
+      return "speculative_compact";
   }
   return "?";
 }
 
-inline constexpr AnyHitKernel kAnyHitKernels[] = {
-    AnyHitKernel::kDefault,       AnyHitKernel::kWide,           AnyHitKernel::kStored,
-    AnyHitKernel::kShort8,        AnyHitKernel::kShort16,        AnyHitKernel::kDefaultBounded,
-    AnyHitKernel::kStoredBounded, AnyHitKernel::kCompactBounded, AnyHitKernel::kWideBounded,
-    AnyHitKernel::kShared8,       AnyHitKernel::kShared16,       AnyHitKernel::kWideShared,
-    AnyHitKernel::kCompact,       AnyHitKernel::kCompactShared16};
+inline constexpr AnyHitKernel kAnyHitKernels[] = {AnyHitKernel::kDefault,
+                                                  AnyHitKernel::kWide,
+                                                  AnyHitKernel::kStored,
+                                                  AnyHitKernel::kShort8,
+                                                  AnyHitKernel::kShort16,
+                                                  AnyHitKernel::kDefaultBounded,
+                                                  AnyHitKernel::kStoredBounded,
+                                                  AnyHitKernel::kCompactBounded,
+                                                  AnyHitKernel::kWideBounded,
+                                                  AnyHitKernel::kShared8,
+                                                  AnyHitKernel::kShared16,
+                                                  AnyHitKernel::kWideShared,
+                                                  AnyHitKernel::kCompact,
+                                                  AnyHitKernel::kCompactShared16,
+                                                  AnyHitKernel::kSpeculative,
+                                                  AnyHitKernel::kSpeculativeShared16,
+                                                  AnyHitKernel::kSpeculativeCompact};
 
 // False when `name` is none of the kernels' names.
 inline bool parse_any_hit_kernel(const std::string& name, AnyHitKernel& out) {
@@ -127,6 +150,7 @@ constexpr int shared_stack_entries(AnyHitKernel k) {
       return 8;
     case AnyHitKernel::kShared16:
     case AnyHitKernel::kCompactShared16:
+    case AnyHitKernel::kSpeculativeShared16:
       return 16;
     default:
       return 0;
@@ -142,7 +166,13 @@ constexpr bool traces_wide(AnyHitKernel k) {
 // Whether a kernel traces the 32-byte binary nodes (bvh.compact, gpu_compact.hpp).
 constexpr bool traces_compact_nodes(AnyHitKernel k) {
   return k == AnyHitKernel::kCompact || k == AnyHitKernel::kCompactBounded ||
-         k == AnyHitKernel::kCompactShared16;
+         k == AnyHitKernel::kCompactShared16 || k == AnyHitKernel::kSpeculativeCompact;
+}
+
+// Whether a kernel postpones leaves and fetches nodes speculatively (SpeculativeAnyHitRay).
+constexpr bool speculates(AnyHitKernel k) {
+  return k == AnyHitKernel::kSpeculative || k == AnyHitKernel::kSpeculativeShared16 ||
+         k == AnyHitKernel::kSpeculativeCompact;
 }
 
 // Whether a kernel is today's traversal (any_hit of traverse.hpp), whatever its launch.
@@ -272,7 +302,7 @@ KOKKOS_FORCEINLINE_FUNCTION BinaryChildren binary_children(const NodeView& nodes
 template <class NodeView>
 KOKKOS_FORCEINLINE_FUNCTION BinaryChildren compact_children(const NodeView& nodes,
                                                             const CompactGrid& g, std::uint32_t i) {
-  struct Words {
+  struct alignas(16) Words {  // stored to as 16-byte words
     std::uint32_t w[8];
   };
   static_assert(sizeof(Words) == sizeof(CompactBvhNode), "a compact node is eight words");
@@ -333,17 +363,17 @@ struct BinaryAnyHitRay {
   }
 
   template <class BvhT>
-  KOKKOS_FORCEINLINE_FUNCTION BinaryChildren children(const BvhT& bvh) const {
+  KOKKOS_FORCEINLINE_FUNCTION BinaryChildren children(const BvhT& bvh, std::uint32_t i) const {
     if constexpr (kCompact)
-      return compact_children(bvh.compact, bvh.grid, node);
+      return compact_children(bvh.compact, bvh.grid, i);
     else
-      return binary_children(bvh.nodes, node);
+      return binary_children(bvh.nodes, i);
   }
 
   template <class BvhT, bool kStats>
   KOKKOS_INLINE_FUNCTION AnyHitStep step(const BvhT& bvh, std::uint32_t* deep,
                                          TraversalStats* stats) {
-    const BinaryChildren nd = children(bvh);
+    const BinaryChildren nd = children(bvh, node);
     if (kStats) ++stats->nodes;
     Real t0, t1;
     bool h0 = slab_test(rs, nd.lo0, nd.hi0, tmin, tmax, t0);
@@ -385,6 +415,88 @@ KOKKOS_INLINE_FUNCTION bool any_hit_binary(const BvhT& bvh, const Ray& ray, cons
   return s == AnyHitStep::kBlocked;
 }
 
+// Aila & Laine's (2009) while-while traversal with speculative node fetches, for any hit on the
+// binary tree: a lane that meets a leaf keeps it pending and goes on visiting nodes until every
+// converged lane of its warp holds a leaf (compat::warp_all) or it meets a second one; then the
+// pending leaves are tested. Node visits and triangle tests thus run with more lanes of a warp
+// at once (9.75 of 32 active for the default, results/gpu/README.md). The vote only decides when
+// leaves are tested, never which: every hit leaf is tested before the ray ends, so the answer
+// is brute force's on any warp width (the host's lane is its own warp: no speculation). Vote
+// stands in for the warp in tests (NeverAllVote: as far as a lane can speculate).
+struct WarpVote {
+  KOKKOS_FORCEINLINE_FUNCTION static bool all(bool p) { return compat::warp_all(p); }
+};
+struct NeverAllVote {
+  KOKKOS_FORCEINLINE_FUNCTION static bool all(bool) { return false; }
+};
+
+template <class Stack, bool kCompact, class Vote = WarpVote>
+struct SpeculativeAnyHitRay : BinaryAnyHitRay<Stack, kCompact> {
+  static constexpr std::uint32_t kDone = 0x7fffffffu;  // no node left: an inner index past any tree
+  static constexpr std::uint32_t kNoLeaf = 0u;         // no pending leaf: the root, never a leaf
+
+  using BinaryAnyHitRay<Stack, kCompact>::BinaryAnyHitRay;
+
+  KOKKOS_FORCEINLINE_FUNCTION std::uint32_t pop_or_done(const std::uint32_t* deep) {
+    return this->stack.empty() ? kDone : this->stack.pop(deep);
+  }
+
+  // Visits inner node i: the child to take next (near one first, the far one pushed), a leaf
+  // included, or the next pending entry, or kDone.
+  template <class BvhT, bool kStats>
+  KOKKOS_FORCEINLINE_FUNCTION std::uint32_t visit(const BvhT& bvh, std::uint32_t i,
+                                                  std::uint32_t* deep, TraversalStats* stats) {
+    const BinaryChildren nd = this->children(bvh, i);
+    if (kStats) ++stats->nodes;
+    Real t0, t1;
+    const bool h0 = slab_test(this->rs, nd.lo0, nd.hi0, this->tmin, this->tmax, t0);
+    const bool h1 = slab_test(this->rs, nd.lo1, nd.hi1, this->tmin, this->tmax, t1);
+    if (h0 && h1) {
+      const bool first0 = t0 <= t1;
+      this->stack.push(first0 ? nd.c1 : nd.c0, deep);
+      return first0 ? nd.c0 : nd.c1;
+    }
+    if (h0 || h1) return h0 ? nd.c0 : nd.c1;
+    return pop_or_done(deep);
+  }
+
+  template <class BvhT, bool kStats>
+  KOKKOS_INLINE_FUNCTION bool blocked(const BvhT& bvh, std::uint32_t* deep, TraversalStats* stats) {
+    std::uint32_t ref = 0, leaf = kNoLeaf;
+    while (true) {
+      while (ref != kDone && !is_leaf(ref)) {
+        ref = visit<BvhT, kStats>(bvh, ref, deep, stats);
+        if (is_leaf(ref) && leaf == kNoLeaf) {
+          leaf = ref;
+          ref = pop_or_done(deep);
+        }
+        if (Vote::all(leaf != kNoLeaf)) break;
+      }
+      // The pending leaf, then `ref` while it is one (kDone is not).
+      while (leaf != kNoLeaf || is_leaf(ref)) {
+        std::uint32_t l = leaf;
+        if (leaf != kNoLeaf) {
+          leaf = kNoLeaf;
+        } else {
+          l = ref;
+          ref = pop_or_done(deep);
+        }
+        if (this->template leaf_blocks<BvhT, kStats>(bvh, l, stats)) return true;
+      }
+      if (ref == kDone) return false;
+    }
+  }
+};
+
+template <bool kCompact, bool kStats, class BvhT, class Stack, class Vote = WarpVote>
+KOKKOS_INLINE_FUNCTION bool any_hit_speculative(const BvhT& bvh, const Ray& ray, const Stack& stack,
+                                                TraversalStats* stats) {
+  if (bvh.num_prims == 0) return false;
+  SpeculativeAnyHitRay<Stack, kCompact, Vote> r(ray, stack);
+  std::uint32_t deep[kStackSize];
+  return r.template blocked<BvhT, kStats>(bvh, deep, stats);
+}
+
 // Whether a BVH-shaped type carries the 32-byte node copy (views of it may not).
 template <class T, class = void>
 struct HasCompactBinary : std::false_type {};
@@ -419,9 +531,16 @@ KOKKOS_INLINE_FUNCTION bool kernel_any_hit(const BvhT& bvh, const Ray& ray, cons
     return default_any_hit<kStats>(bvh, ray, stats);
   } else if constexpr (traces_compact_nodes(K)) {
     if constexpr (HasCompactBinary<BvhT>::value) {
-      if (bvh.compact.extent(0) > 0) return any_hit_binary<true, kStats>(bvh, ray, stack, stats);
+      if (bvh.compact.extent(0) > 0) {
+        if constexpr (speculates(K))
+          return any_hit_speculative<true, kStats>(bvh, ray, stack, stats);
+        else
+          return any_hit_binary<true, kStats>(bvh, ray, stack, stats);
+      }
     }
     return default_any_hit<kStats>(bvh, ray, stats);
+  } else if constexpr (speculates(K)) {
+    return any_hit_speculative<false, kStats>(bvh, ray, stack, stats);
   } else {
     return any_hit_binary<false, kStats>(bvh, ray, stack, stats);
   }
@@ -478,7 +597,7 @@ struct AnyHitEachRayInTeam {
   Store store;
   std::int64_t n;
 
-  static std::size_t scratch_bytes(int team_size) {
+  KOKKOS_INLINE_FUNCTION static std::size_t scratch_bytes(int team_size) {
     return sizeof(Entry) * std::size_t(kEntries) * std::size_t(team_size);
   }
   KOKKOS_INLINE_FUNCTION void operator()(const Member& team) const {
