@@ -260,8 +260,11 @@ TEST(AnyHitKernels, SharedRingIsLastInFirstOut) {
                            "ring 8");
   expect_last_in_first_out(bvh::detail::SharedRing<16, std::uint32_t>(team_scratch + 1, 3),
                            "ring 16");
-  for (int j = 0; j < 3 * 16 + 3; ++j)
-    if (j % 3 != 1) EXPECT_EQ(team_scratch[j], 0xdeadbeefu) << "another thread's word " << j;
+  for (int j = 0; j < 3 * 16 + 3; ++j) {
+    if (j % 3 != 1) {
+      EXPECT_EQ(team_scratch[j], 0xdeadbeefu) << "another thread's word " << j;
+    }
+  }
 }
 
 // Every decoded box of the 32-byte nodes encloses its child's exact box, within two grid steps
