@@ -5,6 +5,8 @@
 #
 # Usage (from the repository root, after a CUDA build of rtmini-bvh-bench into BUILD_DIR):
 #   bash results/gpu/anyhit_device.sh BUILD_DIR [bench|ncu|all]     (default: all)
+# MESHES (default "dragon stanford-bunny", names under inputs/meshes) picks the bench's meshes,
+# e.g. MESHES=CornellBox-Original for a quick check of the script on the host.
 # Outputs under $OUT (default /tmp/anyhit_out): bench.txt (every run's output), summary.txt (one
 # line per run: mesh quality kernel Mrays/s hash), ncu_<kernel>.csv, ncu_summary.txt,
 # provenance.txt. Expected on CUDA: every kernel gives the default's verification hash per mesh
@@ -44,7 +46,7 @@ if [ "$phase" != ncu ]; then
   L=$OUT/bench.txt
   : > "$L"
   for q in sah lbvh; do
-    for m in dragon stanford-bunny; do
+    for m in ${MESHES:-dragon stanford-bunny}; do
       order=$KERNELS
       [ "${PASSES:-1}" = 2 ] && order="$KERNELS $REVERSED"
       for k in $order; do

@@ -34,7 +34,7 @@ def bench(path):
             best = max(r for r, _ in rs)
             hashes = {h for _, h in rs}
             same = "same" if hashes == {ref} else "DIFFERS " + ",".join(sorted(hashes))
-            print(f"{mesh:16s} {quality:5s} {kernel:17s} {best / 1e3:6.3f} {best / base:6.3f}x "
+            print(f"{mesh:16s} {quality:5s} {kernel:20s} {best / 1e3:6.3f} {best / base:6.3f}x "
                   f"{rs[0][1]} {same} ({len(rs)} runs)")
         print()
 
@@ -53,12 +53,12 @@ METRICS = [
 
 
 def ncu(paths):
-    print("kernel            " + " ".join(f"{short:>12s}" for _, short in METRICS))
+    print("kernel               " + " ".join(f"{short:>12s}" for _, short in METRICS))
     for path in paths:
         kernel = os.path.basename(path)[len("ncu_"):-len(".csv")]
         rows = list(csv.reader(line for line in open(path) if line.startswith('"')))
         if not rows:
-            print(f"{kernel:17s} (no profile: see {os.path.basename(path)})")
+            print(f"{kernel:20s} (no profile: see {os.path.basename(path)})")
             continue
         header, rows = rows[0], rows[1:]
         values, units = {}, {}
@@ -72,7 +72,7 @@ def ncu(paths):
             if name == "gpu__time_duration.sum" and v != "-":
                 v = f"{v} {units[name]}"
             cells.append(f"{v:>12s}")
-        print(f"{kernel:17s} " + " ".join(cells))
+        print(f"{kernel:20s} " + " ".join(cells))
 
 
 if __name__ == "__main__":
