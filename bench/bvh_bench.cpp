@@ -11,6 +11,7 @@
 #include "ray_buffer.hpp"
 #include "rtmini/bvh/any_hit_gpu.hpp"
 #include "rtmini/bvh/build.hpp"
+#include "rtmini/bvh/gpu_compact.hpp"
 #include "rtmini/bvh/quality.hpp"
 #include "rtmini/bvh/traverse.hpp"
 #include "rtmini/geometry/offset.hpp"
@@ -288,6 +289,16 @@ struct StoreBlocked {
   }
 };
 
+// The 32-byte node copy that the compact kernels trace, built (untimed: a variant under study,
+// not part of any build figure) and its build time printed.
+void add_compact_nodes(bvh::Bvh<Mem>& accel) {
+  const auto t0 = Clock::now();
+  bvh::add_compact_binary(Exec(), accel);
+  Kokkos::fence();
+  std::printf("compact nodes: %zu x 32 bytes built in %.2f ms (not timed with the trace)\n",
+              accel.compact.extent(0), seconds_since(t0) * 1e3);
+}
+
 // The timed any-hit pass with the kernel chosen on the command line (--gpu-trace).
 void trace_any(bvh::AnyHitKernel kernel, const bvh::Bvh<Mem>& accel,
                const Kokkos::View<Ray*, Mem>& rays, const Kokkos::View<int*, Mem>& result,
@@ -307,6 +318,30 @@ void trace_any(bvh::AnyHitKernel kernel, const bvh::Bvh<Mem>& accel,
       return bvh::any_hit_all<K::kShort8>(Exec(), accel, n, ray_at, store);
     case K::kShort16:
       return bvh::any_hit_all<K::kShort16>(Exec(), accel, n, ray_at, store);
+    case K::kDefaultBounded:
+      return bvh::any_hit_all<K::kDefaultBounded>(Exec(), accel, n, ray_at, store);
+    case K::kStoredBounded:
+      return bvh::any_hit_all<K::kStoredBounded>(Exec(), accel, n, ray_at, store);
+    case K::kCompactBounded:
+      return bvh::any_hit_all<K::kCompactBounded>(Exec(), accel, n, ray_at, store);
+    case K::kWideBounded:
+      return bvh::any_hit_all<K::kWideBounded>(Exec(), accel, n, ray_at, store);
+    case K::kShared8:
+      return bvh::any_hit_all<K::kShared8>(Exec(), accel, n, ray_at, store);
+    case K::kShared16:
+      return bvh::any_hit_all<K::kShared16>(Exec(), accel, n, ray_at, store);
+    case K::kWideShared:
+      return bvh::any_hit_all<K::kWideShared>(Exec(), accel, n, ray_at, store);
+    case K::kCompact:
+      return bvh::any_hit_all<K::kCompact>(Exec(), accel, n, ray_at, store);
+    case K::kCompactShared16:
+      return bvh::any_hit_all<K::kCompactShared16>(Exec(), accel, n, ray_at, store);
+    case K::kSpeculative:
+      return bvh::any_hit_all<K::kSpeculative>(Exec(), accel, n, ray_at, store);
+    case K::kSpeculativeShared16:
+      return bvh::any_hit_all<K::kSpeculativeShared16>(Exec(), accel, n, ray_at, store);
+    case K::kSpeculativeCompact:
+      return bvh::any_hit_all<K::kSpeculativeCompact>(Exec(), accel, n, ray_at, store);
   }
 }
 
@@ -585,7 +620,7 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
   const bool any = o.workload == "ao" || o.workload == "shadow";
   bvh::AnyHitKernel kernel;
   if (!bvh::parse_any_hit_kernel(o.gpu_trace, kernel))
-    throw InputError("--gpu-trace must be default, wide, stored, short8 or short16, got '" +
+    throw InputError("--gpu-trace must be one of " + bvh::any_hit_kernel_names() + ", got '" +
                      o.gpu_trace + "'");
   if (kernel != bvh::AnyHitKernel::kDefault && !any)
     throw InputError("--gpu-trace " + o.gpu_trace + ": only the any-hit workloads (ao, shadow)");
@@ -710,7 +745,8 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
               gen_s * 1e3);
   Kokkos::View<int*, Mem> result(
       Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bench::result"), nr);
-  const auto accel = dm.accel;
+  auto accel = dm.accel;
+  if (any && bvh::traces_compact_nodes(kernel)) add_compact_nodes(accel);
   RayOrder order;
   order.coherent = o.ray_order == "coherent";
   order.rays = o.rays;
@@ -882,8 +918,9 @@ int bench_main(Communicator& comm, int argc, char** argv) {
                  "auto (grown while the SAH says it pays: bvh/presplit.hpp)")
       ->capture_default_str();
   app.add_option("--gpu-trace", o.gpu_trace,
-                 "any-hit kernel (issue 21): default (today's dispatch), wide, stored, short8 or "
-                 "short16 (bvh/any_hit_gpu.hpp)")
+                 "any-hit kernel (issue 21): default (today's dispatch) or a variant of "
+                 "bvh/any_hit_gpu.hpp: " +
+                     bvh::any_hit_kernel_names())
       ->capture_default_str();
   app.add_option("--ray-order", o.ray_order,
                  "ao: which rays a warp traces together: ray (one point's directions) or "

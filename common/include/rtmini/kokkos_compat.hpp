@@ -122,6 +122,18 @@ KOKKOS_INLINE_FUNCTION int popcount64(std::uint64_t x) {
 #endif
 }
 
+// Whether p holds on every lane of the warp that executes this call together (CUDA: the lanes
+// converged here, so a lane that left the loop or is elsewhere cannot block it); on the host,
+// where a thread is its own warp, p itself. For scheduling decisions only (any_hit_gpu.hpp's
+// speculative traversal): results must not depend on it.
+KOKKOS_INLINE_FUNCTION bool warp_all(bool p) {
+#ifdef __CUDA_ARCH__
+  return __all_sync(__activemask(), p) != 0;
+#else
+  return p;
+#endif
+}
+
 template <class T>
 KOKKOS_INLINE_FUNCTION T kmin(T a, T b) {
   return b < a ? b : a;

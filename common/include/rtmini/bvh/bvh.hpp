@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "rtmini/bvh/build_quality.hpp"
+#include "rtmini/bvh/compact_node.hpp"
 #include "rtmini/bvh/gpu_wide.hpp"
 #include "rtmini/geometry/aabb.hpp"
 #include "rtmini/geometry/triangle.hpp"
@@ -93,6 +94,10 @@ struct Bvh {
   Kokkos::View<QuantizedWideNode*, MemorySpace> qwide;
   Kokkos::View<Triangle*, MemorySpace> qwide_tris;
   Kokkos::View<int*, MemorySpace> qwide_prim;
+  // The binary nodes in 32 bytes (compact_node.hpp, built by gpu_compact.hpp) for the device
+  // any-hit kernels that trace them; empty unless asked for.
+  Kokkos::View<CompactBvhNode*, MemorySpace> compact;
+  CompactGrid grid;
   Kokkos::View<Triangle*, MemorySpace> tris;
   Kokkos::View<int*, MemorySpace> prim;
   Aabb bounds;

@@ -198,9 +198,11 @@ KOKKOS_FORCEINLINE_FUNCTION SlabPlanes slab_planes(std::uint32_t origin_bits,
   return {scale, offset - margin, offset + margin};
 }
 
-template <class BvhT, bool kAnyHit, bool kStats, class Stats>
+// `stack` holds the pending node groups (GroupStack: registers, or the shared-memory ring of an
+// any-hit variant, any_hit_gpu.hpp); either spills to a local array past its own entries.
+template <class BvhT, bool kAnyHit, bool kStats, class Stats, class Stack = GroupStack>
 KOKKOS_INLINE_FUNCTION bool traverse_quantized(const BvhT& bvh, const Ray& ray, Hit& hit,
-                                               Stats* stats) {
+                                               Stats* stats, Stack stack = Stack{}) {
   const WatertightRay wr(ray.org, ray.dir);
   const PermutedOrigin po(wr);
   const Vec3 inv(safe_reciprocal(ray.dir.x), safe_reciprocal(ray.dir.y),
@@ -209,7 +211,6 @@ KOKKOS_INLINE_FUNCTION bool traverse_quantized(const BvhT& bvh, const Ray& ray, 
   const std::uint32_t octant = (neg_x ? 1u : 0u) | (neg_y ? 2u : 0u) | (neg_z ? 4u : 0u);
   const Real widen = slab_widening();
   Real tmax = ray.tmax;
-  GroupStack stack;
   std::uint64_t deep[kStackSize];
   std::uint64_t group = 0;
   std::uint32_t node = 0;
