@@ -44,6 +44,7 @@ struct Options {
   std::string camera = "framed";
   std::string gpu_trace = "default";
   std::string ray_order = "ray";
+  std::string packets = "auto";
   std::string spatial_splits = bvh::to_string(bvh::kDefaultSpatialSplits);
   std::string time_builds = "lbvh,ploc,sah";
   bool build_phases = false;
@@ -307,6 +308,43 @@ void trace_any(bvh::AnyHitKernel kernel, const bvh::Bvh<Mem>& accel,
       return bvh::any_hit_all<K::kShort8>(Exec(), accel, n, ray_at, store);
     case K::kShort16:
       return bvh::any_hit_all<K::kShort16>(Exec(), accel, n, ray_at, store);
+  }
+}
+
+// The workloads whose rays are coherent: a camera's rays and shadow rays toward one light, both in
+// scanline order (AO and diffuse rays scatter over the hemisphere).
+bool coherent_workload(const std::string& workload) {
+  return workload == "primary" || workload == "shadow";
+}
+
+// The timed pass in packets of bvh::kPacketSize consecutive rays (host memory only; the answers
+// equal the single-ray pass's): result = 0/1 blocked (any hit) or the closest prim id.
+template <class MemorySpace>
+void trace_packets(const bvh::Bvh<MemorySpace>& accel, const Kokkos::View<Ray*, MemorySpace>& rays,
+                   const Kokkos::View<int*, MemorySpace>& result, bool any) {
+  if constexpr (Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemorySpace>::accessible) {
+    constexpr std::int64_t kSize = bvh::kPacketSize;
+    const std::int64_t n = static_cast<std::int64_t>(rays.extent(0));
+    const Ray* all = rays.data();
+    Kokkos::parallel_for(
+        "rtmini::bench::trace_packets",
+        Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace>(0, (n + kSize - 1) / kSize),
+        [=](std::int64_t p) {
+          const std::int64_t first = p * kSize;
+          const int count = static_cast<int>(std::min(kSize, n - first));
+          if (any) {
+            bool blocked[kSize];
+            bvh::any_hit_packet(accel, all + first, count, blocked);
+            for (int r = 0; r < count; ++r) result(first + r) = blocked[r] ? 1 : 0;
+          } else {
+            Hit hits[kSize];
+            bvh::closest_hit_packet(accel, all + first, count, hits);
+            for (int r = 0; r < count; ++r) result(first + r) = hits[r].prim;
+          }
+        });
+  } else {
+    (void)accel, (void)rays, (void)result, (void)any;
+    throw InputError("--packets on: host memory only");
   }
 }
 
@@ -593,6 +631,15 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
     throw InputError("--ray-order must be ray or coherent, got '" + o.ray_order + "'");
   if (o.ray_order == "coherent" && o.workload != "ao")
     throw InputError("--ray-order coherent: only the ao workload");
+  if (o.packets != "auto" && o.packets != "on" && o.packets != "off")
+    throw InputError("--packets must be auto, on or off, got '" + o.packets + "'");
+  // Packets where the rays are coherent, on the host (a device traces ray by ray).
+  const bool host_memory = Kokkos::SpaceAccessibility<Kokkos::HostSpace, Mem>::accessible;
+  const bool packets =
+      o.packets == "on" || (o.packets == "auto" && host_memory && coherent_workload(o.workload) &&
+                            kernel == bvh::AnyHitKernel::kDefault && o.ray_order == "ray");
+  if (packets && (kernel != bvh::AnyHitKernel::kDefault || o.ray_order != "ray"))
+    throw InputError("--packets on: only with the default any-hit kernel and ray order");
 
   std::cout << build_banner() << "\n";
   std::cout << "threads " << compat::concurrency() << ", mesh " << o.mesh << ": "
@@ -717,6 +764,7 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
   order.points = static_cast<std::int64_t>(dm.tris.extent(0)) * o.samples_per_face;
   if (any)
     std::printf("any-hit kernel %s, ray order %s\n", bvh::to_string(kernel), o.ray_order.c_str());
+  std::printf("traced %s\n", packets ? "in packets of 8 consecutive rays" : "ray by ray");
   std::vector<Ray> host_rays;
   if (peer.active()) {
     auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rays);
@@ -729,7 +777,9 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
     Kokkos::fence();
     const auto t0 = Clock::now();
     const double c0 = cpu_seconds();
-    if (any) {
+    if (packets) {
+      trace_packets(accel, rays, result, any);
+    } else if (any) {
       trace_any(kernel, accel, rays, result, order);
     } else {
       Kokkos::parallel_for(
@@ -889,6 +939,10 @@ int bench_main(Communicator& comm, int argc, char** argv) {
                  "ao: which rays a warp traces together: ray (one point's directions) or "
                  "coherent (ray k of 32 neighbouring points)")
       ->capture_default_str();
+  app.add_option("--packets", o.packets,
+                 "timed pass in packets of 8 consecutive rays: auto (host, primary and shadow "
+                 "rays), on or off (ray by ray); the answers are the same")
+      ->capture_default_str();
   app.add_option("--peer", o.peer, "trace the identical rays with a peer: embree");
   app.add_flag(
       "--build-only", o.build_only,
@@ -910,6 +964,7 @@ int bench_main(Communicator& comm, int argc, char** argv) {
                        {"camera", o.camera},
                        {"gpu_trace", o.gpu_trace},
                        {"ray_order", o.ray_order},
+                       {"packets", o.packets},
                        {"seed", o.seed},
                        {"spatial_splits", o.spatial_splits},
                        {"split_budget", o.split_budget},
