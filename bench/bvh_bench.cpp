@@ -311,12 +311,6 @@ void trace_any(bvh::AnyHitKernel kernel, const bvh::Bvh<Mem>& accel,
   }
 }
 
-// The workloads whose rays are coherent: a camera's rays and shadow rays toward one light, both in
-// scanline order (AO and diffuse rays scatter over the hemisphere).
-bool coherent_workload(const std::string& workload) {
-  return workload == "primary" || workload == "shadow";
-}
-
 // The timed pass in packets of bvh::kPacketSize consecutive rays (host memory only; the answers
 // equal the single-ray pass's): result = 0/1 blocked (any hit) or the closest prim id.
 template <class MemorySpace>
@@ -633,10 +627,12 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
     throw InputError("--ray-order coherent: only the ao workload");
   if (o.packets != "auto" && o.packets != "on" && o.packets != "off")
     throw InputError("--packets must be auto, on or off, got '" + o.packets + "'");
-  // Packets where the rays are coherent, on the host (a device traces ray by ray).
+  // Packets on the host (a device traces ray by ray), for every workload: they pay on the
+  // coherent camera and shadow rays and, less, on the incoherent AO and diffuse rays, whose eight
+  // independent tests per node overlap their latencies (results/bvh/README.md).
   const bool host_memory = Kokkos::SpaceAccessibility<Kokkos::HostSpace, Mem>::accessible;
   const bool packets =
-      o.packets == "on" || (o.packets == "auto" && host_memory && coherent_workload(o.workload) &&
+      o.packets == "on" || (o.packets == "auto" && host_memory &&
                             kernel == bvh::AnyHitKernel::kDefault && o.ray_order == "ray");
   if (packets && (kernel != bvh::AnyHitKernel::kDefault || o.ray_order != "ray"))
     throw InputError("--packets on: only with the default any-hit kernel and ray order");
@@ -940,8 +936,8 @@ int bench_main(Communicator& comm, int argc, char** argv) {
                  "coherent (ray k of 32 neighbouring points)")
       ->capture_default_str();
   app.add_option("--packets", o.packets,
-                 "timed pass in packets of 8 consecutive rays: auto (host, primary and shadow "
-                 "rays), on or off (ray by ray); the answers are the same")
+                 "timed pass in packets of 8 consecutive rays: auto (on the host), on or off "
+                 "(ray by ray); the answers are the same")
       ->capture_default_str();
   app.add_option("--peer", o.peer, "trace the identical rays with a peer: embree");
   app.add_flag(
