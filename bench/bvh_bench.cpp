@@ -45,6 +45,7 @@ struct Options {
   std::string gpu_trace = "default";
   std::string ray_order = "ray";
   std::string packets = "auto";
+  bool peer_packets = false;
   std::string spatial_splits = bvh::to_string(bvh::kDefaultSpatialSplits);
   std::string time_builds = "lbvh,ploc,sah";
   bool build_phases = false;
@@ -140,8 +141,9 @@ class Peer {
 #ifdef RTMINI_HAVE_EMBREE
   bool active() const { return embree_ != nullptr; }
   double build() { return embree_->build(); }
-  double trace(const std::vector<Ray>& rays, bool any, std::vector<int>& result) const {
-    return embree_->trace(rays, any, result);
+  double trace(const std::vector<Ray>& rays, bool any, std::vector<int>& result,
+               bool packets) const {
+    return embree_->trace(rays, any, result, packets);
   }
   std::string version() const { return embree_->version(); }
 
@@ -151,7 +153,7 @@ class Peer {
 #else
   bool active() const { return false; }
   double build() { return 0; }
-  double trace(const std::vector<Ray>&, bool, std::vector<int>&) const { return 0; }
+  double trace(const std::vector<Ray>&, bool, std::vector<int>&, bool) const { return 0; }
   std::string version() const { return {}; }
 #endif
 };
@@ -787,7 +789,7 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
     trace_cpu.push_back(cpu_seconds() - c0);
     if (peer.active()) {
       const double c1 = cpu_seconds();
-      peer_trace_s.push_back(peer.trace(host_rays, any, peer_result));
+      peer_trace_s.push_back(peer.trace(host_rays, any, peer_result, o.peer_packets));
       peer_trace_cpu.push_back(cpu_seconds() - c1);
     }
   }
@@ -940,6 +942,9 @@ int bench_main(Communicator& comm, int argc, char** argv) {
                  "(ray by ray); the answers are the same")
       ->capture_default_str();
   app.add_option("--peer", o.peer, "trace the identical rays with a peer: embree");
+  app.add_flag("--peer-packets", o.peer_packets,
+               "the peer traces in packets of 8 consecutive rays (rtcIntersect8 / rtcOccluded8) "
+               "instead of one by one");
   app.add_flag(
       "--build-only", o.build_only,
       "time the builds (and the peer's), print the tree and its fingerprint; trace nothing");
@@ -961,6 +966,7 @@ int bench_main(Communicator& comm, int argc, char** argv) {
                        {"gpu_trace", o.gpu_trace},
                        {"ray_order", o.ray_order},
                        {"packets", o.packets},
+                       {"peer_packets", o.peer_packets},
                        {"seed", o.seed},
                        {"spatial_splits", o.spatial_splits},
                        {"split_budget", o.split_budget},
