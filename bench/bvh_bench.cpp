@@ -45,6 +45,8 @@ struct Options {
   std::string camera = "framed";
   std::string gpu_trace = "default";
   std::string ray_order = "ray";
+  std::string packets = "auto";
+  bool peer_packets = false;
   std::string spatial_splits = bvh::to_string(bvh::kDefaultSpatialSplits);
   std::string time_builds = "lbvh,ploc,sah";
   bool build_phases = false;
@@ -140,8 +142,9 @@ class Peer {
 #ifdef RTMINI_HAVE_EMBREE
   bool active() const { return embree_ != nullptr; }
   double build() { return embree_->build(); }
-  double trace(const std::vector<Ray>& rays, bool any, std::vector<int>& result) const {
-    return embree_->trace(rays, any, result);
+  double trace(const std::vector<Ray>& rays, bool any, std::vector<int>& result,
+               bool packets) const {
+    return embree_->trace(rays, any, result, packets);
   }
   std::string version() const { return embree_->version(); }
 
@@ -151,7 +154,7 @@ class Peer {
 #else
   bool active() const { return false; }
   double build() { return 0; }
-  double trace(const std::vector<Ray>&, bool, std::vector<int>&) const { return 0; }
+  double trace(const std::vector<Ray>&, bool, std::vector<int>&, bool) const { return 0; }
   std::string version() const { return {}; }
 #endif
 };
@@ -342,6 +345,37 @@ void trace_any(bvh::AnyHitKernel kernel, const bvh::Bvh<Mem>& accel,
       return bvh::any_hit_all<K::kSpeculativeShared16>(Exec(), accel, n, ray_at, store);
     case K::kSpeculativeCompact:
       return bvh::any_hit_all<K::kSpeculativeCompact>(Exec(), accel, n, ray_at, store);
+  }
+}
+
+// The timed pass in packets of bvh::kPacketSize consecutive rays (host memory only; the answers
+// equal the single-ray pass's): result = 0/1 blocked (any hit) or the closest prim id.
+template <class MemorySpace>
+void trace_packets(const bvh::Bvh<MemorySpace>& accel, const Kokkos::View<Ray*, MemorySpace>& rays,
+                   const Kokkos::View<int*, MemorySpace>& result, bool any) {
+  if constexpr (Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemorySpace>::accessible) {
+    constexpr std::int64_t kSize = bvh::kPacketSize;
+    const std::int64_t n = static_cast<std::int64_t>(rays.extent(0));
+    const Ray* all = rays.data();
+    Kokkos::parallel_for(
+        "rtmini::bench::trace_packets",
+        Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace>(0, (n + kSize - 1) / kSize),
+        [=](std::int64_t p) {
+          const std::int64_t first = p * kSize;
+          const int count = static_cast<int>(std::min(kSize, n - first));
+          if (any) {
+            bool blocked[kSize];
+            bvh::any_hit_packet(accel, all + first, count, blocked);
+            for (int r = 0; r < count; ++r) result(first + r) = blocked[r] ? 1 : 0;
+          } else {
+            Hit hits[kSize];
+            bvh::closest_hit_packet(accel, all + first, count, hits);
+            for (int r = 0; r < count; ++r) result(first + r) = hits[r].prim;
+          }
+        });
+  } else {
+    (void)accel, (void)rays, (void)result, (void)any;
+    throw InputError("--packets on: host memory only");
   }
 }
 
@@ -628,6 +662,17 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
     throw InputError("--ray-order must be ray or coherent, got '" + o.ray_order + "'");
   if (o.ray_order == "coherent" && o.workload != "ao")
     throw InputError("--ray-order coherent: only the ao workload");
+  if (o.packets != "auto" && o.packets != "on" && o.packets != "off")
+    throw InputError("--packets must be auto, on or off, got '" + o.packets + "'");
+  // Packets on the host (a device traces ray by ray), for every workload: they pay on the
+  // coherent camera and shadow rays and, less, on the incoherent AO and diffuse rays, whose eight
+  // independent tests per node overlap their latencies (results/bvh/README.md).
+  const bool host_memory = Kokkos::SpaceAccessibility<Kokkos::HostSpace, Mem>::accessible;
+  const bool packets =
+      o.packets == "on" || (o.packets == "auto" && host_memory &&
+                            kernel == bvh::AnyHitKernel::kDefault && o.ray_order == "ray");
+  if (packets && (kernel != bvh::AnyHitKernel::kDefault || o.ray_order != "ray"))
+    throw InputError("--packets on: only with the default any-hit kernel and ray order");
 
   std::cout << build_banner() << "\n";
   std::cout << "threads " << compat::concurrency() << ", mesh " << o.mesh << ": "
@@ -753,6 +798,7 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
   order.points = static_cast<std::int64_t>(dm.tris.extent(0)) * o.samples_per_face;
   if (any)
     std::printf("any-hit kernel %s, ray order %s\n", bvh::to_string(kernel), o.ray_order.c_str());
+  std::printf("traced %s\n", packets ? "in packets of 8 consecutive rays" : "ray by ray");
   std::vector<Ray> host_rays;
   if (peer.active()) {
     auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rays);
@@ -765,7 +811,9 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
     Kokkos::fence();
     const auto t0 = Clock::now();
     const double c0 = cpu_seconds();
-    if (any) {
+    if (packets) {
+      trace_packets(accel, rays, result, any);
+    } else if (any) {
       trace_any(kernel, accel, rays, result, order);
     } else {
       Kokkos::parallel_for(
@@ -777,7 +825,7 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
     trace_cpu.push_back(cpu_seconds() - c0);
     if (peer.active()) {
       const double c1 = cpu_seconds();
-      peer_trace_s.push_back(peer.trace(host_rays, any, peer_result));
+      peer_trace_s.push_back(peer.trace(host_rays, any, peer_result, o.peer_packets));
       peer_trace_cpu.push_back(cpu_seconds() - c1);
     }
   }
@@ -926,7 +974,14 @@ int bench_main(Communicator& comm, int argc, char** argv) {
                  "ao: which rays a warp traces together: ray (one point's directions) or "
                  "coherent (ray k of 32 neighbouring points)")
       ->capture_default_str();
+  app.add_option("--packets", o.packets,
+                 "timed pass in packets of 8 consecutive rays: auto (on the host), on or off "
+                 "(ray by ray); the answers are the same")
+      ->capture_default_str();
   app.add_option("--peer", o.peer, "trace the identical rays with a peer: embree");
+  app.add_flag("--peer-packets", o.peer_packets,
+               "the peer traces in packets of 8 consecutive rays (rtcIntersect8 / rtcOccluded8) "
+               "instead of one by one");
   app.add_flag(
       "--build-only", o.build_only,
       "time the builds (and the peer's), print the tree and its fingerprint; trace nothing");
@@ -947,6 +1002,8 @@ int bench_main(Communicator& comm, int argc, char** argv) {
                        {"camera", o.camera},
                        {"gpu_trace", o.gpu_trace},
                        {"ray_order", o.ray_order},
+                       {"packets", o.packets},
+                       {"peer_packets", o.peer_packets},
                        {"seed", o.seed},
                        {"spatial_splits", o.spatial_splits},
                        {"split_budget", o.split_budget},

@@ -19,8 +19,11 @@ class EmbreePeer {
 
   // (Re)builds the scene; returns the seconds it took.
   double build();
-  // Traces `rays`; result per ray: prim id (closest) or 0/1 (any hit). Returns the seconds.
-  double trace(const std::vector<Ray>& rays, bool any_hit, std::vector<int>& result) const;
+  // Traces `rays`, one by one (rtcIntersect1 / rtcOccluded1) or in packets of 8 consecutive rays
+  // (rtcIntersect8 / rtcOccluded8); result per ray: prim id (closest) or 0/1 (any hit). Returns
+  // the seconds.
+  double trace(const std::vector<Ray>& rays, bool any_hit, std::vector<int>& result,
+               bool packets = false) const;
   std::string version() const;
 
  private:

@@ -702,5 +702,90 @@ TEST(WideCollapse, EveryTriangleOnceUnderEnclosingBoxes) {
   }
 }
 
+// Packets (traverse.hpp's closest_hit_packet and any_hit_packet, host): every ray's answer equals
+// its single-ray answer bit for bit (t, u, v and id), for coherent packets (a camera's rays,
+// shadow rays toward one light from the camera's hits) and incoherent ones (random_rays: short and
+// endless, aimed at vertices and edges), with empty segments, direction components near zero (a
+// packet mixing the FMA and the robust box test) and every packet size from 1 to 8.
+std::vector<Ray> packet_test_rays(const Kokkos::View<const Triangle*, Kokkos::HostSpace>& tris,
+                                  const Aabb& box) {
+  auto random = Kokkos::create_mirror_view_and_copy(
+      Kokkos::HostSpace(),
+      random_rays(Kokkos::create_mirror_view_and_copy(TestMemSpace(), tris), box, 4000, 11));
+  std::vector<Ray> rays(random.data(), random.data() + random.extent(0));
+  const Vec3 eye = box.center() + Vec3(Real(0.2), Real(0.3), Real(1.5)) * box.diagonal();
+  const Vec3 light = box.center() + Vec3(Real(0.3), 1, Real(0.5)) * box.diagonal();
+  const Frame f(normalize(box.center() - eye));
+  const auto host = bvh::build<Kokkos::DefaultHostExecutionSpace, Kokkos::HostSpace>(
+      Kokkos::DefaultHostExecutionSpace(), tris, bvh::BuildQuality::kLbvh);
+  constexpr int kSide = 64;
+  for (int y = 0; y < kSide; ++y)
+    for (int x = 0; x < kSide; ++x) {
+      Ray cam;
+      cam.org = eye;
+      cam.dir = normalize(f.n + f.t * (Real(0.7) * (x + Real(0.5)) / kSide - Real(0.35)) +
+                          f.b * (Real(0.7) * (y + Real(0.5)) / kSide - Real(0.35)));
+      if (x % 29 == 0) cam.dir = normalize(Vec3(cam.dir.x, Real(1e-6), cam.dir.z));  // robust test
+      if (x % 31 == 0) cam.tmax = Real(-1);  // an empty segment
+      rays.push_back(cam);
+      const Hit h = bvh::closest_hit(host, cam);
+      Ray shadow = cam;
+      if (h.valid()) {
+        shadow.org = cam.org + cam.dir * (h.t * Real(0.999));
+        shadow.dir = normalize(light - shadow.org);
+        shadow.tmax = length(light - shadow.org);
+      }
+      rays.push_back(shadow);
+    }
+  return rays;
+}
+
+TEST(WidePackets, EveryRayAnswersAsAlone) {
+  using HostExec = Kokkos::DefaultHostExecutionSpace;
+  for (const char* name : {"stanford-bunny.obj", "teapot.obj"}) {
+    const auto tris = host_triangles(load_scene(name));
+    Aabb box;
+    for (std::size_t t = 0; t < tris.extent(0); ++t) {
+      box.expand(tris(t).a);
+      box.expand(tris(t).b);
+      box.expand(tris(t).c);
+    }
+    const std::vector<Ray> rays = packet_test_rays(tris, box);
+    for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah}) {
+      const auto accel = bvh::build<HostExec, Kokkos::HostSpace>(HostExec(), tris, q);
+      ASSERT_GT(accel.wide.extent(0), 0u);
+      const std::string what = std::string(name) + " " + bvh::to_string(q);
+      int mismatches = 0, hits = 0, blocked = 0;
+      std::size_t at = 0;
+      for (int size = 1; at < rays.size(); size = size % bvh::kPacketSize + 1) {
+        const int n = static_cast<int>(std::min<std::size_t>(size, rays.size() - at));
+        Hit packet_hits[bvh::kPacketSize];
+        bool packet_blocked[bvh::kPacketSize];
+        bvh::closest_hit_packet(accel, rays.data() + at, n, packet_hits);
+        bvh::any_hit_packet(accel, rays.data() + at, n, packet_blocked);
+        for (int r = 0; r < n; ++r) {
+          const Hit alone = bvh::closest_hit(accel, rays[at + r]);
+          const bool alone_blocked = bvh::any_hit(accel, rays[at + r]);
+          const Hit& p = packet_hits[r];
+          hits += alone.valid();
+          blocked += alone_blocked;
+          const bool same = p.prim == alone.prim && p.t == alone.t && p.u == alone.u &&
+                            p.v == alone.v && packet_blocked[r] == alone_blocked;
+          if (!same && ++mismatches <= 5)
+            ADD_FAILURE() << what << " ray " << at + r << " (packet of " << n << "): packet ("
+                          << p.prim << ", t=" << p.t << ", any " << packet_blocked[r]
+                          << ") vs alone (" << alone.prim << ", t=" << alone.t << ", any "
+                          << alone_blocked << ")";
+        }
+        at += n;
+      }
+      EXPECT_EQ(mismatches, 0) << what;
+      EXPECT_GT(hits, int(rays.size() / 5)) << what;
+      EXPECT_GT(blocked, int(rays.size() / 5)) << what;
+      EXPECT_LT(blocked, int(rays.size())) << what;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rtmini::test

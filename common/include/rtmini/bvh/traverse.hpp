@@ -21,6 +21,9 @@ struct TraversalStats {
   std::uint32_t tests = 0;
 };
 
+// Rays per packet of the packet traversal (closest_hit_packet, any_hit_packet below).
+inline constexpr int kPacketSize = 8;
+
 namespace detail {
 
 template <class BvhT, bool kAnyHit, bool kStats>
@@ -278,6 +281,7 @@ struct WideRay {
   Vec3 org_inv;  // fl(org * inv) per axis (FMA test)
   Real slack;    // S of the FMA test: its absolute widening of far, in t
   bool neg_x, neg_y, neg_z;
+  WideRay() = default;  // (a packet's array, filled ray by ray)
   KOKKOS_INLINE_FUNCTION explicit WideRay(const Ray& ray)
       : inv(safe_reciprocal(ray.dir.x), safe_reciprocal(ray.dir.y), safe_reciprocal(ray.dir.z)),
         org(ray.org),
@@ -505,6 +509,19 @@ KOKKOS_FORCEINLINE_FUNCTION void prefetch_node(const WideNode& nd) {
 #endif
 }
 
+// Starts fetching the rows of leaf `ref` (three cache lines of a compact leaf, five of a full one).
+KOKKOS_FORCEINLINE_FUNCTION void prefetch_leaf(const TriangleLanes& block, std::uint32_t ref) {
+#if defined(__GNUC__) && !defined(__CUDACC__)
+  const char* p = reinterpret_cast<const char*>(leaf_rows(block, ref));
+  const std::size_t bytes = leaf_count(ref) <= std::uint32_t(kCompactLeafSize)
+                                ? sizeof(TriangleLanes) / 2
+                                : sizeof(TriangleLanes);
+  for (std::size_t line = 0; line < bytes; line += 64) __builtin_prefetch(p + line);
+#else
+  (void)block, (void)ref;
+#endif
+}
+
 // Index of the lowest set bit of a non-zero mask.
 KOKKOS_FORCEINLINE_FUNCTION int lowest_bit(int m) {
 #if defined(__CUDA_ARCH__) || defined(__HIP_DEVICE_COMPILE__)
@@ -632,6 +649,212 @@ KOKKOS_INLINE_FUNCTION bool traverse_wide(const BvhT& bvh, const Ray& ray, Hit& 
   return traverse_wide_with<BvhT, kAnyHit, kStats, false>(bvh, ray, box_ray, hit, stats);
 }
 
+// ---- Packets of coherent rays (host) -----------------------------------------------------------
+// Up to kPacketSize rays traverse the wide tree together: one walk, each node visited once for
+// every ray of the packet that reached it (a ray mask per stack entry), each ray testing the
+// node's boxes and the leaves' triangles with the single-ray tests above. A ray reaches exactly
+// the nodes and leaves its own box tests find, so its answer is the single-ray answer bit for bit
+// (closest hit: the smallest t, then the lowest id, whatever the order leaves are tested in).
+// What the packet saves on coherent rays (a camera's, or shadow rays toward one light) is the
+// per-ray walk: one stack, one node fetch, one set of branches for eight rays, and the eight
+// rays' box and leaf tests are independent, so their latencies overlap.
+#if defined(__GNUC__) && !defined(__CUDACC__)
+inline constexpr bool kHavePacketTraversal = true;
+static_assert(kPacketSize == 8, "transpose_bytes and the tmax snapshot are for packets of 8");
+
+// Byte k of the result holds bit k of every byte of `m` (bit r from byte r): an 8x8 bit matrix
+// transposed (Hacker's Delight, 7-3), turning "children each ray hits" into "rays hitting each
+// child".
+inline std::uint64_t transpose_bytes(std::uint64_t m) {
+  std::uint64_t t = (m ^ (m >> 7)) & 0x00AA00AA00AA00AAull;
+  m ^= t ^ (t << 7);
+  t = (m ^ (m >> 14)) & 0x0000CCCC0000CCCCull;
+  m ^= t ^ (t << 14);
+  t = (m ^ (m >> 28)) & 0x00000000F0F0F0F0ull;
+  m ^= t ^ (t << 28);
+  return m;
+}
+
+KOKKOS_FORCEINLINE_FUNCTION int byte_of(std::uint64_t m, int k) {
+  return static_cast<int>((m >> (8 * k)) & 0xffu);
+}
+
+// A packet's rays with their per-ray constants; `live` = rays still traversing.
+struct PacketRays {
+  const Ray* rays;
+  WideRay box[kPacketSize];
+  WatertightRay wr[kPacketSize];
+  Real tmax[kPacketSize];
+};
+
+// A pending node and the rays that reached it.
+struct PacketEntry {
+  std::uint32_t node;
+  int rays;
+};
+
+// Tests the leaf child `c` for each ray of `rays`; returns the rays an any-hit test finished.
+template <class BvhT, bool kAnyHit>
+KOKKOS_FORCEINLINE_FUNCTION int packet_leaf(const BvhT& bvh, std::uint32_t c, int rays,
+                                            PacketRays& p, Hit* hits, bool* found) {
+  const TriangleLanes& block = bvh.leaves(leaf_first(c) >> 1);
+  int done = 0;
+  for (; rays != 0; rays &= rays - 1) {
+    const int r = lowest_bit(rays);
+    if (intersect_wide_leaf<kAnyHit, false>(block, c, p.wr[r], p.rays[r], p.tmax[r], hits[r],
+                                            found[r], nullptr))
+      done |= 1 << r;
+  }
+  return done;
+}
+
+template <class BvhT, bool kAnyHit, bool kFma>
+inline void traverse_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* hits, bool* found) {
+  constexpr int kPacketStack = (kWidth - 1) * kStackSize;
+  PacketEntry stack[kPacketStack];
+  int sp = 0;
+  PacketEntry at{0u, live};
+  while (true) {
+    const WideNode& nd = bvh.wide(at.node);
+    // Each ray's box test: byte r of `per_ray` = the children ray r hits.
+    alignas(32) Real tn[kPacketSize][kWidth];
+    std::uint64_t per_ray = 0;
+    int any_child = 0;
+    for (int m = at.rays; m != 0; m &= m - 1) {
+      const int r = lowest_bit(m);
+      const int h = box_test<kFma>(nd, p.box[r], p.rays[r].tmin, p.tmax[r], tn[r]);
+      per_ray |= std::uint64_t(h) << (8 * r);
+      any_child |= h;
+    }
+    const int leaves = leaf_lanes(nd);
+    std::uint64_t per_child = transpose_bytes(per_ray);
+    // Every leaf some ray will test, fetched before the first is tested: with eight rays per
+    // leaf the later leaves' misses overlap the earlier leaves' tests.
+    for (int m = any_child & leaves; m != 0; m &= m - 1) {
+      const std::uint32_t c = nd.child[lowest_bit(m)];
+      if (c != kEmptyLeaf) prefetch_leaf(bvh.leaves(leaf_first(c) >> 1), c);
+    }
+    int shrunk = 0;  // closest hit: rays whose tmax a leaf of this node moved
+    for (int m = any_child & leaves; m != 0; m &= m - 1) {
+      const int k = lowest_bit(m);
+      const std::uint32_t c = nd.child[k];
+      if (c == kEmptyLeaf) continue;
+      const int rays = byte_of(per_child, k) & live;
+      if (rays == 0) continue;
+      if (kAnyHit) {
+        live &= ~packet_leaf<BvhT, kAnyHit>(bvh, c, rays, p, hits, found);
+        if (live == 0) return;
+      } else {
+        const Real before[kPacketSize] = {p.tmax[0], p.tmax[1], p.tmax[2], p.tmax[3],
+                                          p.tmax[4], p.tmax[5], p.tmax[6], p.tmax[7]};
+        packet_leaf<BvhT, kAnyHit>(bvh, c, rays, p, hits, found);
+        for (int m2 = rays; m2 != 0; m2 &= m2 - 1) {
+          const int r = lowest_bit(m2);
+          if (p.tmax[r] != before[r]) shrunk |= 1 << r;
+        }
+      }
+    }
+    // Closest hit: a ray whose tmax moved drops the inner children now beyond it (as the
+    // single-ray traversal does).
+    if (!kAnyHit && shrunk != 0) {
+      for (int m = shrunk; m != 0; m &= m - 1) {
+        const int r = lowest_bit(m);
+        const int keep = lanes_not_after(tn[r], cull_limit<kFma>(p.tmax[r], p.box[r]));
+        per_ray &= ~(std::uint64_t(~keep & 0xff) << (8 * r));
+      }
+      per_child = transpose_bytes(per_ray);
+    }
+    // Inner children that some live ray reached.
+    int inner = 0;
+    for (int m = any_child & ~leaves; m != 0; m &= m - 1) {
+      const int k = lowest_bit(m);
+      if ((byte_of(per_child, k) & live) != 0) inner |= 1 << k;
+    }
+    if (inner == 0) {
+      do {
+        if (sp == 0) return;
+        at = stack[--sp];
+        at.rays &= live;
+      } while (at.rays == 0);
+      continue;
+    }
+    const int k0 = lowest_bit(inner);
+    inner &= inner - 1;
+    if (inner == 0) {  // one child: no stack traffic
+      at = {nd.child[k0], byte_of(per_child, k0) & live};
+      continue;
+    }
+    if (kAnyHit) {  // lane order, as the single-ray any hit
+      at = {nd.child[k0], byte_of(per_child, k0) & live};
+      for (; inner != 0; inner &= inner - 1) {
+        const int k = lowest_bit(inner);
+        prefetch_node(bvh.wide(nd.child[k]));
+        stack[sp++] = {nd.child[k], byte_of(per_child, k) & live};
+      }
+      continue;
+    }
+    // Closest hit: children by the nearest entry over their rays, pushed far-to-near.
+    PacketEntry ids[kWidth];
+    Real ds[kWidth];
+    int n = 0;
+    for (int m = inner | (1 << k0); m != 0; m &= m - 1) {
+      const int k = lowest_bit(m);
+      const int rays = byte_of(per_child, k) & live;
+      Real d = Real(3e38);
+      for (int rm = rays; rm != 0; rm &= rm - 1) {
+        const Real e = tn[lowest_bit(rm)][k];
+        d = e < d ? e : d;
+      }
+      int j = n++;
+      while (j > 0 && ds[j - 1] < d) {
+        ds[j] = ds[j - 1];
+        ids[j] = ids[j - 1];
+        --j;
+      }
+      ds[j] = d;
+      ids[j] = {nd.child[k], rays};
+    }
+    for (int j = 0; j < n - 1; ++j) {
+      prefetch_node(bvh.wide(ids[j].node));
+      stack[sp++] = ids[j];
+    }
+    at = ids[n - 1];
+  }
+}
+
+// The packet traversal of rays [0, n) (n <= kPacketSize) with the FMA box test where every ray
+// can take it (both tests are conservative; the choice is speed only).
+template <class BvhT, bool kAnyHit>
+inline void traverse_packet(const BvhT& bvh, const Ray* rays, int n, Hit* hits, bool* found) {
+  PacketRays p;
+  p.rays = rays;
+  int live = 0;
+  bool fma = true;
+  for (int r = 0; r < n; ++r) {
+    hits[r] = Hit();
+    hits[r].t = rays[r].tmax;
+    found[r] = false;
+    p.box[r] = WideRay(rays[r]);
+    p.wr[r] = WatertightRay(rays[r].org, rays[r].dir);
+    p.tmax[r] = rays[r].tmax;
+    // An empty segment hits nothing (nor does the single-ray traversal find anything there).
+    if (rays[r].tmin <= rays[r].tmax) live |= 1 << r;
+#if RTMINI_FMA_BOX_TEST
+    fma = fma && fma_box_test_pays(rays[r], p.box[r]);
+#endif
+  }
+  for (int r = n; r < kPacketSize; ++r) p.tmax[r] = Real(0);
+  if (live == 0 || bvh.num_prims == 0) return;
+#if RTMINI_FMA_BOX_TEST
+  if (fma) return traverse_packet_with<BvhT, kAnyHit, true>(bvh, p, live, hits, found);
+#endif
+  (void)fma;
+  traverse_packet_with<BvhT, kAnyHit, false>(bvh, p, live, hits, found);
+}
+#else
+inline constexpr bool kHavePacketTraversal = false;
+#endif
+
 template <class BvhT, bool kAnyHit, bool kStats>
 KOKKOS_INLINE_FUNCTION bool traverse_any_layout(const BvhT& bvh, const Ray& ray, Hit& hit,
                                                 TraversalStats* stats) {
@@ -678,6 +901,46 @@ template <class BvhT>
 KOKKOS_INLINE_FUNCTION bool any_hit(const BvhT& bvh, const Ray& ray, TraversalStats& stats) {
   Hit hit;
   return detail::traverse_any_layout<BvhT, true, true>(bvh, ray, hit, &stats);
+}
+
+// Packets of coherent rays (host memory): rays [0, n), n <= kPacketSize, traced together. The
+// answers equal closest_hit / any_hit of each ray bit for bit; they pay where the rays are
+// coherent (a camera's rays, shadow rays toward one light: results/bvh/README.md). Without the
+// host wide tree (or the vector extensions) each ray is traced alone.
+template <class BvhT>
+inline void closest_hit_packet(const BvhT& bvh, const Ray* rays, int n, Hit* hits) {
+#if defined(__GNUC__) && !defined(__CUDACC__)
+  if constexpr (Kokkos::SpaceAccessibility<Kokkos::HostSpace,
+                                           typename BvhT::memory_space>::accessible) {
+    // (the single-ray dispatch would take the compressed layout where it was built)
+    const bool quantized = [&] {
+      if constexpr (detail::HasQuantizedWide<BvhT>::value) return bvh.qwide.extent(0) > 0;
+      return false;
+    }();
+    if (bvh.wide.extent(0) > 0 && !quantized) {
+      bool found[kPacketSize];
+      detail::traverse_packet<BvhT, false>(bvh, rays, n, hits, found);
+      return;
+    }
+  }
+#endif
+  for (int r = 0; r < n; ++r) hits[r] = closest_hit(bvh, rays[r]);
+}
+
+// blocked[r] = any_hit(bvh, rays[r]) for rays [0, n), n <= kPacketSize, traced as one packet.
+template <class BvhT>
+inline void any_hit_packet(const BvhT& bvh, const Ray* rays, int n, bool* blocked) {
+#if defined(__GNUC__) && !defined(__CUDACC__)
+  if constexpr (Kokkos::SpaceAccessibility<Kokkos::HostSpace,
+                                           typename BvhT::memory_space>::accessible) {
+    if (bvh.wide.extent(0) > 0) {
+      Hit hits[kPacketSize];
+      detail::traverse_packet<BvhT, true>(bvh, rays, n, hits, blocked);
+      return;
+    }
+  }
+#endif
+  for (int r = 0; r < n; ++r) blocked[r] = any_hit(bvh, rays[r]);
 }
 
 }  // namespace rtmini::bvh

@@ -39,6 +39,7 @@ struct WatertightRay {
   int kx, ky, kz;
   Real sx, sy, sz;
 
+  WatertightRay() = default;  // (arrays of rays, filled ray by ray)
   KOKKOS_INLINE_FUNCTION WatertightRay(const Vec3& o, const Vec3& d) : org(o) {
     kz = max_dimension(vabs(d));
     kx = kz == 2 ? 0 : kz + 1;
