@@ -1,10 +1,13 @@
 #include "rtmini/bvh/build_sah.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <cstring>
 #include <memory>
+#include <mutex>
 #include <numeric>
+#include <thread>
 #include <type_traits>
 
 #include "rtmini/bvh/clip.hpp"
@@ -663,15 +666,61 @@ std::vector<int> largest_first(const std::vector<Task>& tasks) {
   return order;
 }
 
-// fn(k) for k in [0, count) on the host threads, handed out one at a time.
-template <class Fn>
-void for_each_dynamic(const char* label, std::size_t count, const Fn& fn) {
-  Kokkos::parallel_for(
-      label,
-      Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace, Kokkos::Schedule<Kokkos::Dynamic>>(
-          0, static_cast<int>(count))
-          .set_chunk_size(1),
-      fn);
+// Splits each part (parts[i] from tops[i]) down to ranges of at most fragment_max items and
+// builds those ranges' fragments (built[i][j] from parts[i].pending[j]), in one parallel region:
+// a thread splits the next part, largest first, while any is left, then builds the fragments of
+// the parts split so far, so no thread waits at a barrier between the two steps (a thread that
+// finds none ready while another still splits yields). What is built does not depend on who
+// builds it or when.
+void build_parts(const SpatialContext& ctx, const std::vector<Triangle>& input,
+                 const std::vector<Task>& tops, int fragment_max, std::vector<TopPart>& parts,
+                 std::vector<std::vector<Fragment>>& built) {
+  const std::vector<int> order = largest_first(tops);
+  const int count = static_cast<int>(tops.size());
+  std::atomic<int> next_part{0};
+  std::mutex ready_mutex;
+  std::vector<std::pair<int, int>> ready;  // (part, range), the largest range last
+  int parts_done = 0;                      // under ready_mutex
+  const auto split_part = [&](const int i) {
+    Task t = tops[i];
+    t.node = -1;  // the part's root reference goes to the parent slot in join_top_parts
+    split_down(ctx, {t}, fragment_max, parts[i]);
+    built[i].resize(parts[i].pending.size());
+    const std::vector<int> by_size = largest_first(parts[i].pending);
+    const std::lock_guard<std::mutex> lock(ready_mutex);
+    for (auto j = by_size.rbegin(); j != by_size.rend(); ++j) ready.push_back({i, *j});
+    ++parts_done;
+  };
+  const auto work = [&](const int) {
+    while (true) {
+      if (next_part.load() < count) {
+        const int k = next_part.fetch_add(1);
+        if (k < count) split_part(order[k]);
+        continue;
+      }
+      std::pair<int, int> job{-1, -1};
+      bool finished = false;
+      {
+        const std::lock_guard<std::mutex> lock(ready_mutex);
+        if (!ready.empty()) {
+          job = ready.back();
+          ready.pop_back();
+        }
+        finished = job.first < 0 && parts_done == count;
+      }
+      if (finished) return;
+      if (job.first < 0) {
+        std::this_thread::yield();
+        continue;
+      }
+      Task t = parts[job.first].pending[job.second];
+      t.node = -1;  // the fragment's root reference goes to the parent slot (build_tree)
+      build_fragment(ctx, input, t, built[job.first][job.second]);
+    }
+  };
+  const int threads = Kokkos::DefaultHostExecutionSpace().concurrency();
+  Kokkos::parallel_for("rtmini::bvh::build_sah::parts",
+                       Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace>(0, threads), work);
 }
 
 // The tree over all items (sets out.bounds) with padded child boxes and the leaves' triangles;
@@ -723,32 +772,17 @@ void build_tree(Items& items, const std::vector<Triangle>& input, bool spatial, 
   sp.left.node = sp.right.node = 0;
   split_down(ctx, {sp.right, sp.left}, std::max(fragment_max, n / kUpperShare), upper);
   std::vector<TopPart> parts(upper.pending.size());
-  const auto split_part = [&](const int i) {
-    Task t = upper.pending[i];
-    t.node = -1;  // the part's root reference goes to the parent slot in join_top_parts
-    split_down(ctx, {t}, fragment_max, parts[i]);
-  };
-  const std::vector<int> upper_order = largest_first(upper.pending);
-  if (std::any_of(upper.pending.begin(), upper.pending.end(),
-                  [&](const Task& t) { return t.end - t.begin > fragment_max; }))
-    for_each_dynamic("rtmini::bvh::build_sah::top", upper_order.size(),
-                     [&](const int k) { split_part(upper_order[k]); });
-  else
-    for (std::size_t i = 0; i < parts.size(); ++i) split_part(int(i));
+  std::vector<std::vector<Fragment>> built(parts.size());
+  build_parts(ctx, input, upper.pending, fragment_max, parts, built);
   const std::vector<Task> fragments = join_top_parts(upper, parts, out);
-  const std::vector<int> fragment_order = largest_first(fragments);
-  std::vector<Fragment> built(fragments.size());
-  for_each_dynamic("rtmini::bvh::build_sah::fragments", fragment_order.size(), [&](const int k) {
-    const int i = fragment_order[k];
-    Task t = fragments[i];
-    t.node = -1;  // the fragment's root reference goes to the parent slot below
-    build_fragment(ctx, input, t, built[i]);
-  });
   const std::size_t top_nodes = out.nodes.size();
-  for (std::size_t i = 0; i < fragments.size(); ++i) {
-    const std::uint32_t ref = append_fragment(built[i], out);  // may reallocate out.nodes
-    out.nodes[fragments[i].node].set_child(fragments[i].slot, fragments[i].box, ref);
-  }
+  std::size_t f = 0;
+  for (const std::vector<Fragment>& part : built)
+    for (const Fragment& b : part) {
+      const std::uint32_t ref = append_fragment(b, out);  // may reallocate out.nodes
+      out.nodes[fragments[f].node].set_child(fragments[f].slot, fragments[f].box, ref);
+      ++f;
+    }
   for (std::size_t i = 0; i < top_nodes; ++i) pad_child_boxes(out.nodes[i]);
 }
 
