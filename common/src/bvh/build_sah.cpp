@@ -25,8 +25,9 @@ constexpr int kMaxDepth = kStackSize - 2;
 // Subtrees of at most max(kMinFragment, n / kFragmentShare) items are built in parallel.
 constexpr int kFragmentShare = 64;
 constexpr int kMinFragment = 256;
-// The levels above ranges of n / kUpperShare items are split serially, the rest in parallel.
-constexpr int kUpperShare = 8;
+// The levels above ranges of n / (kPartsPerThread * threads) items are split serially, the rest
+// of the top in parallel (parts); that cut does not change the tree, only who builds what.
+constexpr int kPartsPerThread = 2;
 // Spatial splits are tried where the best object split's children overlap by more than this
 // fraction of the root's surface area (the value Stich et al. 2009 suggest; on a 100K-triangle
 // mesh it still passes at most nodes, which is what makes the build slow: slivers.md).
@@ -761,16 +762,18 @@ void build_tree(Items& items, const std::vector<Triangle>& input, bool spatial, 
     pad_child_boxes(out.nodes[0]);
     return;
   }
-  // The top levels, down to ranges of at most kFragmentShare of the input: those subtrees are
-  // independent and are built in parallel (below). The levels above ranges of kUpperShare of the
-  // input are split serially, the rest of the top in parallel too. The cuts depend on n only,
-  // and nodes and fragments get the serial depth-first order, so the tree is the same for any
-  // thread count.
+  // The top levels, down to ranges of at most kFragmentShare of the input: those subtrees
+  // (fragments) are independent and are built in parallel. The fragment cut depends on n only
+  // (fragments are appended after the top nodes), and the top's nodes and the fragments keep
+  // the serial depth-first order however the top was split up, so the tree is the same for any
+  // thread count. The upper levels are split serially, the parts below them in parallel.
   const int fragment_max = std::max(kMinFragment, n / kFragmentShare);
+  const int threads = Kokkos::DefaultHostExecutionSpace().concurrency();
   TopPart upper;
   upper.nodes.emplace_back();  // the root
   sp.left.node = sp.right.node = 0;
-  split_down(ctx, {sp.right, sp.left}, std::max(fragment_max, n / kUpperShare), upper);
+  split_down(ctx, {sp.right, sp.left}, std::max(fragment_max, n / (kPartsPerThread * threads)),
+             upper);
   std::vector<TopPart> parts(upper.pending.size());
   std::vector<std::vector<Fragment>> built(parts.size());
   build_parts(ctx, input, upper.pending, fragment_max, parts, built);
