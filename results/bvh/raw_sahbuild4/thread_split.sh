@@ -13,7 +13,7 @@ before=$1 after=$2 runs=${3:-5}
 data=$(mktemp)
 export OMP_PROC_BIND=false OMP_WAIT_POLICY=passive
 for mesh in dragon stanford-bunny; do
-  for rep in $(seq "$runs"); do
+  for _ in $(seq "$runs"); do
     for b in "$before" "$after"; do
       perf record -q -e cpu-clock -F 4000 -o "$data" "$b" "$root/inputs/meshes/$mesh.obj" --build-only \
         --time-builds sah --repeats 30 --threads 2 >/dev/null 2>&1
