@@ -1,10 +1,13 @@
 #include "rtmini/bvh/build_sah.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <cstring>
 #include <memory>
+#include <mutex>
 #include <numeric>
+#include <thread>
 #include <type_traits>
 
 #include "rtmini/bvh/clip.hpp"
@@ -22,6 +25,9 @@ constexpr int kMaxDepth = kStackSize - 2;
 // Subtrees of at most max(kMinFragment, n / kFragmentShare) items are built in parallel.
 constexpr int kFragmentShare = 64;
 constexpr int kMinFragment = 256;
+// The levels above ranges of n / (kPartsPerThread * threads) items are split serially, the rest
+// of the top in parallel (parts); that cut does not change the tree, only who builds what.
+constexpr int kPartsPerThread = 2;
 // Spatial splits are tried where the best object split's children overlap by more than this
 // fraction of the root's surface area (the value Stich et al. 2009 suggest; on a 100K-triangle
 // mesh it still passes at most nodes, which is what makes the build slow: slivers.md).
@@ -537,9 +543,11 @@ std::uint32_t append_fragment(const Fragment& f, HostBvh& out) {
     if (ref == kEmptyLeaf) return ref;
     return is_leaf(ref) ? make_leaf(leaf_first(ref) + tri_base, leaf_count(ref)) : ref + node_base;
   };
-  for (BvhNode n : f.nodes) {
-    for (int k = 0; k < 2; ++k) n.child[k] = global(n.child[k]);
+  // Copied whole, then relinked in place: a node copied member by member into a local would
+  // carry stack bytes in its padding, and the tree's bytes (its fingerprint) would vary.
+  for (const BvhNode& n : f.nodes) {
     out.nodes.push_back(n);
+    for (std::uint32_t& c : out.nodes.back().child) c = global(c);
   }
   out.prim.insert(out.prim.end(), f.prim.begin(), f.prim.end());
   out.tris.insert(out.tris.end(), f.tris.begin(), f.tris.end());
@@ -571,6 +579,151 @@ std::vector<Item> make_items(const std::vector<Triangle>& input, double split_bu
   return items;
 }
 
+// Part of the tree's top, split depth first: its nodes with ids local to it in the serial
+// depth-first (pre-)order, and the ranges left unsplit in that order, each with the number of
+// the part's nodes that precede it. A range's `node` is its parent's local id, or -1 where its
+// parent is outside the part.
+struct TopPart {
+  std::vector<BvhNode> nodes;
+  std::vector<Task> pending;
+  std::vector<std::size_t> nodes_before;
+  ItemLists lists;  // the spatial splits' item lists, alive until the build ends
+};
+
+// Splits the ranges on `stack` (the next on top) and their halves while they hold more than
+// `largest` items and a split pays; the part's root slot (node -1) is linked by the caller.
+void split_down(const SpatialContext& ctx, std::vector<Task> stack, int largest, TopPart& part) {
+  Split sp;
+  while (!stack.empty()) {
+    const Task t = stack.back();
+    stack.pop_back();
+    if (t.end - t.begin <= largest || !split_range(ctx, t, part.lists, sp)) {
+      part.pending.push_back(t);
+      part.nodes_before.push_back(part.nodes.size());
+      continue;
+    }
+    const int id = static_cast<int>(part.nodes.size());
+    part.nodes.emplace_back();
+    if (t.node >= 0) part.nodes[t.node].set_child(t.slot, t.box, static_cast<std::uint32_t>(id));
+    sp.left.node = sp.right.node = id;
+    stack.push_back(sp.right);
+    stack.push_back(sp.left);
+  }
+}
+
+// The upper part's nodes with each lower part's nodes (parts[i] split upper.pending[i]) inserted
+// where the serial depth-first order puts them, appended to out.nodes (which holds nothing yet)
+// with global ids; returns the lower parts' unsplit ranges, in order, with global parent ids.
+std::vector<Task> join_top_parts(const TopPart& upper, const std::vector<TopPart>& parts,
+                                 HostBvh& out) {
+  std::vector<std::uint32_t> upper_id(upper.nodes.size()), base(parts.size());
+  std::uint32_t next = 0;
+  std::size_t u = 0;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    while (u < upper.nodes_before[i]) upper_id[u++] = next++;
+    base[i] = next;
+    next += static_cast<std::uint32_t>(parts[i].nodes.size());
+  }
+  while (u < upper.nodes.size()) upper_id[u++] = next++;
+  // Internal children are local ids; the slots of pending ranges are overwritten below.
+  out.nodes.resize(next);
+  for (std::size_t k = 0; k < upper.nodes.size(); ++k) {
+    BvhNode& nd = out.nodes[upper_id[k]];
+    nd = upper.nodes[k];
+    for (std::uint32_t& c : nd.child) c = upper_id[c];
+  }
+  std::vector<Task> fragments;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const Task& top = upper.pending[i];
+    const std::uint32_t parent = upper_id[top.node];
+    for (std::size_t k = 0; k < parts[i].nodes.size(); ++k) {
+      BvhNode& nd = out.nodes[base[i] + k];
+      nd = parts[i].nodes[k];
+      for (std::uint32_t& c : nd.child) c += base[i];
+    }
+    if (!parts[i].nodes.empty()) out.nodes[parent].set_child(top.slot, top.box, base[i]);
+    for (Task f : parts[i].pending) {
+      if (f.node < 0) {
+        f.node = static_cast<int>(parent);
+        f.slot = top.slot;
+      } else {
+        f.node += static_cast<int>(base[i]);
+      }
+      fragments.push_back(f);
+    }
+  }
+  return fragments;
+}
+
+// The tasks' indices, largest range first (ties in order): handed out one at a time in this
+// order, the last ones are the smallest, so no thread waits long at the end for another's big
+// one (the tree does not depend on this order).
+std::vector<int> largest_first(const std::vector<Task>& tasks) {
+  std::vector<int> order(tasks.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int x, int y) {
+    return tasks[x].end - tasks[x].begin > tasks[y].end - tasks[y].begin;
+  });
+  return order;
+}
+
+// Splits each part (parts[i] from tops[i]) down to ranges of at most fragment_max items and
+// builds those ranges' fragments (built[i][j] from parts[i].pending[j]), in one parallel region:
+// a thread splits the next part, largest first, while any is left, then builds the fragments of
+// the parts split so far, so no thread waits at a barrier between the two steps (a thread that
+// finds none ready while another still splits yields). What is built does not depend on who
+// builds it or when.
+void build_parts(const SpatialContext& ctx, const std::vector<Triangle>& input,
+                 const std::vector<Task>& tops, int fragment_max, std::vector<TopPart>& parts,
+                 std::vector<std::vector<Fragment>>& built) {
+  const std::vector<int> order = largest_first(tops);
+  const int count = static_cast<int>(tops.size());
+  std::atomic<int> next_part{0};
+  std::mutex ready_mutex;
+  std::vector<std::pair<int, int>> ready;  // (part, range), the largest range last
+  int parts_done = 0;                      // under ready_mutex
+  const auto split_part = [&](const int i) {
+    Task t = tops[i];
+    t.node = -1;  // the part's root reference goes to the parent slot in join_top_parts
+    split_down(ctx, {t}, fragment_max, parts[i]);
+    built[i].resize(parts[i].pending.size());
+    const std::vector<int> by_size = largest_first(parts[i].pending);
+    const std::lock_guard<std::mutex> lock(ready_mutex);
+    for (auto j = by_size.rbegin(); j != by_size.rend(); ++j) ready.push_back({i, *j});
+    ++parts_done;
+  };
+  const auto work = [&](const int) {
+    while (true) {
+      if (next_part.load() < count) {
+        const int k = next_part.fetch_add(1);
+        if (k < count) split_part(order[k]);
+        continue;
+      }
+      std::pair<int, int> job{-1, -1};
+      bool finished = false;
+      {
+        const std::lock_guard<std::mutex> lock(ready_mutex);
+        if (!ready.empty()) {
+          job = ready.back();
+          ready.pop_back();
+        }
+        finished = job.first < 0 && parts_done == count;
+      }
+      if (finished) return;
+      if (job.first < 0) {
+        std::this_thread::yield();
+        continue;
+      }
+      Task t = parts[job.first].pending[job.second];
+      t.node = -1;  // the fragment's root reference goes to the parent slot (build_tree)
+      build_fragment(ctx, input, t, built[job.first][job.second]);
+    }
+  };
+  const int threads = Kokkos::DefaultHostExecutionSpace().concurrency();
+  Kokkos::parallel_for("rtmini::bvh::build_sah::parts",
+                       Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace>(0, threads), work);
+}
+
 // The tree over all items (sets out.bounds) with padded child boxes and the leaves' triangles;
 // with spatial splits, up to `budget` references more than items.
 void build_tree(Items& items, const std::vector<Triangle>& input, bool spatial, double budget,
@@ -596,10 +749,10 @@ void build_tree(Items& items, const std::vector<Triangle>& input, bool spatial, 
   out.tris.reserve(n);
 
   // The root is always an internal node with two slots.
-  out.nodes.emplace_back();
   ItemLists lists;
   Split sp;
   if (n == 1 || !split_range(ctx, root, lists, sp)) {
+    out.nodes.emplace_back();
     Fragment leaf;
     root.depth = kMaxDepth;
     build_fragment(ctx, input, root, leaf);
@@ -609,52 +762,30 @@ void build_tree(Items& items, const std::vector<Triangle>& input, bool spatial, 
     pad_child_boxes(out.nodes[0]);
     return;
   }
-  // Top levels serially, down to ranges of at most kFragmentShare of the input; those subtrees
-  // are independent and are built in parallel. The cut depends on n only, and fragments are
-  // appended in the serial depth-first order, so the tree is the same for any thread count.
+  // The top levels, down to ranges of at most kFragmentShare of the input: those subtrees
+  // (fragments) are independent and are built in parallel. The fragment cut depends on n only
+  // (fragments are appended after the top nodes), and the top's nodes and the fragments keep
+  // the serial depth-first order however the top was split up, so the tree is the same for any
+  // thread count. The upper levels are split serially, the parts below them in parallel.
   const int fragment_max = std::max(kMinFragment, n / kFragmentShare);
-  std::vector<Task> fragments, stack;
+  const int threads = Kokkos::DefaultHostExecutionSpace().concurrency();
+  TopPart upper;
+  upper.nodes.emplace_back();  // the root
   sp.left.node = sp.right.node = 0;
-  stack.push_back(sp.right);
-  stack.push_back(sp.left);
-  while (!stack.empty()) {
-    const Task t = stack.back();
-    stack.pop_back();
-    if (t.end - t.begin <= fragment_max || !split_range(ctx, t, lists, sp)) {
-      fragments.push_back(t);
-      continue;
-    }
-    const int id = static_cast<int>(out.nodes.size());
-    out.nodes.emplace_back();
-    out.nodes[t.node].set_child(t.slot, t.box, static_cast<std::uint32_t>(id));
-    sp.left.node = sp.right.node = id;
-    stack.push_back(sp.right);
-    stack.push_back(sp.left);
-  }
-  // Largest first, one at a time: the last fragments handed out are the smallest, so no thread
-  // waits long at the end for another's big one (the tree does not depend on this order).
-  std::vector<int> largest_first(fragments.size());
-  std::iota(largest_first.begin(), largest_first.end(), 0);
-  std::stable_sort(largest_first.begin(), largest_first.end(), [&](int x, int y) {
-    return fragments[x].end - fragments[x].begin > fragments[y].end - fragments[y].begin;
-  });
-  std::vector<Fragment> built(fragments.size());
-  Kokkos::parallel_for(
-      "rtmini::bvh::build_sah::fragments",
-      Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace, Kokkos::Schedule<Kokkos::Dynamic>>(
-          0, static_cast<int>(fragments.size()))
-          .set_chunk_size(1),
-      [&](const int k) {
-        const int i = largest_first[k];
-        Task t = fragments[i];
-        t.node = -1;  // the fragment's root reference goes to the parent slot below
-        build_fragment(ctx, input, t, built[i]);
-      });
+  split_down(ctx, {sp.right, sp.left}, std::max(fragment_max, n / (kPartsPerThread * threads)),
+             upper);
+  std::vector<TopPart> parts(upper.pending.size());
+  std::vector<std::vector<Fragment>> built(parts.size());
+  build_parts(ctx, input, upper.pending, fragment_max, parts, built);
+  const std::vector<Task> fragments = join_top_parts(upper, parts, out);
   const std::size_t top_nodes = out.nodes.size();
-  for (std::size_t i = 0; i < fragments.size(); ++i) {
-    const std::uint32_t ref = append_fragment(built[i], out);  // may reallocate out.nodes
-    out.nodes[fragments[i].node].set_child(fragments[i].slot, fragments[i].box, ref);
-  }
+  std::size_t f = 0;
+  for (const std::vector<Fragment>& part : built)
+    for (const Fragment& b : part) {
+      const std::uint32_t ref = append_fragment(b, out);  // may reallocate out.nodes
+      out.nodes[fragments[f].node].set_child(fragments[f].slot, fragments[f].box, ref);
+      ++f;
+    }
   for (std::size_t i = 0; i < top_nodes; ++i) pad_child_boxes(out.nodes[i]);
 }
 
