@@ -2,6 +2,7 @@
 // Direct illumination with shadow rays: quad area lights and emissive meshes with
 // stratified jittered samples (the hand-drawn seed's soft shadows; the
 // distribution seed's jittered light sub-sections), and point lights.
+#include "kernel_features.hpp"
 #include "rtmini/bvh/shaft.hpp"
 #include "rtmini/bvh/traverse.hpp"
 #include "rtmini/sampling/rng.hpp"
@@ -295,7 +296,9 @@ struct GlossyResponse {
 // Sums over lights of L_e R(wi) / pdf(wi) (area lights, two-sided; pdf by solid angle, quads
 // by spherical rectangle or area, mesh lights by area) and I R(wi) / r^2 (point lights), with
 // R the shading point's `response` (LambertResponse, or a glossy lobe times its MIS weight).
-template <class Scene, class Response>
+// `kPaths` (FeatureBits) compiles in shaft culling, mesh lights and point lights; the caller
+// leaves out only those its scene never uses.
+template <unsigned kPaths = kEveryLightPath, class Scene, class Response>
 KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, const Rng& rng,
                                          const ShadowPlan& plan, const Response& response,
                                          TraceCounter& c) {
@@ -336,7 +339,8 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, c
     SphericalRect rect;
     const bool by_solid_angle = spherical_rect(ql, s.p, rect);
     bvh::ShaftBlockers shaft;
-    blockers = samples >= kShaftMinSamples && quad_shaft_blockers(scene, org, ql, shaft, c)
+    blockers = (kPaths & kShafts) && samples >= kShaftMinSamples &&
+                       quad_shaft_blockers(scene, org, ql, shaft, c)
                    ? &shaft
                    : nullptr;
     const std::uint32_t key = plan.key ^ static_cast<std::uint32_t>(light);
@@ -361,7 +365,8 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, c
     }
     blockers = nullptr;
   }
-  for (int l = 0; l < scene.num_mesh_lights; ++l, ++light) {
+  const int mesh_lights = (kPaths & kMeshLights) ? scene.num_mesh_lights : 0;
+  for (int l = 0; l < mesh_lights; ++l, ++light) {
     const MeshLight ml = scene.mesh_lights(l);
     for (int j = 0; j < samples; ++j) {
       float a, b;
@@ -392,7 +397,8 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, c
       area_sample(q, triangle_normal(t.a, t.b, t.c), le, ml.area);
     }
   }
-  for (int l = 0; l < scene.num_points; ++l) {
+  const int point_lights = (kPaths & kPointLights) ? scene.num_points : 0;
+  for (int l = 0; l < point_lights; ++l) {
     const PointLight pl = scene.points(l);
     const Vec3 w = pl.position - s.p;
     const Real d2 = dot(w, w);
@@ -408,10 +414,10 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, c
 
 // Irradiance-like sum over lights of L_e cos_s / pdf (area lights) and I cos_s / r^2 (point
 // lights); the caller multiplies by Kd / pi.
-template <class Scene>
+template <unsigned kPaths = kEveryLightPath, class Scene>
 KOKKOS_INLINE_FUNCTION Vec3 direct_irradiance(const Scene& scene, const Surface& s, const Rng& rng,
                                               const ShadowPlan& plan, TraceCounter& c) {
-  return direct_light(scene, s, rng, plan, LambertResponse{s.ns, s.ng}, c);
+  return direct_light<kPaths>(scene, s, rng, plan, LambertResponse{s.ns, s.ng}, c);
 }
 
 }  // namespace rtmini::sketch
