@@ -84,15 +84,14 @@ unsigned light_paths(const DeviceScene& scene, const RenderSettings& s) {
   return f;
 }
 
-// The first compiled instantiation of `wanted`'s shape that holds all its light paths.
+}  // namespace
+
 unsigned kernel_variant(unsigned wanted) {
   for (unsigned v : kKernelVariants)
     if ((v & kShapeFeatures) == (wanted & kShapeFeatures) && (v & wanted) == wanted) return v;
   throw std::logic_error("sketchtrace: no kernel instantiation for features " +
                          feature_names(wanted));
 }
-
-}  // namespace
 
 std::string feature_names(unsigned f) {
   std::string s;

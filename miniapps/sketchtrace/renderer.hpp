@@ -55,6 +55,10 @@ class Renderer {
   unsigned features_ = 0;
 };
 
+// The kernel instantiation a render that needs `wanted` (FeatureBits) runs: the first compiled
+// one of the same shape (kShapeFeatures) that holds all the light paths it needs.
+unsigned kernel_variant(unsigned wanted);
+
 // Feature names for the banner, e.g. "secondary+lights".
 std::string feature_names(unsigned features);
 
