@@ -85,13 +85,21 @@ struct ShadowPlan {
 };
 
 // Sample j of a plan's light strata, jittered by (u1, u2): a point in [0,1)^2. `shape` is
-// strata_shape(plan.samples * plan.pixel_strata). With one pixel sample (or one shadow sample)
-// this is stratum j (or pixel_cell) of the plan's strata, as before joint stratification.
-KOKKOS_FORCEINLINE_FUNCTION void light_stratum(const ShadowPlan& plan, int j, StrataShape shape,
-                                               std::uint32_t key, Real u1, Real u2, Real& x,
-                                               Real& y) {
+// strata_shape(plan.samples * plan.pixel_strata); `cell` is (pixel_cell + j) mod pixel_strata,
+// which the caller's loop over j steps (first_cell, next_cell): an integer modulo per shadow
+// ray costs a GPU dozens of instructions. With one pixel sample (or one shadow sample) this is
+// stratum j (or pixel_cell) of the plan's strata, as before joint stratification.
+KOKKOS_FORCEINLINE_FUNCTION void light_stratum(const ShadowPlan& plan, int j, int cell,
+                                               StrataShape shape, std::uint32_t key, Real u1,
+                                               Real u2, Real& x, Real& y) {
   const int n = plan.pixel_strata;
-  stratum_2d(j * n + (plan.pixel_cell + j) % n, plan.samples * n, shape, key, u1, u2, x, y);
+  stratum_2d(j * n + cell, plan.samples * n, shape, key, u1, u2, x, y);
+}
+KOKKOS_FORCEINLINE_FUNCTION int first_cell(const ShadowPlan& plan) {
+  return plan.pixel_cell % plan.pixel_strata;
+}
+KOKKOS_FORCEINLINE_FUNCTION int next_cell(const ShadowPlan& plan, int cell) {
+  return cell + 1 == plan.pixel_strata ? 0 : cell + 1;
 }
 
 // Shaft culling pays off from this many shadow rays per light and shading point.
@@ -414,7 +422,8 @@ KOKKOS_INLINE_FUNCTION LobeLight direct_light(const Scene& scene, const Surface&
       // Consecutive pairs share one Philox block (Rng::uniform2 draws the same numbers).
       r123::Philox4x32::ctr_type block{};
       std::uint32_t block_id = ~0u;
-      for (int j = 0; j < samples; ++j) {
+      int cell = first_cell(plan);
+      for (int j = 0; j < samples; ++j, cell = next_cell(plan, cell)) {
         const std::uint32_t pair = pair0 + static_cast<std::uint32_t>(j);
         if ((pair >> 1) != block_id) {
           block_id = pair >> 1;
@@ -422,7 +431,7 @@ KOKKOS_INLINE_FUNCTION LobeLight direct_light(const Scene& scene, const Surface&
         }
         const unsigned o = (pair & 1u) * 2u;
         Real x, y;
-        light_stratum(plan, j, shape, key, Real(Rng::to_unit(block.v[o])),
+        light_stratum(plan, j, cell, shape, key, Real(Rng::to_unit(block.v[o])),
                       Real(Rng::to_unit(block.v[o + 1])), x, y);
         if (by_solid_angle)
           solid_angle_sample(sum, lobe.response, org, blockers, spherical_rect_point(rect, x, y),
@@ -442,12 +451,13 @@ KOKKOS_INLINE_FUNCTION LobeLight direct_light(const Scene& scene, const Surface&
       if (!lobe.active) continue;
       const Vec3 org = offset_ray_origin(s.p, lobe.response.side, s.coordinate_bound);
       Vec3 sum = out.at(k);
-      for (int j = 0; j < samples; ++j) {
+      int cell = first_cell(plan);
+      for (int j = 0; j < samples; ++j, cell = next_cell(plan, cell)) {
         float a, b;
         rng.uniform2(lobe.pair_base + static_cast<std::uint32_t>(light * samples + j), a, b);
         Real x = a, y = b;
         if (plan.soft)
-          light_stratum(plan, j, shape, plan.key ^ static_cast<std::uint32_t>(light), Real(a),
+          light_stratum(plan, j, cell, shape, plan.key ^ static_cast<std::uint32_t>(light), Real(a),
                         Real(b), x, y);
         // Pick a triangle by area with x (binary search of the CDF), reuse x's
         // position inside that triangle's CDF interval as the first barycentric number.
