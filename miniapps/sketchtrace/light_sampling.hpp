@@ -269,110 +269,54 @@ KOKKOS_INLINE_FUNCTION Real power_heuristic(Real a, Real b) {
   return Real(1) / (Real(1) + r * r);
 }
 
-// How one lobe of a shading point responds to light from wi. Lambert (`glossy` false): cos_s
-// against the shading normal `axis` (the caller multiplies by Kd / pi). A glossy Phong lobe
-// around `axis` (exponent `shininess`): the lobe's pdf (the lobe's weight times it is the BSDF
-// times cos) times the power-heuristic weight of light sampling (`light_count` samples)
-// against sampling the lobe (`lobe_count` samples). Zero below `side`, the geometric normal on
-// the lit side (ng; -ng for transmission), where its shadow rays leave.
-struct LobeResponse {
-  bool glossy = false;
-  Vec3 axis, side;
-  Real shininess = 0, light_count = 1, lobe_count = 1;
-  KOKKOS_INLINE_FUNCTION Real lobe(const Vec3& wi) const {
-    return dot(side, wi) > Real(0) ? phong_pdf(axis, shininess, wi) : Real(0);
-  }
-  KOKKOS_INLINE_FUNCTION Real lambert(const Vec3& wi) const {
-    const Real cos_s = dot(axis, wi);
-    if (cos_s <= Real(0) || dot(side, wi) <= Real(0)) return Real(0);
+// How a Lambertian shading point responds to light from wi: cos_s (the caller multiplies by
+// Kd / pi); zero below the shading or the geometric normal. Shadow rays leave on ng's side.
+struct LambertResponse {
+  Vec3 ns, ng;
+  KOKKOS_INLINE_FUNCTION Vec3 side() const { return ng; }
+  KOKKOS_INLINE_FUNCTION Real operator()(const Vec3& wi, Real /*light_pdf*/) const {
+    const Real cos_s = dot(ns, wi);
+    if (cos_s <= Real(0) || dot(ng, wi) <= Real(0)) return Real(0);
     return cos_s;
   }
+  KOKKOS_INLINE_FUNCTION Real delta(const Vec3& wi) const { return (*this)(wi, Real(0)); }
+};
+
+// How a glossy Phong lobe (around `axis`, exponent n) responds to light from wi: the lobe's
+// pdf (the lobe's weight times it is the BSDF times cos) times the power-heuristic weight of
+// light sampling (`light_count` samples) against sampling the lobe (`lobe_count` samples);
+// zero on the wrong side of the surface (`side`: ng for reflection, -ng for transmission).
+struct GlossyResponse {
+  Vec3 axis, normal;
+  Real shininess;
+  Real light_count, lobe_count;
+  KOKKOS_INLINE_FUNCTION Vec3 side() const { return normal; }
+  KOKKOS_INLINE_FUNCTION Real lobe(const Vec3& wi) const {
+    return dot(normal, wi) > Real(0) ? phong_pdf(axis, shininess, wi) : Real(0);
+  }
   KOKKOS_INLINE_FUNCTION Real operator()(const Vec3& wi, Real light_pdf) const {
-    if (!glossy) return lambert(wi);
     const Real q = lobe(wi);
     return q > Real(0) ? q * power_heuristic(light_count * light_pdf, lobe_count * q) : Real(0);
   }
-  // Towards a point light (no MIS: no lobe sample can find it).
-  KOKKOS_INLINE_FUNCTION Real delta(const Vec3& wi) const {
-    return glossy ? lobe(wi) : lambert(wi);
-  }
+  KOKKOS_INLINE_FUNCTION Real delta(const Vec3& wi) const { return lobe(wi); }
 };
 
-KOKKOS_INLINE_FUNCTION LobeResponse lambert_response(const Vec3& ns, const Vec3& ng) {
-  LobeResponse r;
-  r.axis = ns;
-  r.side = ng;
-  return r;
-}
-
-KOKKOS_INLINE_FUNCTION LobeResponse glossy_response(const Vec3& axis, const Vec3& side,
-                                                    Real shininess, Real light_count,
-                                                    Real lobe_count) {
-  LobeResponse r;
-  r.glossy = true;
-  r.axis = axis;
-  r.side = side;
-  r.shininess = shininess;
-  r.light_count = light_count;
-  r.lobe_count = lobe_count;
-  return r;
-}
-
-// One lobe's part in a light-sampling pass: whether it takes part, its response and the
-// first random pair of its shadow samples (ShadowPlan::pair_base for this lobe).
-struct LightLobe {
-  bool active = false;
-  LobeResponse response;
-  std::uint32_t pair_base = 0;
-};
-
-// The lobes of one shading point that sample the lights in one pass (Lambert, a glossy lobe's
-// reflection and transmission), so that what depends on the point and a light alone (the
-// spherical rectangle) is computed once for all of them. Lobes are picked by value, not by
-// index into an array: a per-thread array indexed at run time would live in local memory.
-struct LightLobes {
-  static constexpr int kCount = 3;
-  LightLobe lambert, reflection, transmission;
-  KOKKOS_INLINE_FUNCTION LightLobe at(int k) const {
-    return k == 0 ? lambert : (k == 1 ? reflection : transmission);
-  }
-};
-
-// What each lobe of a LightLobes pass gathered (zero for lobes that took no part).
-struct LobeLight {
-  Vec3 lambert{Real(0)}, reflection{Real(0)}, transmission{Real(0)};
-  KOKKOS_INLINE_FUNCTION Vec3 at(int k) const {
-    return k == 0 ? lambert : (k == 1 ? reflection : transmission);
-  }
-  KOKKOS_INLINE_FUNCTION void set(int k, const Vec3& v) {
-    if (k == 0)
-      lambert = v;
-    else if (k == 1)
-      reflection = v;
-    else
-      transmission = v;
-  }
-};
-
-// For every active lobe, the sum over lights of L_e R(wi) / pdf(wi) (area lights, two-sided;
-// pdf by solid angle, quads by spherical rectangle or area, mesh lights by area) and
-// I R(wi) / r^2 (point lights), R the lobe's response. Each lobe's sum runs over the same
-// lights and samples, in the same order, as a pass of that lobe alone.
-// `kPaths` (FeatureBits) compiles in the glossy lobes (without kGlossy only the Lambert lobe
-// takes part), shaft culling, mesh lights and point lights; the caller leaves out only those
-// its scene never uses.
-template <unsigned kPaths = kEveryLightPath, class Scene>
-KOKKOS_INLINE_FUNCTION LobeLight direct_light(const Scene& scene, const Surface& s, const Rng& rng,
-                                              const ShadowPlan& plan, const LightLobes& lobes,
-                                              TraceCounter& c) {
-  constexpr int kLobes = (kPaths & kGlossy) ? LightLobes::kCount : 1;
-  LobeLight out;
+// Sums over lights of L_e R(wi) / pdf(wi) (area lights, two-sided; pdf by solid angle, quads
+// by spherical rectangle or area, mesh lights by area) and I R(wi) / r^2 (point lights), with
+// R the shading point's `response` (LambertResponse, or a glossy lobe times its MIS weight).
+// `kPaths` (FeatureBits) compiles in shaft culling, mesh lights and point lights; the caller
+// leaves out only those its scene never uses.
+template <unsigned kPaths = kEveryLightPath, class Scene, class Response>
+KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, const Rng& rng,
+                                         const ShadowPlan& plan, const Response& response,
+                                         TraceCounter& c) {
+  Vec3 sum(Real(0));
   const int samples = plan.soft ? plan.samples : 1;
   const Real inv_samples = Real(1) / Real(samples);
-  const StrataShape shape = strata_shape(samples * plan.pixel_strata);
-  auto area_sample = [&](Vec3& sum, const LobeResponse& response, const Vec3& org,
-                         const bvh::ShaftBlockers* blockers, const Vec3& q, const Vec3& nl,
-                         const Vec3& le, Real area) {
+  int light = 0;
+  const Vec3 org = offset_ray_origin(s.p, response.side(), s.coordinate_bound);
+  const bvh::ShaftBlockers* blockers = nullptr;
+  auto area_sample = [&](const Vec3& q, const Vec3& nl, const Vec3& le, Real area) {
     const Vec3 w = q - s.p;
     const Real d2 = dot(w, w);
     if (!(d2 > Real(0))) return;
@@ -383,9 +327,7 @@ KOKKOS_INLINE_FUNCTION LobeLight direct_light(const Scene& scene, const Surface&
     if (!visible(scene, org, q, s.time, c, blockers)) return;
     sum += le * (f * cos_l * area / d2 * inv_samples);
   };
-  auto solid_angle_sample = [&](Vec3& sum, const LobeResponse& response, const Vec3& org,
-                                const bvh::ShaftBlockers* blockers, const Vec3& q, const Vec3& le,
-                                Real solid_angle) {
+  auto solid_angle_sample = [&](const Vec3& q, const Vec3& le, Real solid_angle) {
     const Vec3 w = q - s.p;
     const Real d2 = dot(w, w);
     if (!(d2 > Real(0))) return;
@@ -395,93 +337,74 @@ KOKKOS_INLINE_FUNCTION LobeLight direct_light(const Scene& scene, const Surface&
     if (!visible(scene, org, q, s.time, c, blockers)) return;
     sum += le * (f * solid_angle * inv_samples);
   };
-  int light = 0;
+  const StrataShape shape = strata_shape(samples * plan.pixel_strata);
   for (int l = 0; l < scene.num_quads; ++l, ++light) {
     const QuadLight ql = scene.quads(l);
-    SphericalRect rect;
-    const bool by_solid_angle = plan.soft && spherical_rect(ql, s.p, rect);
-    for (int k = 0; k < kLobes; ++k) {
-      const LightLobe lobe = lobes.at(k);
-      if (!lobe.active) continue;
-      const Vec3 org = offset_ray_origin(s.p, lobe.response.side, s.coordinate_bound);
-      Vec3 sum = out.at(k);
-      if (!plan.soft) {
-        area_sample(sum, lobe.response, org, nullptr,
-                    ql.corner + ql.u * Real(0.5) + ql.v * Real(0.5), ql.normal, ql.emission,
-                    ql.area);
-        out.set(k, sum);
-        continue;
-      }
-      bvh::ShaftBlockers shaft;
-      const bvh::ShaftBlockers* blockers = (kPaths & kShafts) && samples >= kShaftMinSamples &&
-                                                   quad_shaft_blockers(scene, org, ql, shaft, c)
-                                               ? &shaft
-                                               : nullptr;
-      const std::uint32_t key = plan.key ^ static_cast<std::uint32_t>(light);
-      const std::uint32_t pair0 = lobe.pair_base + static_cast<std::uint32_t>(light * samples);
-      // Consecutive pairs share one Philox block (Rng::uniform2 draws the same numbers).
-      r123::Philox4x32::ctr_type block{};
-      std::uint32_t block_id = ~0u;
-      int cell = first_cell(plan);
-      for (int j = 0; j < samples; ++j, cell = next_cell(plan, cell)) {
-        const std::uint32_t pair = pair0 + static_cast<std::uint32_t>(j);
-        if ((pair >> 1) != block_id) {
-          block_id = pair >> 1;
-          block = rng.block(block_id);
-        }
-        const unsigned o = (pair & 1u) * 2u;
-        Real x, y;
-        light_stratum(plan, j, cell, shape, key, Real(Rng::to_unit(block.v[o])),
-                      Real(Rng::to_unit(block.v[o + 1])), x, y);
-        if (by_solid_angle)
-          solid_angle_sample(sum, lobe.response, org, blockers, spherical_rect_point(rect, x, y),
-                             ql.emission, rect.solid_angle);
-        else
-          area_sample(sum, lobe.response, org, blockers, ql.corner + ql.u * x + ql.v * y, ql.normal,
-                      ql.emission, ql.area);
-      }
-      out.set(k, sum);
+    if (!plan.soft) {
+      area_sample(ql.corner + ql.u * Real(0.5) + ql.v * Real(0.5), ql.normal, ql.emission, ql.area);
+      continue;
     }
+    SphericalRect rect;
+    const bool by_solid_angle = spherical_rect(ql, s.p, rect);
+    bvh::ShaftBlockers shaft;
+    blockers = (kPaths & kShafts) && samples >= kShaftMinSamples &&
+                       quad_shaft_blockers(scene, org, ql, shaft, c)
+                   ? &shaft
+                   : nullptr;
+    const std::uint32_t key = plan.key ^ static_cast<std::uint32_t>(light);
+    const std::uint32_t pair0 = plan.pair_base + static_cast<std::uint32_t>(light * samples);
+    // Consecutive pairs share one Philox block (Rng::uniform2 draws the same numbers).
+    r123::Philox4x32::ctr_type block{};
+    std::uint32_t block_id = ~0u;
+    int cell = first_cell(plan);
+    for (int j = 0; j < samples; ++j, cell = next_cell(plan, cell)) {
+      const std::uint32_t pair = pair0 + static_cast<std::uint32_t>(j);
+      if ((pair >> 1) != block_id) {
+        block_id = pair >> 1;
+        block = rng.block(block_id);
+      }
+      const unsigned o = (pair & 1u) * 2u;
+      Real x, y;
+      light_stratum(plan, j, cell, shape, key, Real(Rng::to_unit(block.v[o])),
+                    Real(Rng::to_unit(block.v[o + 1])), x, y);
+      if (by_solid_angle)
+        solid_angle_sample(spherical_rect_point(rect, x, y), ql.emission, rect.solid_angle);
+      else
+        area_sample(ql.corner + ql.u * x + ql.v * y, ql.normal, ql.emission, ql.area);
+    }
+    blockers = nullptr;
   }
   const int mesh_lights = (kPaths & kMeshLights) ? scene.num_mesh_lights : 0;
   for (int l = 0; l < mesh_lights; ++l, ++light) {
     const MeshLight ml = scene.mesh_lights(l);
-    for (int k = 0; k < kLobes; ++k) {
-      const LightLobe lobe = lobes.at(k);
-      if (!lobe.active) continue;
-      const Vec3 org = offset_ray_origin(s.p, lobe.response.side, s.coordinate_bound);
-      Vec3 sum = out.at(k);
-      int cell = first_cell(plan);
-      for (int j = 0; j < samples; ++j, cell = next_cell(plan, cell)) {
-        float a, b;
-        rng.uniform2(lobe.pair_base + static_cast<std::uint32_t>(light * samples + j), a, b);
-        Real x = a, y = b;
-        if (plan.soft)
-          light_stratum(plan, j, cell, shape, plan.key ^ static_cast<std::uint32_t>(light), Real(a),
-                        Real(b), x, y);
-        // Pick a triangle by area with x (binary search of the CDF), reuse x's
-        // position inside that triangle's CDF interval as the first barycentric number.
-        int lo = ml.first, hi = ml.first + ml.count - 1;
-        while (lo < hi) {
-          const int mid = (lo + hi) / 2;
-          if (scene.emissive_cdf(mid) > x)
-            hi = mid;
-          else
-            lo = mid + 1;
-        }
-        const Real c0 = lo == ml.first ? Real(0) : scene.emissive_cdf(lo - 1);
-        const Real c1 = scene.emissive_cdf(lo);
-        const Real r1 = below_one(c1 > c0 ? (x - c0) / (c1 - c0) : Real(0.5));
-        const int tri = scene.emissive_tris(lo);
-        const Triangle& t = scene.mesh.tris(tri);
-        Real bu, bv;
-        uniform_triangle(r1, y, bu, bv);
-        const Vec3 q = barycentric_point(t.a, t.b, t.c, bu, bv);
-        const Vec3 le = scene.mesh.materials(scene.mesh.tri_material(tri)).emissive;
-        area_sample(sum, lobe.response, org, nullptr, q, triangle_normal(t.a, t.b, t.c), le,
-                    ml.area);
+    int cell = first_cell(plan);
+    for (int j = 0; j < samples; ++j, cell = next_cell(plan, cell)) {
+      float a, b;
+      rng.uniform2(plan.pair_base + static_cast<std::uint32_t>(light * samples + j), a, b);
+      Real x = a, y = b;
+      if (plan.soft)
+        light_stratum(plan, j, cell, shape, plan.key ^ static_cast<std::uint32_t>(light), Real(a),
+                      Real(b), x, y);
+      // Pick a triangle by area with x (binary search of the CDF), reuse x's
+      // position inside that triangle's CDF interval as the first barycentric number.
+      int lo = ml.first, hi = ml.first + ml.count - 1;
+      while (lo < hi) {
+        const int mid = (lo + hi) / 2;
+        if (scene.emissive_cdf(mid) > x)
+          hi = mid;
+        else
+          lo = mid + 1;
       }
-      out.set(k, sum);
+      const Real c0 = lo == ml.first ? Real(0) : scene.emissive_cdf(lo - 1);
+      const Real c1 = scene.emissive_cdf(lo);
+      const Real r1 = below_one(c1 > c0 ? (x - c0) / (c1 - c0) : Real(0.5));
+      const int tri = scene.emissive_tris(lo);
+      const Triangle& t = scene.mesh.tris(tri);
+      Real bu, bv;
+      uniform_triangle(r1, y, bu, bv);
+      const Vec3 q = barycentric_point(t.a, t.b, t.c, bu, bv);
+      const Vec3 le = scene.mesh.materials(scene.mesh.tri_material(tri)).emissive;
+      area_sample(q, triangle_normal(t.a, t.b, t.c), le, ml.area);
     }
   }
   const int point_lights = (kPaths & kPointLights) ? scene.num_points : 0;
@@ -491,17 +414,12 @@ KOKKOS_INLINE_FUNCTION LobeLight direct_light(const Scene& scene, const Surface&
     const Real d2 = dot(w, w);
     if (!(d2 > Real(0))) continue;
     const Vec3 wi = w / math::sqrt(d2);
-    for (int k = 0; k < kLobes; ++k) {
-      const LightLobe lobe = lobes.at(k);
-      if (!lobe.active) continue;
-      const Real f = lobe.response.delta(wi);
-      if (!(f > Real(0))) continue;
-      const Vec3 org = offset_ray_origin(s.p, lobe.response.side, s.coordinate_bound);
-      if (!visible(scene, org, pl.position, s.time, c)) continue;
-      out.set(k, out.at(k) + pl.intensity * (f / d2));
-    }
+    const Real f = response.delta(wi);
+    if (!(f > Real(0))) continue;
+    if (!visible(scene, org, pl.position, s.time, c)) continue;
+    sum += pl.intensity * (f / d2);
   }
-  return out;
+  return sum;
 }
 
 // Irradiance-like sum over lights of L_e cos_s / pdf (area lights) and I cos_s / r^2 (point
@@ -509,11 +427,7 @@ KOKKOS_INLINE_FUNCTION LobeLight direct_light(const Scene& scene, const Surface&
 template <unsigned kPaths = kEveryLightPath, class Scene>
 KOKKOS_INLINE_FUNCTION Vec3 direct_irradiance(const Scene& scene, const Surface& s, const Rng& rng,
                                               const ShadowPlan& plan, TraceCounter& c) {
-  LightLobes lobes;
-  lobes.lambert.active = true;
-  lobes.lambert.response = lambert_response(s.ns, s.ng);
-  lobes.lambert.pair_base = plan.pair_base;
-  return direct_light<kPaths & ~kGlossy>(scene, s, rng, plan, lobes, c).lambert;
+  return direct_light<kPaths>(scene, s, rng, plan, LambertResponse{s.ns, s.ng}, c);
 }
 
 }  // namespace rtmini::sketch

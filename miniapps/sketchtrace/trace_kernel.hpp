@@ -83,65 +83,50 @@ struct RadianceEstimator {
     return static_cast<std::uint32_t>(lights * (p.shadow_samples > 1 ? p.shadow_samples : 1));
   }
 
-  // The glossy lobes of material m that sample the lights at s (seen along dir), weighted
-  // against the lobe's own sampling (`lobe_samples` continuation rays); false when none does.
-  KOKKOS_INLINE_FUNCTION bool glossy_lobes(const Surface& s, const DeviceMaterial& m,
-                                           const Vec3& dir, const ShadowPlan& plan,
-                                           std::uint32_t slot, int lobe_samples, LightLobes& lobes,
-                                           SpecularLobes& spec) const {
-    if (!is_glossy(m.shininess) || !p.soft_shadows || p.bounces == 0) return false;
-    spec = specular_lobes(m, s, dir);
+  // Light a glossy lobe reflects or transmits towards the viewer, sampled from the lights
+  // and weighted against the lobe's own sampling (`lobe_samples` continuation rays).
+  KOKKOS_INLINE_FUNCTION Vec3 glossy_direct(const Surface& s, const DeviceMaterial& m,
+                                            const Vec3& dir, const Rng& rng, ShadowPlan plan,
+                                            std::uint32_t slot, int lobe_samples,
+                                            TraceCounter& c) const {
+    Vec3 l(Real(0));
+    if (!is_glossy(m.shininess) || !p.soft_shadows || p.bounces == 0) return l;
+    const SpecularLobes lobes = specular_lobes(m, s, dir);
     const int lights = scene.num_quads + scene.num_mesh_lights;
+    GlossyResponse r{lobes.reflected, s.ng, m.shininess, Real(plan.samples), Real(lobe_samples)};
     const std::uint32_t set = shadow_set_pairs(lights);
-    const Real light_count = Real(plan.samples), lobe_count = Real(lobe_samples);
-    lobes.reflection.active = max_component(spec.w_r) > Real(0);
-    lobes.reflection.response =
-        glossy_response(spec.reflected, s.ng, m.shininess, light_count, lobe_count);
-    lobes.reflection.pair_base = kGlossyShadowPair + 2u * slot * set;
-    lobes.transmission.active = max_component(spec.w_t) > Real(0);
-    lobes.transmission.response =
-        glossy_response(spec.refracted, -s.ng, m.shininess, light_count, lobe_count);
-    lobes.transmission.pair_base = kGlossyShadowPair + (2u * slot + 1u) * set;
-    return true;
+    if (max_component(lobes.w_r) > Real(0)) {
+      plan.pair_base = kGlossyShadowPair + 2u * slot * set;
+      l += lobes.w_r * direct_light<kFeatures>(scene, s, rng, plan, r, c);
+    }
+    if (max_component(lobes.w_t) > Real(0)) {
+      plan.pair_base = kGlossyShadowPair + (2u * slot + 1u) * set;
+      r.axis = lobes.refracted;
+      r.normal = -s.ng;
+      l += lobes.w_t * direct_light<kFeatures>(scene, s, rng, plan, r, c);
+    }
+    return l;
   }
 
   // Light a vertex sends back along -dir, less its emission: Lambert (ambient plus sampled
-  // lights) and the glossy lobes' sampled lights, all lobes in one pass over the lights.
+  // lights) and the glossy lobes' sampled lights.
   KOKKOS_INLINE_FUNCTION Vec3 shade_direct(const Surface& s, const DeviceMaterial& m,
                                            const Vec3& dir, const Rng& rng, const ShadowPlan& plan,
                                            std::uint32_t slot, int lobe_samples,
                                            TraceCounter& c) const {
-    const Vec3 kd = m.diffuse * m.opacity;
-    const bool lambert = max_component(kd) > Real(0);
-    constexpr bool kGlossyLight =
-        (kFeatures & kLights) && (kFeatures & kSecondary) && (kFeatures & kGlossy);
-    LightLobes lobes;
-    SpecularLobes spec;
-    bool glossy = false;
-    LobeLight light;
-    if (kFeatures & kLights) {
-      lobes.lambert.active = lambert;
-      lobes.lambert.response = lambert_response(s.ns, s.ng);
-      lobes.lambert.pair_base = plan.pair_base;
-      if (kGlossyLight) glossy = glossy_lobes(s, m, dir, plan, slot, lobe_samples, lobes, spec);
-      if (lambert || glossy) light = direct_light<kFeatures>(scene, s, rng, plan, lobes, c);
-    }
     Vec3 l(Real(0));
-    if (lambert) {
+    const Vec3 kd = m.diffuse * m.opacity;
+    if (max_component(kd) > Real(0)) {
       Vec3 e = p.ambient;
       if (kFeatures & kLights) {
-        Vec3 direct = light.lambert * Real(1.0 / math::kPi);
+        Vec3 direct = direct_irradiance<kFeatures>(scene, s, rng, plan, c) * Real(1.0 / math::kPi);
         if (kFeatures & kTextures) direct *= s.self_shadow;  // parallax self-shadowing
         e += direct;
       }
       l = kd * e;
     }
-    if (kGlossyLight) {
-      Vec3 g(Real(0));
-      if (glossy && lobes.reflection.active) g += spec.w_r * light.reflection;
-      if (glossy && lobes.transmission.active) g += spec.w_t * light.transmission;
-      l += g;
-    }
+    if ((kFeatures & kLights) && (kFeatures & kSecondary) && (kFeatures & kGlossy))
+      l += glossy_direct(s, m, dir, rng, plan, slot, lobe_samples, c);
     return l;
   }
 
