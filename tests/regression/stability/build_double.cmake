@@ -1,14 +1,17 @@
 # ctest stability.double.build: a second, double-precision build (RTMINI_DOUBLE=ON) of only the
-# programs the stability suite runs (sketchtrace, bake), so that the suite runs in float and in
-# double from one CI build. Tests, benchmarks and the optional image/HDF5/Embree libraries are
-# off (the suite writes PPM and needs none of them); ccache is used when the parent build uses it.
+# programs the stability suite runs (sketchtrace, bake) and the core unit tests (TARGETS), so that
+# the suite and the BVH oracles run in float and in double from one CI build. Benchmarks and the
+# optional image/HDF5/Embree libraries are off (the suite writes PPM and needs none of them);
+# ccache is used when the parent build uses it.
 # cmake -DSOURCE_DIR=... -DBUILD_DIR=... -DGENERATOR=... -DBUILD_TYPE=... -DKOKKOS_DIR=...
-#       -DCXX=... [-DLAUNCHER=ccache] [-DHOST_ARCH=...] -P build_double.cmake
-foreach(var SOURCE_DIR BUILD_DIR GENERATOR BUILD_TYPE KOKKOS_DIR CXX)
+#       -DCXX=... -DTARGETS=sketchtrace,bake,... [-DLAUNCHER=ccache] [-DHOST_ARCH=...]
+#       -P build_double.cmake
+foreach(var SOURCE_DIR BUILD_DIR GENERATOR BUILD_TYPE KOKKOS_DIR CXX TARGETS)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "build_double.cmake: -D${var}= is required")
   endif()
 endforeach()
+string(REPLACE "," ";" TARGETS "${TARGETS}")
 set(launcher)
 if(LAUNCHER)
   set(launcher -DCMAKE_CXX_COMPILER_LAUNCHER=${LAUNCHER} -DCMAKE_C_COMPILER_LAUNCHER=${LAUNCHER})
@@ -21,7 +24,7 @@ string(TIMESTAMP t0 "%s")
 execute_process(
   COMMAND ${CMAKE_COMMAND} -S ${SOURCE_DIR} -B ${BUILD_DIR} -G ${GENERATOR}
           -DCMAKE_BUILD_TYPE=${BUILD_TYPE} -DCMAKE_CXX_COMPILER=${CXX} -DKokkos_DIR=${KOKKOS_DIR}
-          -DRTMINI_DOUBLE=ON -DRTMINI_ENABLE_TESTS=OFF -DRTMINI_ENABLE_BENCHMARKS=OFF
+          -DRTMINI_DOUBLE=ON -DRTMINI_ENABLE_TESTS=ON -DRTMINI_ENABLE_BENCHMARKS=OFF
           -DRTMINI_ENABLE_PNG=OFF -DRTMINI_ENABLE_EXR=OFF -DRTMINI_ENABLE_HDF5=OFF
           -DRTMINI_ENABLE_EMBREE_PEER=OFF ${launcher} ${arch}
   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
@@ -33,11 +36,11 @@ ProcessorCount(jobs)
 if(jobs LESS 1)
   set(jobs 2)
 endif()
-execute_process(COMMAND ${CMAKE_COMMAND} --build ${BUILD_DIR} --target sketchtrace bake -j ${jobs}
+execute_process(COMMAND ${CMAKE_COMMAND} --build ${BUILD_DIR} --target ${TARGETS} -j ${jobs}
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "double build: build failed (${rc})\n${out}\n${err}")
 endif()
 string(TIMESTAMP t1 "%s")
 math(EXPR secs "${t1} - ${t0}")
-message(STATUS "double build of sketchtrace and bake in ${BUILD_DIR}: ${secs} s")
+message(STATUS "double build of ${TARGETS} in ${BUILD_DIR}: ${secs} s")
