@@ -1,23 +1,22 @@
 #!/usr/bin/env bash
 # Device call for sketchtrace's GPU rate (issue 21; the slowdown placed at 644a026 in
-# README.md): the 4K two-sphere and the dist_first renders of raw_final_0996fc7/, 3 times each,
-# printing render time, Mrays/s and verification hash; then, if ncu exists, registers per
-# thread, local-memory traffic and achieved occupancy of dist_first's render kernel (its first
-# launch).
-#   bash results/gpu/sketchtrace_device.sh BUILD [BASE_BUILD]
-# BUILD (and BASE_BUILD, another tree's build directory, e.g. main's, for an in-run baseline)
-# hold miniapps/sketchtrace/sketchtrace built for CUDA; with BASE_BUILD every render
-# alternates base, branch. Run from the root of a checkout (inputs/ must hold the scenes).
-# Build only what is needed, e.g.:
+# README.md): the 4K two-sphere and the dist_first renders of raw_final_0996fc7/, 3 times each
+# per build, printing render time, Mrays/s, kernel features and verification hash; then, if ncu
+# exists, registers per thread, local-memory traffic, achieved occupancy and active threads per
+# instruction of dist_first's render kernel (its first launch) for every build.
+#   bash results/gpu/sketchtrace_device.sh NAME=BUILD [NAME=BUILD...]
+# Each BUILD (a build directory of some tree, e.g. main's as the in-run baseline, this branch's,
+# another commit's from `git archive`) holds miniapps/sketchtrace/sketchtrace built for CUDA;
+# every repetition renders each scene with every build in the order given. Run from the root of
+# a checkout (inputs/ must hold the scenes). Build only what is needed, e.g.:
 #   cmake -S . -B build-cuda "${deps_flags[@]}" -DKokkos_ROOT=/opt/kokkos-cuda \
 #     -DCMAKE_CXX_COMPILER=g++ -DRTMINI_ENABLE_TESTS=OFF && cmake --build build-cuda -j 16 \
 #     --target sketchtrace
-# Outputs (logs, ncu reports) under $OUT (or /tmp/sketchtrace_out). Expected hashes: the ones
-# of main at the same commit (this branch changes no output); at 0996fc7 on the H200:
+# Outputs (logs, ncu reports) under $OUT (or /tmp/sketchtrace_out). Expected: one hash per
+# scene for every build (this branch changes no output); at 0996fc7 on the H200:
 # 4K 3f0816169ad7e169, dist_first 18b8a1b1d0ddc23f.
 set -u
-build=${1:?usage: sketchtrace_device.sh BUILD [BASE_BUILD]}
-base=${2:-}
+[ $# -ge 1 ] || { echo "usage: sketchtrace_device.sh NAME=BUILD [NAME=BUILD...]" >&2; exit 2; }
 OUT=${OUT:-/tmp/sketchtrace_out}
 mkdir -p "$OUT"
 export OMP_PROC_BIND=false
@@ -25,7 +24,7 @@ export OMP_PROC_BIND=false
   echo "commit $(git rev-parse HEAD 2>/dev/null || echo unknown)"
   date -u
   nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null
-  echo "build $build${base:+, base $base}"
+  echo "builds: $*"
 } > "$OUT/provenance.txt"
 
 four_k=(inputs/two_spheres/two_spheres.toml --width 3840 --height 2160 --shadow-samples 1024)
@@ -46,8 +45,7 @@ render() {
 for rep in 1 2 3; do
   for scene in 4k dist; do
     if [ "$scene" = 4k ]; then args=("${four_k[@]}"); else args=("${dist[@]}"); fi
-    [ -n "$base" ] && render "base_${scene}_$rep" "$base" "${args[@]}"
-    render "${scene}_$rep" "$build" "${args[@]}"
+    for pair in "$@"; do render "${pair%%=*}_${scene}_$rep" "${pair#*=}" "${args[@]}"; done
   done
 done
 
@@ -56,8 +54,8 @@ if command -v ncu > /dev/null; then
   metrics+=,sm__warps_active.avg.pct_of_peak_sustained_active
   metrics+=,l1tex__t_sectors_pipe_lsu_mem_local_op_ld.sum,l1tex__t_sectors_pipe_lsu_mem_local_op_st.sum
   metrics+=,smsp__thread_inst_executed_per_inst_executed.ratio,gpu__time_duration.sum
-  for pair in "branch:$build" ${base:+"base:$base"}; do
-    name=${pair%%:*} dir=${pair#*:}
+  for pair in "$@"; do
+    name=${pair%%=*} dir=${pair#*=}
     timeout 300 ncu --clock-control none --kernel-name-base demangled \
       --kernel-name regex:PixelKernel --launch-count 1 --metrics "$metrics" \
       "$dir/miniapps/sketchtrace/sketchtrace" "${dist[@]}" -o "$OUT/ncu_$name.png" \
