@@ -5,6 +5,7 @@
 
 #include "crease_normals.hpp"
 #include "moving_objects_host.hpp"
+#include "shading.hpp"
 
 namespace rtmini::sketch {
 namespace {
@@ -99,8 +100,10 @@ DeviceScene upload_scene(const HostScene& scene, bvh::BuildQuality quality, doub
   d.num_quads = static_cast<int>(scene.quads.size());
   d.num_points = static_cast<int>(scene.points.size());
   d.num_mesh_lights = static_cast<int>(lights.size());
-  for (const Material& m : scene.mesh.materials)
+  for (const Material& m : scene.mesh.materials) {
     if (m.is_reflective() || m.opacity < 1.f) d.any_secondary = true;
+    if (is_glossy(Real(m.shininess))) d.any_glossy = true;
+  }
   const std::size_t nt = d.triangles, nv = scene.mesh.positions.size();
   d.bytes = (nv + normals.size()) * sizeof(Vec3) + nt * (sizeof(Triangle) * 2 + 9 * sizeof(int)) +
             d.mesh.accel.nodes.extent(0) * sizeof(bvh::BvhNode) +

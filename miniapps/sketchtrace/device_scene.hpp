@@ -29,6 +29,7 @@ struct DeviceScene {
   Kokkos::View<int*, MemSpace> light_of_object;
   int num_quads = 0, num_points = 0, num_mesh_lights = 0, num_solid_balls = 0;
   bool any_secondary = false;  // some material reflects or transmits
+  bool any_glossy = false;     // some material has a glossy Phong lobe (0 < Ns < mirror)
   std::size_t triangles = 0;
   std::size_t bytes = 0;          // device memory estimate, textures included
   std::size_t texture_bytes = 0;  // of which image maps and per-triangle texture records

@@ -2,6 +2,7 @@
 // Direct illumination with shadow rays: quad area lights and emissive meshes with
 // stratified jittered samples (the hand-drawn seed's soft shadows; the
 // distribution seed's jittered light sub-sections), and point lights.
+#include "kernel_features.hpp"
 #include "rtmini/bvh/shaft.hpp"
 #include "rtmini/bvh/traverse.hpp"
 #include "rtmini/sampling/rng.hpp"
@@ -84,13 +85,21 @@ struct ShadowPlan {
 };
 
 // Sample j of a plan's light strata, jittered by (u1, u2): a point in [0,1)^2. `shape` is
-// strata_shape(plan.samples * plan.pixel_strata). With one pixel sample (or one shadow sample)
-// this is stratum j (or pixel_cell) of the plan's strata, as before joint stratification.
-KOKKOS_FORCEINLINE_FUNCTION void light_stratum(const ShadowPlan& plan, int j, StrataShape shape,
-                                               std::uint32_t key, Real u1, Real u2, Real& x,
-                                               Real& y) {
+// strata_shape(plan.samples * plan.pixel_strata); `cell` is (pixel_cell + j) mod pixel_strata,
+// which the caller's loop over j steps (first_cell, next_cell): an integer modulo per shadow
+// ray costs a GPU dozens of instructions. With one pixel sample (or one shadow sample) this is
+// stratum j (or pixel_cell) of the plan's strata, as before joint stratification.
+KOKKOS_FORCEINLINE_FUNCTION void light_stratum(const ShadowPlan& plan, int j, int cell,
+                                               StrataShape shape, std::uint32_t key, Real u1,
+                                               Real u2, Real& x, Real& y) {
   const int n = plan.pixel_strata;
-  stratum_2d(j * n + (plan.pixel_cell + j) % n, plan.samples * n, shape, key, u1, u2, x, y);
+  stratum_2d(j * n + cell, plan.samples * n, shape, key, u1, u2, x, y);
+}
+KOKKOS_FORCEINLINE_FUNCTION int first_cell(const ShadowPlan& plan) {
+  return plan.pixel_cell % plan.pixel_strata;
+}
+KOKKOS_FORCEINLINE_FUNCTION int next_cell(const ShadowPlan& plan, int cell) {
+  return cell + 1 == plan.pixel_strata ? 0 : cell + 1;
 }
 
 // Shaft culling pays off from this many shadow rays per light and shading point.
@@ -295,7 +304,9 @@ struct GlossyResponse {
 // Sums over lights of L_e R(wi) / pdf(wi) (area lights, two-sided; pdf by solid angle, quads
 // by spherical rectangle or area, mesh lights by area) and I R(wi) / r^2 (point lights), with
 // R the shading point's `response` (LambertResponse, or a glossy lobe times its MIS weight).
-template <class Scene, class Response>
+// `kPaths` (FeatureBits) compiles in shaft culling, mesh lights and point lights; the caller
+// leaves out only those its scene never uses.
+template <unsigned kPaths = kEveryLightPath, class Scene, class Response>
 KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, const Rng& rng,
                                          const ShadowPlan& plan, const Response& response,
                                          TraceCounter& c) {
@@ -336,7 +347,8 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, c
     SphericalRect rect;
     const bool by_solid_angle = spherical_rect(ql, s.p, rect);
     bvh::ShaftBlockers shaft;
-    blockers = samples >= kShaftMinSamples && quad_shaft_blockers(scene, org, ql, shaft, c)
+    blockers = (kPaths & kShafts) && samples >= kShaftMinSamples &&
+                       quad_shaft_blockers(scene, org, ql, shaft, c)
                    ? &shaft
                    : nullptr;
     const std::uint32_t key = plan.key ^ static_cast<std::uint32_t>(light);
@@ -344,7 +356,8 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, c
     // Consecutive pairs share one Philox block (Rng::uniform2 draws the same numbers).
     r123::Philox4x32::ctr_type block{};
     std::uint32_t block_id = ~0u;
-    for (int j = 0; j < samples; ++j) {
+    int cell = first_cell(plan);
+    for (int j = 0; j < samples; ++j, cell = next_cell(plan, cell)) {
       const std::uint32_t pair = pair0 + static_cast<std::uint32_t>(j);
       if ((pair >> 1) != block_id) {
         block_id = pair >> 1;
@@ -352,7 +365,7 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, c
       }
       const unsigned o = (pair & 1u) * 2u;
       Real x, y;
-      light_stratum(plan, j, shape, key, Real(Rng::to_unit(block.v[o])),
+      light_stratum(plan, j, cell, shape, key, Real(Rng::to_unit(block.v[o])),
                     Real(Rng::to_unit(block.v[o + 1])), x, y);
       if (by_solid_angle)
         solid_angle_sample(spherical_rect_point(rect, x, y), ql.emission, rect.solid_angle);
@@ -361,14 +374,16 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, c
     }
     blockers = nullptr;
   }
-  for (int l = 0; l < scene.num_mesh_lights; ++l, ++light) {
+  const int mesh_lights = (kPaths & kMeshLights) ? scene.num_mesh_lights : 0;
+  for (int l = 0; l < mesh_lights; ++l, ++light) {
     const MeshLight ml = scene.mesh_lights(l);
-    for (int j = 0; j < samples; ++j) {
+    int cell = first_cell(plan);
+    for (int j = 0; j < samples; ++j, cell = next_cell(plan, cell)) {
       float a, b;
       rng.uniform2(plan.pair_base + static_cast<std::uint32_t>(light * samples + j), a, b);
       Real x = a, y = b;
       if (plan.soft)
-        light_stratum(plan, j, shape, plan.key ^ static_cast<std::uint32_t>(light), Real(a),
+        light_stratum(plan, j, cell, shape, plan.key ^ static_cast<std::uint32_t>(light), Real(a),
                       Real(b), x, y);
       // Pick a triangle by area with x (binary search of the CDF), reuse x's
       // position inside that triangle's CDF interval as the first barycentric number.
@@ -392,7 +407,8 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, c
       area_sample(q, triangle_normal(t.a, t.b, t.c), le, ml.area);
     }
   }
-  for (int l = 0; l < scene.num_points; ++l) {
+  const int point_lights = (kPaths & kPointLights) ? scene.num_points : 0;
+  for (int l = 0; l < point_lights; ++l) {
     const PointLight pl = scene.points(l);
     const Vec3 w = pl.position - s.p;
     const Real d2 = dot(w, w);
@@ -408,10 +424,10 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, c
 
 // Irradiance-like sum over lights of L_e cos_s / pdf (area lights) and I cos_s / r^2 (point
 // lights); the caller multiplies by Kd / pi.
-template <class Scene>
+template <unsigned kPaths = kEveryLightPath, class Scene>
 KOKKOS_INLINE_FUNCTION Vec3 direct_irradiance(const Scene& scene, const Surface& s, const Rng& rng,
                                               const ShadowPlan& plan, TraceCounter& c) {
-  return direct_light(scene, s, rng, plan, LambertResponse{s.ns, s.ng}, c);
+  return direct_light<kPaths>(scene, s, rng, plan, LambertResponse{s.ns, s.ng}, c);
 }
 
 }  // namespace rtmini::sketch

@@ -1,6 +1,7 @@
 #include "renderer.hpp"
 
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 namespace rtmini::sketch {
@@ -53,7 +54,44 @@ struct PixelKernel {
   }
 };
 
+// The kernel instantiations compiled. Each shape (kShapeFeatures) a scene can have has a
+// general one with every light path; lean ones leave out light paths the bundled scenes do not
+// use (all have one quad light: no mesh or point lights), listed first so that they win.
+constexpr unsigned kKernelVariants[] = {
+    // Lean: quad lights only.
+    kLights,                                           // direct light only (penumbra)
+    kSecondary | kLights | kShafts,                    // mirrors, >= 8 shadow rays (two_spheres)
+    kSecondary | kLights | kGlossy,                    // glossy, few shadow rays (spheres)
+    kSecondary | kLights | kCameraSampling | kGlossy,  // ... through a lens (dist_first)
+    // General: every light path of each shape.
+    0u, kSecondary, kLights | kEveryLightPath, kSecondary | kLights | kEveryLightPath,
+    kCameraSampling, kSecondary | kCameraSampling, kLights | kCameraSampling | kEveryLightPath,
+    kSecondary | kLights | kCameraSampling | kEveryLightPath,
+    kTextures | kSecondary | kLights | kEveryLightPath,
+    kTextures | kSecondary | kLights | kCameraSampling | kEveryLightPath,
+    kSecondary | kLights | kCameraSampling | kMotion | kEveryLightPath,
+    kSecondary | kLights | kCameraSampling | kMotion | kTextures | kEveryLightPath};
+constexpr std::size_t kNumKernelVariants = sizeof(kKernelVariants) / sizeof(kKernelVariants[0]);
+
+// The light paths a scene's light sampling can take (FeatureBits; kernel_features.hpp).
+unsigned light_paths(const DeviceScene& scene, const RenderSettings& s) {
+  unsigned f = 0;
+  // Glossy light sampling and MIS weights need soft shadows and a continuation to weigh.
+  if (scene.any_glossy && s.soft_shadows && s.bounces > 0) f |= kGlossy;
+  if (s.soft_shadows && s.shadow_samples >= kShaftMinSamples) f |= kShafts;
+  if (scene.num_mesh_lights > 0) f |= kMeshLights;
+  if (scene.num_points > 0) f |= kPointLights;
+  return f;
+}
+
 }  // namespace
+
+unsigned kernel_variant(unsigned wanted) {
+  for (unsigned v : kKernelVariants)
+    if ((v & kShapeFeatures) == (wanted & kShapeFeatures) && (v & wanted) == wanted) return v;
+  throw std::logic_error("sketchtrace: no kernel instantiation for features " +
+                         feature_names(wanted));
+}
 
 std::string feature_names(unsigned f) {
   std::string s;
@@ -65,6 +103,10 @@ std::string feature_names(unsigned f) {
   add(kCameraSampling, "camera-sampling");
   add(kTextures, "textures");
   add(kMotion, "motion");
+  add(kGlossy, "glossy");
+  add(kShafts, "shafts");
+  add(kMeshLights, "mesh-lights");
+  add(kPointLights, "point-lights");
   return s.empty() ? "primary-only" : s;
 }
 
@@ -102,17 +144,22 @@ Renderer::Renderer(const HostScene& scene, const RenderSettings& s) {
   stencil_.edges = s.needs_edges();
   stencil_.smooth = s.smooth;
   aov_ = s.needs_aov_pass();
-  if ((scene_.any_secondary || s.indirect) && s.bounces > 0) features_ |= kSecondary;
-  if (scene_.num_quads + scene_.num_mesh_lights + scene_.num_points > 0) features_ |= kLights;
-  if (params_.lens || params_.motion) features_ |= kCameraSampling;
-  if (s.general_kernel) features_ = kSecondary | kLights | kCameraSampling;
+  unsigned wanted = 0;
+  if ((scene_.any_secondary || s.indirect) && s.bounces > 0) wanted |= kSecondary;
+  if (scene_.num_quads + scene_.num_mesh_lights + scene_.num_points > 0) wanted |= kLights;
+  if (params_.lens || params_.motion) wanted |= kCameraSampling;
+  if (s.general_kernel) wanted = kSecondary | kLights | kCameraSampling | kEveryLightPath;
   // Textured scenes get two instantiations only, with secondary rays and lights compiled in
   // (both are checked at run time too), so the untextured kernels stay as they were.
-  if (scene_.maps.any) features_ |= kTextures | kSecondary | kLights;
+  if (scene_.maps.any) wanted |= kTextures | kSecondary | kLights;
   // Moving objects: the general kernel with motion (one more instantiation, not eight; two
   // with textures); the time sample comes with camera sampling.
   if (scene_.motion.count > 0)
-    features_ = kSecondary | kLights | kCameraSampling | kMotion | (features_ & kTextures);
+    wanted = kSecondary | kLights | kCameraSampling | kMotion | (wanted & kTextures);
+  // Light paths only matter where light is sampled, glossy lobes' only with secondary rays.
+  if (wanted & kLights) wanted |= light_paths(scene_, s);
+  if (!(wanted & kSecondary)) wanted &= ~kGlossy;
+  features_ = kernel_variant(wanted);
 }
 
 template <unsigned kFeatures>
@@ -127,6 +174,18 @@ void Renderer::launch(const TraceParams& params, bool aov,
                        Policy(0, static_cast<std::int64_t>(pixels.extent(0))), kernel);
 }
 
+template <std::size_t I>
+void Renderer::dispatch(const TraceParams& params, bool aov,
+                        const Kokkos::View<std::int64_t*, MemSpace>& pixels,
+                        const Kokkos::View<PixelResult*, MemSpace>& out) const {
+  if constexpr (I < kNumKernelVariants) {
+    if (features_ == kKernelVariants[I])
+      launch<kKernelVariants[I]>(params, aov, pixels, out);
+    else
+      dispatch<I + 1>(params, aov, pixels, out);
+  }
+}
+
 void Renderer::run(const TraceParams& params, bool aov, const std::vector<std::int64_t>& list,
                    std::vector<PixelResult>& out) const {
   const std::size_t n = list.size();
@@ -137,45 +196,7 @@ void Renderer::run(const TraceParams& params, bool aov, const std::vector<std::i
   auto hp = Kokkos::create_mirror_view(pixels);
   for (std::size_t k = 0; k < n; ++k) hp(k) = list[k];
   Kokkos::deep_copy(pixels, hp);
-  switch (features_) {
-    case 0:
-      launch<0>(params, aov, pixels, results);
-      break;
-    case 1:
-      launch<1>(params, aov, pixels, results);
-      break;
-    case 2:
-      launch<2>(params, aov, pixels, results);
-      break;
-    case 3:
-      launch<3>(params, aov, pixels, results);
-      break;
-    case 4:
-      launch<4>(params, aov, pixels, results);
-      break;
-    case 5:
-      launch<5>(params, aov, pixels, results);
-      break;
-    case 6:
-      launch<6>(params, aov, pixels, results);
-      break;
-    case 7:
-      launch<7>(params, aov, pixels, results);
-      break;
-    case kTextures | kSecondary | kLights:
-      launch<kTextures | kSecondary | kLights>(params, aov, pixels, results);
-      break;
-    case kSecondary | kLights | kCameraSampling | kMotion:
-      launch<kSecondary | kLights | kCameraSampling | kMotion>(params, aov, pixels, results);
-      break;
-    case kSecondary | kLights | kCameraSampling | kMotion | kTextures:
-      launch<kSecondary | kLights | kCameraSampling | kMotion | kTextures>(params, aov, pixels,
-                                                                           results);
-      break;
-    default:
-      launch<kTextures | kSecondary | kLights | kCameraSampling>(params, aov, pixels, results);
-      break;
-  }
+  dispatch<0>(params, aov, pixels, results);
   auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), results);
   for (std::size_t i = 0; i < n; ++i) out[i] = hr(i);
 }

@@ -38,6 +38,11 @@ class Renderer {
   void launch(const TraceParams& params, bool aov,
               const Kokkos::View<std::int64_t*, MemSpace>& pixels,
               const Kokkos::View<PixelResult*, MemSpace>& out) const;
+  // Launches the instantiation features_ names: the first of kKernelVariants[I..] equal to it.
+  template <std::size_t I>
+  void dispatch(const TraceParams& params, bool aov,
+                const Kokkos::View<std::int64_t*, MemSpace>& pixels,
+                const Kokkos::View<PixelResult*, MemSpace>& out) const;
   // Uploads `pixels`, runs the kernel specialised on features_ and copies the results back.
   void run(const TraceParams& params, bool aov, const std::vector<std::int64_t>& pixels,
            std::vector<PixelResult>& out) const;
@@ -49,6 +54,10 @@ class Renderer {
   bool aov_ = false;
   unsigned features_ = 0;
 };
+
+// The kernel instantiation a render that needs `wanted` (FeatureBits) runs: the first compiled
+// one of the same shape (kShapeFeatures) that holds all the light paths it needs.
+unsigned kernel_variant(unsigned wanted);
 
 // Feature names for the banner, e.g. "secondary+lights".
 std::string feature_names(unsigned features);

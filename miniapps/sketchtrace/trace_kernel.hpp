@@ -11,6 +11,7 @@
 // pixel samples; later vertices one. The first hit may fan out into `glossy_samples`
 // glossy branches. Randomness: Rng(seed, pixel, sample) with a fixed dimension layout
 // (README), so an image never depends on rank/thread/chunk.
+#include "kernel_features.hpp"
 #include "light_sampling.hpp"
 #include "motion_trace.hpp"
 #include "pixel_result.hpp"
@@ -18,18 +19,6 @@
 #include "surface_detail.hpp"
 
 namespace rtmini::sketch {
-
-// Scene features a kernel instantiation may skip (checked at launch time).
-// kTextures: some material has image maps (surface_detail.hpp), looked up at ray-cone LODs.
-// kMotion: the scene has moving objects (motion_trace.hpp); every path then sees one instant,
-// the camera sample's time.
-enum FeatureBits : unsigned {
-  kSecondary = 1u,
-  kLights = 2u,
-  kCameraSampling = 4u,
-  kTextures = 8u,
-  kMotion = 16u
-};
 
 // The scene type a kernel holds: only kMotion kernels trace moving objects.
 template <unsigned kFeatures>
@@ -108,13 +97,13 @@ struct RadianceEstimator {
     const std::uint32_t set = shadow_set_pairs(lights);
     if (max_component(lobes.w_r) > Real(0)) {
       plan.pair_base = kGlossyShadowPair + 2u * slot * set;
-      l += lobes.w_r * direct_light(scene, s, rng, plan, r, c);
+      l += lobes.w_r * direct_light<kFeatures>(scene, s, rng, plan, r, c);
     }
     if (max_component(lobes.w_t) > Real(0)) {
       plan.pair_base = kGlossyShadowPair + (2u * slot + 1u) * set;
       r.axis = lobes.refracted;
       r.normal = -s.ng;
-      l += lobes.w_t * direct_light(scene, s, rng, plan, r, c);
+      l += lobes.w_t * direct_light<kFeatures>(scene, s, rng, plan, r, c);
     }
     return l;
   }
@@ -130,13 +119,13 @@ struct RadianceEstimator {
     if (max_component(kd) > Real(0)) {
       Vec3 e = p.ambient;
       if (kFeatures & kLights) {
-        Vec3 direct = direct_irradiance(scene, s, rng, plan, c) * Real(1.0 / math::kPi);
+        Vec3 direct = direct_irradiance<kFeatures>(scene, s, rng, plan, c) * Real(1.0 / math::kPi);
         if (kFeatures & kTextures) direct *= s.self_shadow;  // parallax self-shadowing
         e += direct;
       }
       l = kd * e;
     }
-    if ((kFeatures & kLights) && (kFeatures & kSecondary))
+    if ((kFeatures & kLights) && (kFeatures & kSecondary) && (kFeatures & kGlossy))
       l += glossy_direct(s, m, dir, rng, plan, slot, lobe_samples, c);
     return l;
   }
@@ -156,7 +145,8 @@ struct RadianceEstimator {
                                               const Vec3& wi) const {
     if (k.kind == Scatter::kSpecular) return Real(1);
     if (k.kind == Scatter::kDiffuse) return Real(0);
-    if (!(kFeatures & kLights) || !p.soft_shadows) return Real(1);
+    // Only a glossy continuation is left here (none without kGlossy).
+    if (!(kFeatures & kLights) || !(kFeatures & kGlossy) || !p.soft_shadows) return Real(1);
     const int light = scene.light_of_object(sd.object);
     if (light < 0) return Real(1);
     const Vec3 w = sd.p - k.from;

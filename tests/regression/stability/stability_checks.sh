@@ -8,7 +8,9 @@
 #   bake_viewpoints    N = 1, 2, 7 and 100000 viewpoints: runs, memory estimate printed, every
 #                      viewpoint colour equals the furnace value (N = 1: within its bounds)
 #   sketch_sizes       1x1 renders; 16384x16384 prints its estimate and is refused by --max-memory
-#   general_kernel     two bundled scenes: --general-kernel gives the same verification hash
+#   general_kernel     bundled scenes: --general-kernel gives the same verification hash as the
+#                      lean instantiation each runs (two_spheres at 4 and 8 shadow samples:
+#                      shafts compiled in, unused and used; spheres and dist_first: glossy lobes)
 #   nonfinite_input    NaN/Inf in an OBJ, a .bs and scene TOMLs: exit 2, "file:line: reason"
 # Environment: BAKE, SKETCH, GEN (rtmini-gen-inputs), INPUTS, DATA (tests/data/bad).
 # Usage: stability_checks.sh CASE WORKDIR
@@ -164,8 +166,9 @@ EOF
     echo "1x1 renders; 16K refused after a ${gib} GiB estimate"
     ;;
   general_kernel)
-    for scene in two_spheres spheres; do
-      args=("$INPUTS/$scene/$scene.toml" --width 64 --height 48 --spp 2 --shadow-samples 4)
+    for run in two_spheres:4 two_spheres:8 spheres:4 dist_first:1; do
+      scene=${run%:*}
+      args=("$INPUTS/$scene/$scene.toml" --width 64 --height 48 --spp 2 --shadow-samples "${run#*:}")
       "$SKETCH" "${args[@]}" >spec.txt 2>&1 || { cat spec.txt; fail "$scene specialised failed"; }
       "$SKETCH" "${args[@]}" --general-kernel >gen.txt 2>&1 || { cat gen.txt; fail "$scene general failed"; }
       grep -q "forced general kernel" gen.txt || fail "$scene: --general-kernel had no effect"
