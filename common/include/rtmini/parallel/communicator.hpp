@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -86,6 +87,22 @@ class Communicator {
         std::this_thread::sleep_for(std::chrono::microseconds(spin > 3000 ? 1000 : 50));
     }
   }
+  // wait() for a collective whose buffers `owned` holds (vectors, moved from on failure). A
+  // collective that a failed peer never joins stays in MPI's progress engine, which may go on
+  // reading and writing its buffers while the ranks agree on the exit code; freed under it, they
+  // crash or corrupt that agreement. So on PeerFailure the buffers move to abandoned_, kept until
+  // the process exits, before the exception unwinds the caller.
+  template <class... Owned>
+  void wait_keeping(MPI_Request& req, Owned&... owned) const {
+    static_assert((!std::is_const<Owned>::value && ...),
+                  "a const buffer would be copied, not kept");
+    try {
+      wait(req);
+    } catch (const PeerFailure&) {
+      (abandoned_.push_back(std::make_shared<Owned>(std::move(owned))), ...);
+      throw;
+    }
+  }
   // MPI_Probe on `comm` (a duplicate of this one) that throws PeerFailure
   // instead of waiting forever for a failed peer.
   MPI_Status probe(int source, int tag, MPI_Comm comm) const {
@@ -102,11 +119,11 @@ class Communicator {
   // A private duplicate for point-to-point traffic of one component (its own
   // tag space); non-blocking so that a failed peer cannot hang it.
   MPI_Comm duplicate() const {
-    MPI_Comm out = MPI_COMM_NULL;
+    std::vector<MPI_Comm> out(1, MPI_COMM_NULL);
     MPI_Request req;
-    MPI_Comm_idup(comm_, &out, &req);
-    wait(req);
-    return out;
+    MPI_Comm_idup(comm_, out.data(), &req);
+    wait_keeping(req, out);
+    return out[0];
   }
   // Throws PeerFailure when another rank has reported a failure. For loops
   // that wait on their own point-to-point traffic.
@@ -143,12 +160,12 @@ class Communicator {
   double sum(double v) const { return reduce(v, kSum); }
   std::int64_t sum(std::int64_t v) const {
 #ifdef RTMINI_HAVE_MPI
-    std::int64_t out = 0;
+    std::vector<std::int64_t> in_out{v, 0};
     MPI_Request req;
-    MPI_Iallreduce(&v, &out, 1, MPI_INT64_T, MPI_SUM, comm_, &req);
-    wait(req);
+    MPI_Iallreduce(&in_out[0], &in_out[1], 1, MPI_INT64_T, MPI_SUM, comm_, &req);
+    wait_keeping(req, in_out);
     count(sizeof v);
-    return out;
+    return in_out[1];
 #else
     return v;
 #endif
@@ -156,12 +173,12 @@ class Communicator {
   // Sum of 64-bit words modulo 2^64 (verification hashes).
   std::uint64_t sum_wrap(std::uint64_t v) const {
 #ifdef RTMINI_HAVE_MPI
-    std::uint64_t out = 0;
+    std::vector<std::uint64_t> in_out{v, 0};
     MPI_Request req;
-    MPI_Iallreduce(&v, &out, 1, MPI_UINT64_T, MPI_SUM, comm_, &req);
-    wait(req);
+    MPI_Iallreduce(&in_out[0], &in_out[1], 1, MPI_UINT64_T, MPI_SUM, comm_, &req);
+    wait_keeping(req, in_out);
     count(sizeof v);
-    return out;
+    return in_out[1];
 #else
     return v;
 #endif
@@ -172,15 +189,16 @@ class Communicator {
   std::vector<T> allgatherv(const std::vector<T>& mine) const {
     static_assert(std::is_trivially_copyable<T>::value, "allgatherv needs trivially copyable data");
 #ifdef RTMINI_HAVE_MPI
-    const auto counts = byte_counts(mine.size() * sizeof(T));
+    auto counts = byte_counts(mine.size() * sizeof(T));  // not const: wait_keeping may move it
     std::vector<int> displs(size_, 0);
     for (int r = 1; r < size_; ++r) displs[r] = displs[r - 1] + counts[r - 1];
     const long long total = static_cast<long long>(displs[size_ - 1]) + counts[size_ - 1];
     std::vector<T> out(static_cast<std::size_t>(total) / sizeof(T));
+    std::vector<T> send(mine);  // the caller's may be freed while a failed collective holds it
     MPI_Request req;
-    MPI_Iallgatherv(mine.data(), counts[rank_], MPI_BYTE, out.data(), counts.data(), displs.data(),
+    MPI_Iallgatherv(send.data(), counts[rank_], MPI_BYTE, out.data(), counts.data(), displs.data(),
                     MPI_BYTE, comm_, &req);
-    wait(req);
+    wait_keeping(req, send, out, counts, displs);
     count(static_cast<std::size_t>(counts[rank_]) * static_cast<std::size_t>(size_ - 1));
     return out;
 #else
@@ -193,15 +211,16 @@ class Communicator {
   std::vector<T> gatherv(const std::vector<T>& mine, int root = 0) const {
     static_assert(std::is_trivially_copyable<T>::value, "gatherv needs trivially copyable data");
 #ifdef RTMINI_HAVE_MPI
-    const auto counts = byte_counts(mine.size() * sizeof(T));
+    auto counts = byte_counts(mine.size() * sizeof(T));  // not const: wait_keeping may move it
     std::vector<int> displs(size_, 0);
     for (int r = 1; r < size_; ++r) displs[r] = displs[r - 1] + counts[r - 1];
     const long long total = static_cast<long long>(displs[size_ - 1]) + counts[size_ - 1];
     std::vector<T> out(rank_ == root ? static_cast<std::size_t>(total) / sizeof(T) : 0);
+    std::vector<T> send(mine);  // the caller's may be freed while a failed collective holds it
     MPI_Request req;
-    MPI_Igatherv(mine.data(), counts[rank_], MPI_BYTE, out.data(), counts.data(), displs.data(),
+    MPI_Igatherv(send.data(), counts[rank_], MPI_BYTE, out.data(), counts.data(), displs.data(),
                  MPI_BYTE, root, comm_, &req);
-    wait(req);
+    wait_keeping(req, send, out, counts, displs);
     if (rank_ != root) count(static_cast<std::size_t>(counts[rank_]));
     return out;
 #else
@@ -213,14 +232,15 @@ class Communicator {
   template <class T>
   void broadcast(std::vector<T>& data, int root = 0) const {
 #ifdef RTMINI_HAVE_MPI
-    std::uint64_t n = data.size();
+    std::vector<std::uint64_t> size{data.size()};
     MPI_Request req;
-    MPI_Ibcast(&n, 1, MPI_UINT64_T, root, comm_, &req);
-    wait(req);
+    MPI_Ibcast(size.data(), 1, MPI_UINT64_T, root, comm_, &req);
+    wait_keeping(req, size);
+    const std::uint64_t n = size[0];
     data.resize(n);
     check_int(n * sizeof(T));
     MPI_Ibcast(data.data(), static_cast<int>(n * sizeof(T)), MPI_BYTE, root, comm_, &req);
-    wait(req);
+    wait_keeping(req, data);
     if (rank_ == root) count(n * sizeof(T) * static_cast<std::size_t>(size_ - 1));
 #else
     (void)data;
@@ -279,13 +299,13 @@ class Communicator {
   enum Op { kMax, kMin, kSum };
   double reduce(double v, Op op) const {
 #ifdef RTMINI_HAVE_MPI
-    double out = v;
+    std::vector<double> in_out{v, v};
     MPI_Request req;
-    MPI_Iallreduce(&v, &out, 1, MPI_DOUBLE, op == kMax ? MPI_MAX : (op == kMin ? MPI_MIN : MPI_SUM),
-                   comm_, &req);
-    wait(req);
+    MPI_Iallreduce(&in_out[0], &in_out[1], 1, MPI_DOUBLE,
+                   op == kMax ? MPI_MAX : (op == kMin ? MPI_MIN : MPI_SUM), comm_, &req);
+    wait_keeping(req, in_out);
     count(sizeof v);
-    return out;
+    return in_out[1];
 #else
     (void)op;
     return v;
@@ -372,11 +392,11 @@ class Communicator {
   }
   std::vector<int> byte_counts(std::size_t my_bytes) const {
     check_int(my_bytes);
-    int mine = static_cast<int>(my_bytes);
+    std::vector<int> mine{static_cast<int>(my_bytes)};
     std::vector<int> counts(size_);
     MPI_Request req;
-    MPI_Iallgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_, &req);
-    wait(req);
+    MPI_Iallgather(mine.data(), 1, MPI_INT, counts.data(), 1, MPI_INT, comm_, &req);
+    wait_keeping(req, mine, counts);
     long long total = 0;
     for (int c : counts) total += c;
     check_int(static_cast<std::size_t>(total));
@@ -386,6 +406,7 @@ class Communicator {
   MPI_Comm fail_ = MPI_COMM_NULL;  // failure notes and the final agreement only
   mutable std::map<int, FailureNote> notes_;
   mutable bool notified_ = false;
+  mutable std::vector<std::shared_ptr<void>> abandoned_;  // see wait_keeping()
 #endif
   int rank_ = 0;
   int size_ = 1;
