@@ -127,12 +127,12 @@ def recut_table(out):
               f"{f('bytes', 1e-6, '{:.2f}')} | {f('seconds')} | {' '.join(sorted(set(x['hash'] for x in r)))} |")
 
 
-def busy_table(out, weak, weakspatial):
-    """P concurrent 1-rank bakes of the 1-rank scene (busy_P_i): the node as full as a P-rank run
+def busy_table(out, weak, weakspatial, prefix="busy", scene="the 1-rank scene"):
+    """P concurrent 1-rank bakes of the 1-rank scene (PREFIX_P_i): the node as full as a P-rank run
     without communication. Their mean bake time is what a P-rank run's ranks would take if the
     distributed map cost nothing; weak_P against it is the distributed map's own efficiency."""
     groups = {}
-    for path in glob.glob(os.path.join(out, "busy_*_*.json")):
+    for path in glob.glob(os.path.join(out, prefix + "_*_*.json")):
         np_ = int(os.path.basename(path).split("_")[1])
         p = json.load(open(path))["phases"]
         groups.setdefault(np_, []).append(
@@ -142,7 +142,8 @@ def busy_table(out, weak, weakspatial):
     by_ranks = lambda found: {r["ranks"]: r["time"] for r in found}
     w, ws = by_ranks(weak), by_ranks(weakspatial)
     t1 = w.get(1, 0)
-    print("\n### Weak scaling against the node as full without communication (busy_P)\n")
+    print(f"\n### Weak scaling against the node as full without communication ({prefix}_P: "
+          f"P concurrent 1 x 1 bakes of {scene})\n")
     print("| P | P concurrent 1 x 1: bake time mean / max (s) | vs weak_1 alone | weak_P (s) | "
           "weak_P vs busy mean | weakspatial_P (s) | weakspatial_P vs busy mean |")
     print("|---|---|---|---|---|---|---|")
@@ -165,7 +166,7 @@ if pilot:
     strong = rows(out, "strong")
     table("Strong scaling, --balance pilot (the cut before the recount; against strong_1x1)",
           strong[:1] + pilot, False)
-balance(out, ["strong", "pilot", "spatial", "weak", "weakspatial", "weakmeasured"])
+balance(out, ["strong", "pilot", "spatial", "weak", "weakspatial", "weakmeasured", "weakrooms"])
 weak = rows(out, "weak")
 table("Weak scaling (two sheets, side 150 sqrt(P), N=200, K=3)", weak, True)
 weakspatial = rows(out, "weakspatial")
@@ -176,4 +177,7 @@ if weakmeasured:
     table("Weak scaling, --balance measured (efficiency against weak_1)", weak[:1] + weakmeasured, True)
 busy_table(out, weak, weakspatial)
 recut_table(out)
+weakrooms = rows(out, "weakrooms")
+table("Weak scaling on closed rooms (P rooms, make_rooms_scene.py, N=200, K=3)", weakrooms, True)
+busy_table(out, weakrooms, [], "busyrooms", "the 1-room scene")
 table("1M vertices, N=1000, K=2", rows(out, "big"), True)

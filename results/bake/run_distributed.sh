@@ -12,10 +12,13 @@
 #     and P concurrent 1-rank bakes of the 1-rank scene, one per core (busy_P_i): the node as
 #     full as a P-rank run (shared L3 and memory bandwidth) without any communication, the
 #     baseline that separates the node's saturation from the distributed map's own cost;
+#   weak scaling on P closed rooms (make_rooms_scene.py: work per rank constant, every ray in its
+#     room), 1..16 ranks x 1 thread, N=200 K=3 as weak (weakrooms_P), and P concurrent 1-rank
+#     bakes of the 1-room scene (busyrooms_P_i);
 #   one bake that does not fit replicated: 1,008,204 vertices (side 710) at N=1000 K=2 on 16x1.
 # Every run writes its summary (verification hash, peak RSS per rank, map statistics) and
 # timings (.h5) to OUT_DIR; table.md collects them. Usage (from the repository root, build/ built):
-#   results/bake/run_distributed.sh OUT_DIR [strong|weak|big|all]
+#   results/bake/run_distributed.sh OUT_DIR [strong|weak|weakrooms|big|all]
 set -eu
 out=$1
 what=${2:-all}
@@ -67,24 +70,25 @@ if [ "$what" = strong ] || [ "$what" = all ]; then
   done
   rm -f "$out/strong.bsb"
 fi
-# busy NP SCENE ARGS...: NP single-rank bakes of SCENE at once, the i-th pinned to core i.
+# busy NAME NP SCENE ARGS...: NP single-rank bakes of SCENE at once, the i-th pinned to core i
+# (NAME_NP_i).
 busy() {
-  local np=$1 scene=$2
-  shift 2
-  echo "== busy_$np ($np concurrent 1 x 1)" >&2
+  local name=$1 np=$2 scene=$3
+  shift 3
+  echo "== ${name}_$np ($np concurrent 1 x 1)" >&2
   for ((i = 0; i < np; i++)); do
     OMP_NUM_THREADS=1 taskset -c "$i" mpirun -n 1 --bind-to none "$bake" "$scene" \
-      -o "$out/busy_$i.bsb" "$@" --summary "$out/busy_${np}_$i.json" \
-      >"$out/busy_${np}_$i.log" 2>&1 &
+      -o "$out/${name}_$i.bsb" "$@" --summary "$out/${name}_${np}_$i.json" \
+      >"$out/${name}_${np}_$i.log" 2>&1 &
   done
   wait
-  rm -f "$out"/busy_*.bsb
+  rm -f "$out/${name}"_*.bsb
 }
 
 if [ "$what" = weak ] || [ "$what" = all ]; then
   python3 "$src/results/bake/make_sheets_scene.py" 150 "$out/sheets_1.bs"
   for np in 2 4 8 16; do
-    busy "$np" "$out/sheets_1.bs" --viewpoints 200 --iterations 3
+    busy busy "$np" "$out/sheets_1.bs" --viewpoints 200 --iterations 3
   done
   for np in 1 2 4 8 16; do
     side=$(python3 -c "import math; print(round(150 * math.sqrt($np)))")
@@ -98,6 +102,17 @@ if [ "$what" = weak ] || [ "$what" = all ]; then
     fi
     rm -f "$out/sheets_$np.bs" "$out/weak.bsb"
   done
+fi
+if [ "$what" = weakrooms ] || [ "$what" = all ]; then
+  for np in 1 2 4 8 16; do
+    python3 "$src/results/bake/make_rooms_scene.py" "$np" "$out/rooms_$np.bs"
+    run "weakrooms_$np" "$np" 1 "$out/rooms_$np.bs" -o "$out/weakrooms.bsb" --viewpoints 200 \
+      --iterations 3
+    [ "$np" -gt 1 ] || continue
+    rm -f "$out/rooms_$np.bs"
+    busy busyrooms "$np" "$out/rooms_1.bs" --viewpoints 200 --iterations 3
+  done
+  rm -f "$out/rooms_1.bs" "$out/weakrooms.bsb"
 fi
 if [ "$what" = big ] || [ "$what" = all ]; then
   python3 "$src/results/bake/make_sheets_scene.py" 710 "$out/sheets_1m.bs"
