@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #if defined(RTMINI_HAVE_MPI) && defined(OPEN_MPI) && __has_include(<mpi-ext.h>)
 #include <mpi-ext.h>  // MPIX_Query_cuda_support
@@ -33,42 +34,50 @@ std::vector<int> displacements(const std::vector<int>& counts) {
 }
 
 // MPI_Alltoallv of records of record_bytes each, counts in records (so a large exchange counts
-// records, not bytes, in MPI's ints).
-void alltoallv_records(const Communicator& comm, const void* send,
-                       const std::vector<int>& send_counts, void* recv,
-                       const std::vector<int>& recv_counts, std::size_t record_bytes) {
+// records, not bytes, in MPI's ints). `send` and `recv` own the buffers (std::vector or a managed
+// Kokkos::View; moved from only when a peer fails): non-blocking plus Communicator::wait_keeping,
+// so a rank that failed elsewhere cannot leave the others waiting here forever (the
+// collective-failure contract, docs/architecture.md), and the collective it abandons keeps its
+// buffers, counts and displacements, which MPI's progress engine may still touch while the ranks
+// agree on the exit code (freed under it, they crashed that agreement: commit 23bae46).
+template <class Send, class Recv>
+void alltoallv_records(const Communicator& comm, Send& send, const std::vector<int>& send_counts,
+                       Recv& recv, const std::vector<int>& recv_counts, std::size_t record_bytes) {
 #ifdef RTMINI_HAVE_MPI
   MPI_Datatype type;
   MPI_Type_contiguous(static_cast<int>(record_bytes), MPI_BYTE, &type);
   MPI_Type_commit(&type);
-  const auto sd = displacements(send_counts), rd = displacements(recv_counts);
-  // Non-blocking plus Communicator::wait, so a rank that failed elsewhere cannot leave the
-  // others waiting here forever (the collective-failure contract, docs/architecture.md).
+  std::vector<int> sc = send_counts, rc = recv_counts;  // kept with the request, as the buffers
+  std::vector<int> sd = displacements(sc), rd = displacements(rc);
   MPI_Request req;
-  MPI_Ialltoallv(send, send_counts.data(), sd.data(), type, recv, recv_counts.data(), rd.data(),
-                 type, comm.native(), &req);
-  comm.wait(req);
+  MPI_Ialltoallv(send.data(), sc.data(), sd.data(), type, recv.data(), rc.data(), rd.data(), type,
+                 comm.native(), &req);
+  comm.wait_keeping(req, send, recv, sc, sd, rc, rd);  // an abandoned one keeps `type` too
   MPI_Type_free(&type);
 #else
   (void)comm;
   (void)recv_counts;
-  std::copy_n(static_cast<const unsigned char*>(send),
+  std::copy_n(reinterpret_cast<const unsigned char*>(send.data()),
               static_cast<std::size_t>(send_counts[0]) * record_bytes,
-              static_cast<unsigned char*>(recv));
+              reinterpret_cast<unsigned char*>(recv.data()));
 #endif
 }
 
-// MPI_Alltoallv of trivially copyable T, counts in elements; returns the received elements.
-template <class T>
-void alltoallv(const Communicator& comm, const T* send, const std::vector<int>& send_counts,
-               T* recv, const std::vector<int>& recv_counts) {
+// MPI_Alltoallv of the elements of `send` into `recv` (containers of one trivially copyable
+// type, owned as alltoallv_records says), counts in elements.
+template <class Send, class Recv>
+void alltoallv(const Communicator& comm, Send& send, const std::vector<int>& send_counts,
+               Recv& recv, const std::vector<int>& recv_counts) {
+  using T = std::remove_reference_t<decltype(*send.data())>;
+  static_assert(std::is_same<T, std::remove_reference_t<decltype(*recv.data())>>::value,
+                "an exchange sends and receives one type");
   alltoallv_records(comm, send, send_counts, recv, recv_counts, sizeof(T));
 }
 
 std::vector<int> exchange_counts(const Communicator& comm, const std::vector<int>& send_counts) {
-  std::vector<int> recv(send_counts.size(), 0);
+  std::vector<int> send = send_counts, recv(send_counts.size(), 0);
   const std::vector<int> ones(send_counts.size(), 1);
-  alltoallv(comm, send_counts.data(), ones, recv.data(), ones);
+  alltoallv(comm, send, ones, recv, ones);
   return recv;
 }
 
@@ -243,11 +252,11 @@ std::vector<Vec3f> fetch_vertex_colors(const Communicator& comm, const std::vect
   std::int64_t requests = 0;
   for (const int n : told) requests += n;
   std::vector<std::int64_t> vertices(static_cast<std::size_t>(requests));
-  alltoallv(comm, asked.data(), ask, vertices.data(), told);
+  alltoallv(comm, asked, ask, vertices, told);
   std::vector<Vec3f> answers(vertices.size());
   for (std::size_t k = 0; k < vertices.size(); ++k) answers[k] = own[vertices[k]];
   std::vector<Vec3f> grouped(wanted.size());
-  alltoallv(comm, answers.data(), told, grouped.data(), ask);
+  alltoallv(comm, answers, told, grouped, ask);
   std::vector<Vec3f> out(wanted.size());
   for (std::size_t k = 0; k < wanted.size(); ++k) out[k] = grouped[slot[k]];
   return out;
@@ -269,7 +278,7 @@ MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
   }
   const std::vector<int> told = exchange_counts(comm, ask);
   std::vector<std::int64_t> wanted(static_cast<std::size_t>(total(told)));
-  alltoallv(comm, asked.data(), ask, wanted.data(), told);
+  alltoallv(comm, asked, ask, wanted, told);
 
   // What this rank sends (its own entries each asker wants) and where what it gets goes.
   send_counts_ = told;
@@ -299,11 +308,11 @@ std::int64_t MapExchange::run(const Communicator& comm, Kokkos::View<Vec3f*, Mem
       KOKKOS_LAMBDA(std::int64_t i) { send_buf(i) = map(send_items(i)); });
   if (direct_) {
     Kokkos::fence();  // the packed colours must be in memory before MPI reads them
-    alltoallv(comm, send_buf.data(), send_counts_, recv_buf.data(), recv_counts_);
+    alltoallv(comm, send_buf_, send_counts_, recv_buf_, recv_counts_);
   } else {
     // Device memory and an MPI that cannot read it: through host buffers (any MPI works).
     Kokkos::deep_copy(compat::host_view(host_send_.data(), host_send_.size()), send_buf);
-    alltoallv(comm, host_send_.data(), send_counts_, host_recv_.data(), recv_counts_);
+    alltoallv(comm, host_send_, send_counts_, host_recv_, recv_counts_);
     Kokkos::deep_copy(recv_buf, compat::host_view(host_recv_.data(), host_recv_.size()));
   }
   Kokkos::parallel_for(
@@ -422,11 +431,11 @@ void move_entry_records(const Communicator& comm, const BakeSceneHost& scene,
   }
   Kokkos::fence();  // the packed records must be in memory before MPI reads them
   if (mpi_takes_map_memory()) {
-    alltoallv_records(comm, packed.data(), send, received.data(), recv, record_bytes);
+    alltoallv_records(comm, packed, send, received, recv, record_bytes);
   } else {
     std::vector<unsigned char> host_send(packed.extent(0)), host_recv(received.extent(0));
     Kokkos::deep_copy(compat::host_view(host_send.data(), host_send.size()), packed);
-    alltoallv_records(comm, host_send.data(), send, host_recv.data(), recv, record_bytes);
+    alltoallv_records(comm, host_send, send, host_recv, recv, record_bytes);
     Kokkos::deep_copy(received, compat::host_view(host_recv.data(), host_recv.size()));
   }
   pos = recv_at;
