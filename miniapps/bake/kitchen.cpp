@@ -81,8 +81,9 @@ MemoryEstimate estimate_memory(const Mesh& mesh, const BakeSceneHost& s, std::in
   // Mesh SoA + BVH (about 2 nodes per leaf triangle group, the triangles again in leaf order).
   m.scene = nv * (vec * 6 + 8) + nt * (3 * vec * 2 + 4 * 6) + nt * sizeof(bvh::BvhNode) +
             static_cast<std::int64_t>(c.viewpoints) * (vec * 2 + 8);
-  m.maps = 2 * local_colors * col;                   // prev + next on the device
-  m.host = local_colors * col + 2 * my_items * col;  // local map, exchange buffers
+  m.maps = 2 * local_colors * col;  // prev + next on the device
+  // Local map; exchange buffers: the last colours sent and received, a changed-only message each.
+  m.host = local_colors * col + 4 * my_items * col;
   // Formatted output text (~60 bytes a colour), at its peak held twice over in part: the
   // per-task pieces, grown by appending, and the joined copy (bakeshop_mpi_writer.cpp).
   m.host += my_vertices * c.stored_viewpoints() * 90;
@@ -1311,6 +1312,13 @@ void BakeRun::compare() {
 }
 
 void BakeRun::report_results() {
+  if (exchange_ && comm_.size() > 1) {
+    // After the first exchange only changed colours move: the fraction that did.
+    const double offered = static_cast<double>(comm_.sum(exchange_->offered_colors()));
+    report_.scene["map"]["exchange_changed_fraction"] =
+        offered > 0 ? static_cast<double>(comm_.sum(exchange_->changed_colors())) / offered : 1.0;
+    params_["map"] = report_.scene["map"];
+  }
   const std::uint64_t hash = comm_.sum_wrap(
       map_hash(layout_.device, prev_, batches_, comm_.rank(), c_.stored_viewpoints()));
   const double total_rays = static_cast<double>(comm_.sum(totals_.rays));

@@ -14,6 +14,7 @@ namespace rtmini::bake {
 namespace {
 
 using Exec = Kokkos::DefaultExecutionSpace;
+using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>;
 
 int checked_int(std::int64_t n) {
   if (n > 2147483647) throw std::runtime_error("rtmini: a map exchange exceeds 2^31 entries");
@@ -288,10 +289,20 @@ MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
   send_displs_ = displacements(send_counts_);
   recv_displs_ = displacements(recv_counts_);
   send_items_ = upload("rtmini::bake::exchange_send_items", send);
+  std::vector<std::int32_t> send_rank(send.size());
+  for (int r = 0; r < ranks; ++r)
+    std::fill_n(send_rank.begin() + send_displs_[r], send_counts_[r], r);
+  send_rank_ = compat::upload<MemSpace>("rtmini::bake::exchange_send_rank", send_rank);
+  std::vector<std::int64_t> first_entry(send_displs_.begin(), send_displs_.end());
+  first_entry.push_back(static_cast<std::int64_t>(send.size()));
+  first_entry_ = upload("rtmini::bake::exchange_first_entry", first_entry);
   recv_items_ = upload("rtmini::bake::exchange_recv_items", recv);
   send_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_send", send.size());
   recv_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_recv", recv.size());
   direct_ = mpi_takes_map_memory();
+  // RTMINI_BAKE_FULL_EXCHANGE=1 sends every halo colour every time, for comparison (same output).
+  const char* full = std::getenv("RTMINI_BAKE_FULL_EXCHANGE");
+  changed_only_ = !(full && std::string(full) == "1");
   if (!direct_) {
     host_send_.resize(send.size());
     host_recv_.resize(recv.size());
@@ -300,9 +311,21 @@ MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
 
 std::int64_t MapExchange::run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map) {
   if (comm.size() == 1) return 0;
-  using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>;
-  auto send_items = send_items_, recv_items = recv_items_;
-  auto send_buf = send_buf_, recv_buf = recv_buf_;
+  const std::int64_t bytes = sent_ && changed_only_ ? run_changed(comm, map) : run_full(comm, map);
+  sent_ = true;
+  // Every halo entry from the last colours received, changed or not.
+  auto recv_items = recv_items_;
+  auto recv_buf = recv_buf_;
+  Kokkos::parallel_for(
+      "rtmini::bake::exchange_scatter", Policy(0, static_cast<std::int64_t>(recv_items.extent(0))),
+      KOKKOS_LAMBDA(std::int64_t i) { map(recv_items(i)) = recv_buf(i); });
+  Kokkos::fence();
+  return bytes;
+}
+
+std::int64_t MapExchange::run_full(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map) {
+  auto send_items = send_items_;
+  auto send_buf = send_buf_;
   Kokkos::parallel_for(
       "rtmini::bake::exchange_pack", Policy(0, static_cast<std::int64_t>(send_items.extent(0))),
       KOKKOS_LAMBDA(std::int64_t i) { send_buf(i) = map(send_items(i)); });
@@ -313,13 +336,160 @@ std::int64_t MapExchange::run(const Communicator& comm, Kokkos::View<Vec3f*, Mem
     // Device memory and an MPI that cannot read it: through host buffers (any MPI works).
     Kokkos::deep_copy(compat::host_view(host_send_.data(), host_send_.size()), send_buf);
     alltoallv(comm, host_send_, send_counts_, host_recv_, recv_counts_);
-    Kokkos::deep_copy(recv_buf, compat::host_view(host_recv_.data(), host_recv_.size()));
+    Kokkos::deep_copy(recv_buf_, compat::host_view(host_recv_.data(), host_recv_.size()));
   }
-  Kokkos::parallel_for(
-      "rtmini::bake::exchange_scatter", Policy(0, static_cast<std::int64_t>(recv_items.extent(0))),
-      KOKKOS_LAMBDA(std::int64_t i) { map(recv_items(i)) = recv_buf(i); });
-  Kokkos::fence();
   return send_colors() * static_cast<std::int64_t>(sizeof(Vec3f));
+}
+
+namespace {
+
+// A changed-only message of `changed` colours among `entries`: an index list (one word a colour)
+// when that is no longer than a bitmask (one bit an entry), then three words a colour. Sender and
+// receiver both derive it from the two counts, so only the count travels ahead.
+bool index_list(std::int64_t changed, std::int64_t entries) {
+  return changed <= (entries + 31) / 32;
+}
+std::int64_t where_words(std::int64_t changed, std::int64_t entries) {
+  return index_list(changed, entries) ? changed : (entries + 31) / 32;
+}
+std::int64_t message_words(std::int64_t changed, std::int64_t entries) {
+  return changed == 0 ? 0 : where_words(changed, entries) + 3 * changed;
+}
+
+KOKKOS_INLINE_FUNCTION bool same_bits(const Vec3f& a, const Vec3f& b) {
+  return compat::bit_cast<std::uint32_t>(a.x) == compat::bit_cast<std::uint32_t>(b.x) &&
+         compat::bit_cast<std::uint32_t>(a.y) == compat::bit_cast<std::uint32_t>(b.y) &&
+         compat::bit_cast<std::uint32_t>(a.z) == compat::bit_cast<std::uint32_t>(b.z);
+}
+
+using Words = Kokkos::View<std::uint32_t*, MemSpace>;
+
+// Per destination of a changed-only exchange: where its message starts (words), its first
+// changed colour and first entry in send order, where its colours start (words) and whether it
+// is an index list (else a bitmask).
+enum MessageField { kFirstWord, kFirstChanged, kFirstEntry, kColorsAt, kIndexList, kMessageFields };
+
+KOKKOS_INLINE_FUNCTION void put_color(const Words& w, std::int64_t at, const Vec3f& c) {
+  w(at) = compat::bit_cast<std::uint32_t>(c.x);
+  w(at + 1) = compat::bit_cast<std::uint32_t>(c.y);
+  w(at + 2) = compat::bit_cast<std::uint32_t>(c.z);
+}
+KOKKOS_INLINE_FUNCTION Vec3f get_color(const Words& w, std::int64_t at) {
+  return Vec3f(compat::bit_cast<float>(w(at)), compat::bit_cast<float>(w(at + 1)),
+               compat::bit_cast<float>(w(at + 2)));
+}
+
+}  // namespace
+
+std::int64_t MapExchange::run_changed(const Communicator& comm,
+                                      Kokkos::View<Vec3f*, MemSpace> map) {
+  const int ranks = comm.size();
+  const std::int64_t n = static_cast<std::int64_t>(send_items_.extent(0));
+  auto send_items = send_items_;
+  auto send_buf = send_buf_;
+  auto send_rank = send_rank_;
+  // Which colours changed since the last send (bit for bit: the receiver must end with the
+  // sender's bits), as the count of changed ones before each entry in send order; send_buf
+  // becomes this send.
+  Kokkos::View<std::int32_t*, MemSpace> before("rtmini::bake::exchange_changed_before",
+                                               static_cast<std::size_t>(n) + 1);
+  Kokkos::parallel_scan(
+      "rtmini::bake::exchange_changed", Policy(0, n),
+      KOKKOS_LAMBDA(std::int64_t i, std::int32_t & count, bool final) {
+        const Vec3f c = map(send_items(i));
+        const int changed = same_bits(c, send_buf(i)) ? 0 : 1;
+        if (final) {
+          before(i + 1) = count + changed;
+          if (changed) send_buf(i) = c;
+        }
+        count += changed;
+      });
+  // Per destination: the colours changed, the message's words and where its parts start.
+  std::vector<std::int32_t> at;  // changed colours before each destination's first entry
+  {
+    Kokkos::View<std::int32_t*, MemSpace> bounds("rtmini::bake::exchange_changed_bounds",
+                                                 static_cast<std::size_t>(ranks) + 1);
+    auto first_entry = first_entry_;
+    Kokkos::parallel_for(
+        "rtmini::bake::exchange_changed_bounds", Policy(0, ranks + 1),
+        KOKKOS_LAMBDA(std::int64_t r) { bounds(r) = before(first_entry(r)); });
+    compat::download(bounds, at);
+  }
+  std::vector<int> changed(ranks), words(ranks);
+  std::vector<std::int64_t> meta(kMessageFields * static_cast<std::size_t>(ranks));
+  std::int64_t offset = 0;
+  for (int r = 0; r < ranks; ++r) {
+    const std::int64_t first = at[r], entries = send_counts_[r];
+    changed[r] = static_cast<int>(at[r + 1] - first);
+    words[r] = checked_int(message_words(changed[r], entries));
+    std::int64_t* m = &meta[kMessageFields * static_cast<std::size_t>(r)];
+    m[kFirstWord] = offset;
+    m[kFirstChanged] = first;
+    m[kFirstEntry] = send_displs_[r];
+    m[kColorsAt] = offset + where_words(changed[r], entries);
+    m[kIndexList] = index_list(changed[r], entries) ? 1 : 0;
+    offset += words[r];
+  }
+  const auto message = upload("rtmini::bake::exchange_messages", meta);
+  Words send_words("rtmini::bake::exchange_send_words", static_cast<std::size_t>(offset));
+  // The changed colours (and an index list's indices; bitmask words start at zero)...
+  Kokkos::parallel_for(
+      "rtmini::bake::exchange_pack_changed", Policy(0, n), KOKKOS_LAMBDA(std::int64_t i) {
+        if (before(i + 1) == before(i)) return;
+        const std::int64_t* m = &message(kMessageFields * send_rank(i));
+        const std::int64_t k = before(i) - m[kFirstChanged], j = i - m[kFirstEntry];
+        put_color(send_words, m[kColorsAt] + 3 * k, send_buf(i));
+        if (m[kIndexList])
+          send_words(m[kFirstWord] + k) = static_cast<std::uint32_t>(j);
+        else
+          Kokkos::atomic_fetch_or(&send_words(m[kFirstWord] + j / 32), std::uint32_t(1)
+                                                                           << (j % 32));
+      });
+  // ... go with the counts ahead (each side derives the words from the count and the entries).
+  const std::vector<int> received = exchange_counts(comm, changed);
+  std::vector<int> recv_words(ranks);
+  std::int64_t recv_total = 0;
+  for (int r = 0; r < ranks; ++r) {
+    recv_words[r] = checked_int(message_words(received[r], recv_counts_[r]));
+    recv_total += recv_words[r];
+  }
+  Words recv_msg("rtmini::bake::exchange_recv_words", static_cast<std::size_t>(recv_total));
+  if (direct_) {
+    Kokkos::fence();  // the packed words must be in memory before MPI reads them
+    alltoallv(comm, send_words, words, recv_msg, recv_words);
+  } else {
+    std::vector<std::uint32_t> host_send(send_words.extent(0)), host_recv(recv_msg.extent(0));
+    Kokkos::deep_copy(compat::host_view(host_send.data(), host_send.size()), send_words);
+    alltoallv(comm, host_send, words, host_recv, recv_words);
+    Kokkos::deep_copy(recv_msg, compat::host_view(host_recv.data(), host_recv.size()));
+  }
+  // Each rank's changed colours into the last received ones.
+  auto recv_buf = recv_buf_;
+  std::int64_t first_word = 0;
+  for (int r = 0; r < ranks; ++r) {
+    const std::int64_t c = received[r], entries = recv_counts_[r], base = recv_displs_[r];
+    const std::int64_t w0 = first_word, colors_at = w0 + where_words(c, entries);
+    first_word += recv_words[r];
+    if (c == 0) continue;
+    if (index_list(c, entries)) {
+      Kokkos::parallel_for(
+          "rtmini::bake::exchange_unpack_list", Policy(0, c), KOKKOS_LAMBDA(std::int64_t k) {
+            recv_buf(base + recv_msg(w0 + k)) = get_color(recv_msg, colors_at + 3 * k);
+          });
+    } else {
+      Kokkos::parallel_scan(
+          "rtmini::bake::exchange_unpack_mask", Policy(0, entries),
+          KOKKOS_LAMBDA(std::int64_t j, std::int64_t & k, bool final) {
+            const bool set = (recv_msg(w0 + j / 32) >> (j % 32)) & 1u;
+            if (final && set) recv_buf(base + j) = get_color(recv_msg, colors_at + 3 * k);
+            k += set ? 1 : 0;
+          });
+    }
+  }
+  changed_colors_ += total(changed);
+  offered_colors_ += send_colors();
+  // The words and the counts sent to other ranks.
+  return 4 * (offset + ranks - 1);
 }
 
 std::vector<Vec3f> gather_global_map(const Communicator& comm, const BakeSceneHost& scene,

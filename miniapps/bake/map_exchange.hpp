@@ -81,12 +81,21 @@ class MapExchange {
   MapExchange(const Communicator& comm, const BakeSceneHost& scene, const MapLayout& layout,
               const std::vector<int>& owner, const std::vector<std::int64_t>& halo);
 
-  // Refreshes the halo entries of `map` from their owners (collective); returns bytes sent.
+  // Refreshes the halo entries of `map` from their owners (collective); returns bytes sent. The
+  // first run sends every halo entry. Later runs send, per destination, only the entries whose
+  // colour changed (bit for bit) since the last run, with a bitmask of the destination's entries
+  // or a list of their indices, whichever is smaller; the receiver keeps the last colour of the
+  // others. A view-independent vertex's colour, and a mirror colour whose reflected path ends on
+  // such vertices, stop changing after an iteration or two, so later exchanges shrink.
   std::int64_t run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
 
   std::int64_t send_colors() const { return total(send_counts_); }
   bool direct() const { return direct_; }  // MPI moves the map's own buffers (no host copies)
   std::int64_t recv_colors() const { return total(recv_counts_); }
+  // Over the runs after the first: the colours sent (changed) and those a full send would have
+  // sent, for the changed fraction.
+  std::int64_t changed_colors() const { return changed_colors_; }
+  std::int64_t offered_colors() const { return offered_colors_; }
 
  private:
   static std::int64_t total(const std::vector<int>& c) {
@@ -94,11 +103,22 @@ class MapExchange {
     for (int x : c) s += x;
     return s;
   }
+  std::int64_t run_full(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
+  std::int64_t run_changed(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
+  // The words a changed-only message to or from a rank holds: as a bitmask or an index list.
+  static std::int64_t mask_words(std::int64_t entries) { return (entries + 31) / 32; }
   std::vector<int> send_counts_, send_displs_, recv_counts_, recv_displs_;  // in colours
   Kokkos::View<std::int64_t*, MemSpace> send_items_, recv_items_;           // local entries
+  // The colours last sent and last received (the receiver's copy of the halo: the map's two
+  // buffers swap every iteration, so neither holds the last received colours).
   Kokkos::View<Vec3f*, MemSpace> send_buf_, recv_buf_;
   std::vector<Vec3f> host_send_, host_recv_;  // only when MPI cannot take MemSpace (direct_)
   bool direct_ = false;
+  bool sent_ = false;         // the first (full) run is done
+  bool changed_only_ = true;  // false: every run sends everything (RTMINI_BAKE_FULL_EXCHANGE=1)
+  Kokkos::View<std::int32_t*, MemSpace> send_rank_;    // destination of each send entry
+  Kokkos::View<std::int64_t*, MemSpace> first_entry_;  // send_displs_ and the send entries
+  std::int64_t changed_colors_ = 0, offered_colors_ = 0;
 };
 
 // Every rank's owned colours in the global (replicated) order, on the root only (empty
