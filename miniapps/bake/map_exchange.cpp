@@ -300,9 +300,10 @@ MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
   send_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_send", send.size());
   recv_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_recv", recv.size());
   direct_ = mpi_takes_map_memory();
-  // RTMINI_BAKE_FULL_EXCHANGE=1 sends every halo colour every time, for comparison (same output).
-  const char* full = std::getenv("RTMINI_BAKE_FULL_EXCHANGE");
-  changed_only_ = !(full && std::string(full) == "1");
+  // Changed-only exchanges are opt-in (RTMINI_BAKE_CHANGED_EXCHANGE=1): on one 2-core host they
+  // moved 22 % of the bytes but took longer than the full exchange (results/bake/distributed.md).
+  const char* changed = std::getenv("RTMINI_BAKE_CHANGED_EXCHANGE");
+  changed_only_ = changed && std::string(changed) == "1";
   if (!direct_) {
     host_send_.resize(send.size());
     host_recv_.resize(recv.size());
@@ -379,6 +380,13 @@ KOKKOS_INLINE_FUNCTION Vec3f get_color(const Words& w, std::int64_t at) {
                compat::bit_cast<float>(w(at + 2)));
 }
 
+// `words` if it holds n, else a new one of n (not zero-filled: every word sent is written).
+Words words_for(const Words& words, std::int64_t n, const char* label) {
+  if (static_cast<std::int64_t>(words.extent(0)) >= n) return words;
+  return Words(Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string(label)),
+               static_cast<std::size_t>(n));
+}
+
 }  // namespace
 
 std::int64_t MapExchange::run_changed(const Communicator& comm,
@@ -388,21 +396,26 @@ std::int64_t MapExchange::run_changed(const Communicator& comm,
   auto send_items = send_items_;
   auto send_buf = send_buf_;
   auto send_rank = send_rank_;
-  // Which colours changed since the last send (bit for bit: the receiver must end with the
-  // sender's bits), as the count of changed ones before each entry in send order; send_buf
-  // becomes this send.
-  Kokkos::View<std::int32_t*, MemSpace> before("rtmini::bake::exchange_changed_before",
-                                               static_cast<std::size_t>(n) + 1);
-  Kokkos::parallel_scan(
-      "rtmini::bake::exchange_changed", Policy(0, n),
-      KOKKOS_LAMBDA(std::int64_t i, std::int32_t & count, bool final) {
+  if (static_cast<std::int64_t>(changed_before_.extent(0)) != n + 1)
+    changed_before_ = Kokkos::View<std::int32_t*, MemSpace>(
+        Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::exchange_changed_before"),
+        static_cast<std::size_t>(n) + 1);
+  auto before = changed_before_;
+  // before(i + 1): whether entry i's colour changed since the last send (bit for bit: the
+  // receiver must end with the sender's bits); send_buf becomes this send. Then, scanned in
+  // place, before(i): the changed entries before entry i, in send order.
+  Kokkos::parallel_for(
+      "rtmini::bake::exchange_changed", Policy(0, n), KOKKOS_LAMBDA(std::int64_t i) {
         const Vec3f c = map(send_items(i));
-        const int changed = same_bits(c, send_buf(i)) ? 0 : 1;
-        if (final) {
-          before(i + 1) = count + changed;
-          if (changed) send_buf(i) = c;
-        }
-        count += changed;
+        const bool changed = !same_bits(c, send_buf(i));
+        if (changed) send_buf(i) = c;
+        before(i + 1) = changed ? 1 : 0;
+      });
+  Kokkos::parallel_scan(
+      "rtmini::bake::exchange_changed_scan", Policy(0, n + 1),
+      KOKKOS_LAMBDA(std::int64_t i, std::int32_t & sum, bool final) {
+        sum += i == 0 ? 0 : before(i);
+        if (final) before(i) = sum;
       });
   // Per destination: the colours changed, the message's words and where its parts start.
   std::vector<std::int32_t> at;  // changed colours before each destination's first entry
@@ -431,21 +444,35 @@ std::int64_t MapExchange::run_changed(const Communicator& comm,
     offset += words[r];
   }
   const auto message = upload("rtmini::bake::exchange_messages", meta);
-  Words send_words("rtmini::bake::exchange_send_words", static_cast<std::size_t>(offset));
-  // The changed colours (and an index list's indices; bitmask words start at zero)...
+  send_words_ = words_for(send_words_, offset, "rtmini::bake::exchange_send_words");
+  auto send_words = send_words_;
+  // The changed colours and an index list's indices...
   Kokkos::parallel_for(
       "rtmini::bake::exchange_pack_changed", Policy(0, n), KOKKOS_LAMBDA(std::int64_t i) {
         if (before(i + 1) == before(i)) return;
         const std::int64_t* m = &message(kMessageFields * send_rank(i));
-        const std::int64_t k = before(i) - m[kFirstChanged], j = i - m[kFirstEntry];
+        const std::int64_t k = before(i) - m[kFirstChanged];
         put_color(send_words, m[kColorsAt] + 3 * k, send_buf(i));
         if (m[kIndexList])
-          send_words(m[kFirstWord] + k) = static_cast<std::uint32_t>(j);
-        else
-          Kokkos::atomic_fetch_or(&send_words(m[kFirstWord] + j / 32), std::uint32_t(1)
-                                                                           << (j % 32));
+          send_words(m[kFirstWord] + k) = static_cast<std::uint32_t>(i - m[kFirstEntry]);
       });
-  // ... go with the counts ahead (each side derives the words from the count and the entries).
+  // ... a bitmask's words, 32 entries each.
+  for (int r = 0; r < ranks; ++r) {
+    const std::int64_t* m = &meta[kMessageFields * static_cast<std::size_t>(r)];
+    if (changed[r] == 0 || m[kIndexList]) continue;
+    const std::int64_t first = m[kFirstEntry], end = first + send_counts_[r], w0 = m[kFirstWord];
+    Kokkos::parallel_for(
+        "rtmini::bake::exchange_pack_mask", Policy(0, mask_words(send_counts_[r])),
+        KOKKOS_LAMBDA(std::int64_t w) {
+          std::uint32_t bits = 0;
+          for (std::int64_t b = 0; b < 32 && first + 32 * w + b < end; ++b) {
+            const std::int64_t i = first + 32 * w + b;
+            if (before(i + 1) != before(i)) bits |= std::uint32_t(1) << b;
+          }
+          send_words(w0 + w) = bits;
+        });
+  }
+  // The counts go ahead (each side derives a message's words from its count and entries).
   const std::vector<int> received = exchange_counts(comm, changed);
   std::vector<int> recv_words(ranks);
   std::int64_t recv_total = 0;
@@ -453,15 +480,19 @@ std::int64_t MapExchange::run_changed(const Communicator& comm,
     recv_words[r] = checked_int(message_words(received[r], recv_counts_[r]));
     recv_total += recv_words[r];
   }
-  Words recv_msg("rtmini::bake::exchange_recv_words", static_cast<std::size_t>(recv_total));
+  recv_words_ = words_for(recv_words_, recv_total, "rtmini::bake::exchange_recv_words");
+  auto recv_msg = recv_words_;
   if (direct_) {
     Kokkos::fence();  // the packed words must be in memory before MPI reads them
-    alltoallv(comm, send_words, words, recv_msg, recv_words);
+    alltoallv(comm, send_words_, words, recv_words_, recv_words);
   } else {
-    std::vector<std::uint32_t> host_send(send_words.extent(0)), host_recv(recv_msg.extent(0));
-    Kokkos::deep_copy(compat::host_view(host_send.data(), host_send.size()), send_words);
+    std::vector<std::uint32_t> host_send(static_cast<std::size_t>(offset)),
+        host_recv(static_cast<std::size_t>(recv_total));
+    Kokkos::deep_copy(compat::host_view(host_send.data(), host_send.size()),
+                      Kokkos::subview(send_words, std::make_pair(std::int64_t(0), offset)));
     alltoallv(comm, host_send, words, host_recv, recv_words);
-    Kokkos::deep_copy(recv_msg, compat::host_view(host_recv.data(), host_recv.size()));
+    Kokkos::deep_copy(Kokkos::subview(recv_msg, std::make_pair(std::int64_t(0), recv_total)),
+                      compat::host_view(host_recv.data(), host_recv.size()));
   }
   // Each rank's changed colours into the last received ones.
   auto recv_buf = recv_buf_;
@@ -477,12 +508,17 @@ std::int64_t MapExchange::run_changed(const Communicator& comm,
             recv_buf(base + recv_msg(w0 + k)) = get_color(recv_msg, colors_at + 3 * k);
           });
     } else {
+      // Per mask word: the colours of the words before it (a scan over words, 1/32 of the
+      // entries), then its set bits in order.
       Kokkos::parallel_scan(
-          "rtmini::bake::exchange_unpack_mask", Policy(0, entries),
-          KOKKOS_LAMBDA(std::int64_t j, std::int64_t & k, bool final) {
-            const bool set = (recv_msg(w0 + j / 32) >> (j % 32)) & 1u;
-            if (final && set) recv_buf(base + j) = get_color(recv_msg, colors_at + 3 * k);
-            k += set ? 1 : 0;
+          "rtmini::bake::exchange_unpack_mask", Policy(0, mask_words(entries)),
+          KOKKOS_LAMBDA(std::int64_t w, std::int64_t & k, bool final) {
+            std::uint32_t bits = recv_msg(w0 + w);
+            if (final)
+              for (std::int64_t kk = k; bits != 0; bits &= bits - 1, ++kk)
+                recv_buf(base + 32 * w + compat::popcount64((bits & (~bits + 1)) - 1)) =
+                    get_color(recv_msg, colors_at + 3 * kk);
+            k += compat::popcount64(recv_msg(w0 + w));
           });
     }
   }

@@ -82,11 +82,12 @@ class MapExchange {
               const std::vector<int>& owner, const std::vector<std::int64_t>& halo);
 
   // Refreshes the halo entries of `map` from their owners (collective); returns bytes sent. The
-  // first run sends every halo entry. Later runs send, per destination, only the entries whose
-  // colour changed (bit for bit) since the last run, with a bitmask of the destination's entries
-  // or a list of their indices, whichever is smaller; the receiver keeps the last colour of the
-  // others. A view-independent vertex's colour, and a mirror colour whose reflected path ends on
-  // such vertices, stop changing after an iteration or two, so later exchanges shrink.
+  // first run sends every halo entry. With RTMINI_BAKE_CHANGED_EXCHANGE=1, later runs send, per
+  // destination, only the entries whose colour changed (bit for bit) since the last run, with a
+  // bitmask of the destination's entries or a list of their indices, whichever is smaller; the
+  // receiver keeps the last colour of the others. A view-independent vertex's colour, and a mirror
+  // colour whose reflected path ends on such vertices, stop changing after an iteration or two, so
+  // later exchanges shrink.
   std::int64_t run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
 
   std::int64_t send_colors() const { return total(send_counts_); }
@@ -114,10 +115,14 @@ class MapExchange {
   Kokkos::View<Vec3f*, MemSpace> send_buf_, recv_buf_;
   std::vector<Vec3f> host_send_, host_recv_;  // only when MPI cannot take MemSpace (direct_)
   bool direct_ = false;
-  bool sent_ = false;         // the first (full) run is done
-  bool changed_only_ = true;  // false: every run sends everything (RTMINI_BAKE_FULL_EXCHANGE=1)
+  bool sent_ = false;                                  // the first (full) run is done
+  bool changed_only_ = false;                          // RTMINI_BAKE_CHANGED_EXCHANGE=1
   Kokkos::View<std::int32_t*, MemSpace> send_rank_;    // destination of each send entry
   Kokkos::View<std::int64_t*, MemSpace> first_entry_;  // send_displs_ and the send entries
+  // Changed-only runs' scratch, kept from run to run: changed entries before each send entry,
+  // the messages sent and received (words).
+  Kokkos::View<std::int32_t*, MemSpace> changed_before_;
+  Kokkos::View<std::uint32_t*, MemSpace> send_words_, recv_words_;
   std::int64_t changed_colors_ = 0, offered_colors_ = 0;
 };
 

@@ -155,6 +155,43 @@ def busy_table(out, weak, weakspatial, prefix="busy", scene="the 1-rank scene"):
               f"{100 * t1 / mean if mean > 0 else 0:.0f} % | {eff(w)} | {eff(ws)} |")
 
 
+def exchange_table(out):
+    """Changed-only exchanges against full ones (exchange_EX_PxT_I, alternated): per configuration
+    the median bake time, the median over runs of the cached exchanges' time (iterations 2..K-1,
+    max over ranks, summed) and the bytes of each exchange (summed over ranks)."""
+    try:
+        import h5py
+        import numpy as np
+    except ImportError:
+        return
+    runs = {}
+    for path in glob.glob(os.path.join(out, "exchange_*_*_*.json")):
+        _, ex, pt, _ = os.path.basename(path)[:-5].split("_")
+        s = json.load(open(path))
+        p = s["phases"]
+        f = h5py.File(path[:-5] + ".h5", "r")
+        t = f["iterations/allgather_time"][:]
+        b = f["iterations/allgather_bytes"][:].sum(axis=0)
+        runs.setdefault((pt, ex), []).append({
+            "time": p.get("base", 0) + p.get("map", 0) + p.get("halo", 0) + p.get("iterate", 0),
+            "exchange": float(t[:, 2:-1].max(axis=0).sum()) if t.shape[1] > 3 else float("nan"),
+            "bytes": " / ".join(f"{x / 1e6:.2f}" for x in b[1:-1]), "hash": s["verification_hash"],
+            "changed": s["scene"]["map"].get("exchange_changed_fraction", 1.0)})
+    if not runs:
+        return
+    med = lambda x: sorted(x)[len(x) // 2]
+    print("\n### Changed-only exchanges against full ones (bunny_room N=300 K=4; alternated)\n")
+    print("| ranks x threads | exchange | runs | bake time median [min-max] (s) | cached exchanges' "
+          "time, median (s) | MB per exchange | colours sent after the first | hashes |")
+    print("|---|---|---|---|---|---|---|---|")
+    for (pt, ex) in sorted(runs, key=lambda k: (int(k[0].split("x")[0]), k[1])):
+        r = runs[(pt, ex)]
+        t = [x["time"] for x in r]
+        print(f"| {pt} | {ex} | {len(r)} | {med(t):.3f} [{min(t):.3f}-{max(t):.3f}] | "
+              f"{med([x['exchange'] for x in r]):.4f} | {r[0]['bytes']} | "
+              f"{100 * r[0]['changed']:.1f} % | {' '.join(sorted(set(x['hash'] for x in r)))} |")
+
+
 out = sys.argv[1]
 table("Strong scaling (bunny_room, N=300, K=4)", rows(out, "strong"), False)
 spatial = rows(out, "spatial")
@@ -166,7 +203,8 @@ if pilot:
     strong = rows(out, "strong")
     table("Strong scaling, --balance pilot (the cut before the recount; against strong_1x1)",
           strong[:1] + pilot, False)
-balance(out, ["strong", "pilot", "spatial", "weak", "weakspatial", "weakmeasured", "weakrooms"])
+balance(out, ["strong", "pilot", "spatial", "weak", "weakspatial", "weakmeasured", "weakrooms",
+              "weakroomssah"])
 weak = rows(out, "weak")
 table("Weak scaling (two sheets, side 150 sqrt(P), N=200, K=3)", weak, True)
 weakspatial = rows(out, "weakspatial")
@@ -179,5 +217,8 @@ busy_table(out, weak, weakspatial)
 recut_table(out)
 weakrooms = rows(out, "weakrooms")
 table("Weak scaling on closed rooms (P rooms, make_rooms_scene.py, N=200, K=3)", weakrooms, True)
+weakroomssah = rows(out, "weakroomssah")
+table("Weak scaling on closed rooms, --bvh sah", weakroomssah, True)
 busy_table(out, weakrooms, [], "busyrooms", "the 1-room scene")
+exchange_table(out)
 table("1M vertices, N=1000, K=2", rows(out, "big"), True)

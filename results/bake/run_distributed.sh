@@ -13,12 +13,15 @@
 #     full as a P-rank run (shared L3 and memory bandwidth) without any communication, the
 #     baseline that separates the node's saturation from the distributed map's own cost;
 #   weak scaling on P closed rooms (make_rooms_scene.py: work per rank constant, every ray in its
-#     room), 1..16 ranks x 1 thread, N=200 K=3 as weak (weakrooms_P), and P concurrent 1-rank
+#     room), 1..16 ranks x 1 thread, N=200 K=3 as weak (weakrooms_P), the same with --bvh sah
+#     (weakroomssah_P: the LBVH's nodes per ray grow more with P), and P concurrent 1-rank
 #     bakes of the 1-room scene (busyrooms_P_i);
+#   the changed-only exchange (RTMINI_BAKE_CHANGED_EXCHANGE=1) against the full one, bunny_room
+#     N=300 K=4 at 2x8 4x4 16x1, alternated three times (exchange_{full,changed}_PxT_I);
 #   one bake that does not fit replicated: 1,008,204 vertices (side 710) at N=1000 K=2 on 16x1.
 # Every run writes its summary (verification hash, peak RSS per rank, map statistics) and
 # timings (.h5) to OUT_DIR; table.md collects them. Usage (from the repository root, build/ built):
-#   results/bake/run_distributed.sh OUT_DIR [strong|weak|weakrooms|big|all]
+#   results/bake/run_distributed.sh OUT_DIR [strong|weak|weakrooms|exchange|big|all]
 set -eu
 out=$1
 what=${2:-all}
@@ -108,11 +111,26 @@ if [ "$what" = weakrooms ] || [ "$what" = all ]; then
     python3 "$src/results/bake/make_rooms_scene.py" "$np" "$out/rooms_$np.bs"
     run "weakrooms_$np" "$np" 1 "$out/rooms_$np.bs" -o "$out/weakrooms.bsb" --viewpoints 200 \
       --iterations 3
+    run "weakroomssah_$np" "$np" 1 "$out/rooms_$np.bs" -o "$out/weakrooms.bsb" --viewpoints 200 \
+      --iterations 3 --bvh sah
     [ "$np" -gt 1 ] || continue
     rm -f "$out/rooms_$np.bs"
     busy busyrooms "$np" "$out/rooms_1.bs" --viewpoints 200 --iterations 3
   done
   rm -f "$out/rooms_1.bs" "$out/weakrooms.bsb"
+fi
+if [ "$what" = exchange ] || [ "$what" = all ]; then
+  "$gen" bunny_room --scene "$src/inputs/meshes/stanford-bunny.obj" -o "$out/bunny_room.bs"
+  for i in 1 2 3; do
+    for pt in 2x8 4x4 16x1; do
+      for ex in full changed; do
+        RTMINI_BAKE_CHANGED_EXCHANGE=$([ $ex = changed ] && echo 1 || echo 0) \
+          run "exchange_${ex}_${pt}_$i" "${pt%x*}" "${pt#*x}" "$out/bunny_room.bs" \
+          -o "$out/strong.bsb" --viewpoints 300 --iterations 4
+      done
+    done
+  done
+  rm -f "$out/strong.bsb"
 fi
 if [ "$what" = big ] || [ "$what" = all ]; then
   python3 "$src/results/bake/make_sheets_scene.py" 710 "$out/sheets_1m.bs"
