@@ -82,8 +82,8 @@ MemoryEstimate estimate_memory(const Mesh& mesh, const BakeSceneHost& s, std::in
   m.scene = nv * (vec * 6 + 8) + nt * (3 * vec * 2 + 4 * 6) + nt * sizeof(bvh::BvhNode) +
             static_cast<std::int64_t>(c.viewpoints) * (vec * 2 + 8);
   m.maps = 2 * local_colors * col;  // prev + next on the device
-  // Local map; exchange buffers: the last colours sent and received, a changed-only message each.
-  m.host = local_colors * col + 4 * my_items * col;
+  // Local map; exchange buffers (and with changed-only exchanges a message each way besides).
+  m.host = local_colors * col + (changed_only_exchanges() ? 4 : 2) * my_items * col;
   // Formatted output text (~60 bytes a colour), at its peak held twice over in part: the
   // per-task pieces, grown by appending, and the joined copy (bakeshop_mpi_writer.cpp).
   m.host += my_vertices * c.stored_viewpoints() * 90;

@@ -150,6 +150,11 @@ bool mpi_takes_map_memory() {
 #endif
 }
 
+bool changed_only_exchanges() {
+  const char* e = std::getenv("RTMINI_BAKE_CHANGED_EXCHANGE");
+  return e && std::string(e) == "1";
+}
+
 MapLayout make_map_layout(const BakeSceneHost& scene, const std::vector<char>& present) {
   MapLayout l;
   const std::int64_t nv = scene.vertices();
@@ -300,10 +305,7 @@ MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
   send_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_send", send.size());
   recv_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_recv", recv.size());
   direct_ = mpi_takes_map_memory();
-  // Changed-only exchanges are opt-in (RTMINI_BAKE_CHANGED_EXCHANGE=1): on one 2-core host they
-  // moved 22 % of the bytes but took longer than the full exchange (results/bake/distributed.md).
-  const char* changed = std::getenv("RTMINI_BAKE_CHANGED_EXCHANGE");
-  changed_only_ = changed && std::string(changed) == "1";
+  changed_only_ = changed_only_exchanges();
   if (!direct_) {
     host_send_.resize(send.size());
     host_recv_.resize(recv.size());

@@ -73,6 +73,10 @@ std::vector<Vec3f> fetch_vertex_colors(const Communicator& comm, const std::vect
 // it the exchange stages through host buffers.
 bool mpi_takes_map_memory();
 
+// Whether later exchanges send only changed colours (RTMINI_BAKE_CHANGED_EXCHANGE=1; opt-in: on
+// one 2-core host they moved 22 % of the bytes but took longer, results/bake/distributed.md).
+bool changed_only_exchanges();
+
 class MapExchange {
  public:
   // Plans the exchange (collective): `halo` lists, ascending, the colours (global entry
