@@ -708,7 +708,9 @@ KOKKOS_INLINE_FUNCTION bool traverse_wide(const BvhT& bvh, const Ray& ray, Hit& 
 // (closest hit: the smallest t, then the lowest id, whatever the order leaves are tested in).
 // What the packet saves on coherent rays (a camera's, or shadow rays toward one light) is the
 // per-ray walk: one stack, one node fetch, one set of branches for eight rays, and the eight
-// rays' box and leaf tests are independent, so their latencies overlap.
+// rays' box and leaf tests are independent, so their latencies overlap. Any-hit packets test a
+// node's leaves one step late, to overlap their fetch with the next node's (occlude_packet_with);
+// packets whose rays share an origin subtract it from a leaf's rows once for all their rays.
 #if defined(__GNUC__) && !defined(__CUDACC__)
 inline constexpr bool kHavePacketTraversal = true;
 static_assert(kPacketSize == 8, "transpose_bytes and the tmax snapshot are for packets of 8");
@@ -785,7 +787,8 @@ KOKKOS_FORCEINLINE_FUNCTION int packet_leaf(const BvhT& bvh, std::uint32_t c, in
   return done;
 }
 
-template <class BvhT, bool kAnyHit, bool kFma, bool kSharedOrigin>
+// The closest-hit packet walk (any hits: occlude_packet_with below).
+template <class BvhT, bool kFma, bool kSharedOrigin>
 inline void traverse_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* hits, bool* found) {
   constexpr int kPacketStack = (kWidth - 1) * kStackSize;
   PacketEntry stack[kPacketStack];
@@ -818,22 +821,17 @@ inline void traverse_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* 
       if (c == kEmptyLeaf) continue;
       const int rays = byte_of(per_child, k) & live;
       if (rays == 0) continue;
-      if (kAnyHit) {
-        live &= ~packet_leaf<BvhT, kAnyHit, kSharedOrigin>(bvh, c, rays, p, hits, found);
-        if (live == 0) return;
-      } else {
-        const Real before[kPacketSize] = {p.tmax[0], p.tmax[1], p.tmax[2], p.tmax[3],
-                                          p.tmax[4], p.tmax[5], p.tmax[6], p.tmax[7]};
-        packet_leaf<BvhT, kAnyHit, kSharedOrigin>(bvh, c, rays, p, hits, found);
-        for (int m2 = rays; m2 != 0; m2 &= m2 - 1) {
-          const int r = lowest_bit(m2);
-          if (p.tmax[r] != before[r]) shrunk |= 1 << r;
-        }
+      const Real before[kPacketSize] = {p.tmax[0], p.tmax[1], p.tmax[2], p.tmax[3],
+                                        p.tmax[4], p.tmax[5], p.tmax[6], p.tmax[7]};
+      packet_leaf<BvhT, false, kSharedOrigin>(bvh, c, rays, p, hits, found);
+      for (int m2 = rays; m2 != 0; m2 &= m2 - 1) {
+        const int r = lowest_bit(m2);
+        if (p.tmax[r] != before[r]) shrunk |= 1 << r;
       }
     }
     // Closest hit: a ray whose tmax moved drops the inner children now beyond it (as the
     // single-ray traversal does).
-    if (!kAnyHit && shrunk != 0) {
+    if (shrunk != 0) {
       for (int m = shrunk; m != 0; m &= m - 1) {
         const int r = lowest_bit(m);
         const int keep = lanes_not_after(tn[r], cull_limit<kFma>(p.tmax[r], p.box[r]));
@@ -861,16 +859,7 @@ inline void traverse_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* 
       at = {nd.child[k0], byte_of(per_child, k0) & live};
       continue;
     }
-    if (kAnyHit) {  // lane order, as the single-ray any hit
-      at = {nd.child[k0], byte_of(per_child, k0) & live};
-      for (; inner != 0; inner &= inner - 1) {
-        const int k = lowest_bit(inner);
-        prefetch_node(bvh.wide(nd.child[k]));
-        stack[sp++] = {nd.child[k], byte_of(per_child, k) & live};
-      }
-      continue;
-    }
-    // Closest hit: children by the nearest entry over their rays, pushed far-to-near.
+    // Children by the nearest entry over their rays, pushed far-to-near.
     PacketEntry ids[kWidth];
     Real ds[kWidth];
     int n = 0;
@@ -995,9 +984,8 @@ inline void traverse_packet_by(const BvhT& bvh, PacketRays& p, int live, Hit* hi
     if (shared_origin) return occlude_packet_with<BvhT, kFma, true>(bvh, p, live, hits, found);
     return occlude_packet_with<BvhT, kFma, false>(bvh, p, live, hits, found);
   } else {
-    if (shared_origin)
-      return traverse_packet_with<BvhT, false, kFma, true>(bvh, p, live, hits, found);
-    return traverse_packet_with<BvhT, false, kFma, false>(bvh, p, live, hits, found);
+    if (shared_origin) return traverse_packet_with<BvhT, kFma, true>(bvh, p, live, hits, found);
+    return traverse_packet_with<BvhT, kFma, false>(bvh, p, live, hits, found);
   }
 }
 
