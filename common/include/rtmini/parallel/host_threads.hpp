@@ -1,7 +1,8 @@
 #pragma once
 // Host work on plain threads, for host-side steps of a run whose Kokkos host space may be Serial
-// (the CUDA build's), such as reading a mesh. Each call starts and joins its own threads; use it
-// for steps of milliseconds or more, not in inner loops.
+// (the CUDA build's), such as reading a mesh, or whose OpenMP workers would spin-wait after it
+// (the host SAH build). Each call starts and joins its own threads; use it for steps of
+// milliseconds or more, not in inner loops.
 #include <cstddef>
 #include <thread>
 #include <vector>
