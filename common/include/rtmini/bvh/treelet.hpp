@@ -16,7 +16,7 @@
 
 namespace rtmini::bvh {
 
-// Leaves per treelet: the paper's 7 (127 subsets, ~1,100 partitions to try per treelet).
+// Leaves per treelet: the paper's 7 (127 subsets, 966 splits to try per treelet).
 inline constexpr int kTreeletLeaves = 7;
 
 namespace detail {
