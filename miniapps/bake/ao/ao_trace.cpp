@@ -1,7 +1,9 @@
 #include "ao_trace.hpp"
 
 #include <algorithm>
+#include <array>
 #include <functional>
+#include <utility>
 
 #include "rtmini/geometry/offset.hpp"
 #include "rtmini/parallel/spread_order.hpp"
@@ -106,6 +108,121 @@ class PassProgress {
   double total_rays_, rays_ = 0;
 };
 
+// A receiver as the expansion kernel sees it: where its world triangles go and where its
+// stored mesh lies in the concatenated device mesh arrays.
+struct ExpandReceiver {
+  AffineD xform;                    // object -> world, in double as on the host
+  std::int64_t tri_base = 0;        // its first global triangle
+  std::int64_t mesh_tri_base = 0;   // its mesh's first triangle in ReceiverMeshes::corners / 3
+  std::int64_t mesh_vert_base = 0;  // its mesh's first vertex in ReceiverMeshes::positions
+  int mesh = 0;                     // stored mesh id (sample_item)
+  std::uint32_t key = 0;            // instance id (ray key)
+};
+
+// The stored meshes of the receivers on the device, each once however many instances it has:
+// object-space positions in double and corner indices, concatenated, plus the receiver table.
+struct ReceiverMeshes {
+  Kokkos::View<Vec3d*, MemSpace> positions;
+  Kokkos::View<int*, MemSpace> corners;  // 3 per triangle, indices into the mesh's positions
+  Kokkos::View<ExpandReceiver*, MemSpace> receivers;
+};
+
+ReceiverMeshes upload_receiver_meshes(const AoScene& scene, const SamplePlan& plan) {
+  static_assert(sizeof(std::array<int, 3>) == 3 * sizeof(int), "AoMesh::tris must be packed");
+  const std::size_t nr = plan.receivers.size();
+  // First triangle and vertex of each stored mesh that receives, in order of first use.
+  std::vector<std::int64_t> tri_base(scene.meshes.size(), -1), vert_base(scene.meshes.size(), -1);
+  std::vector<int> stored;
+  std::int64_t tris = 0, verts = 0;
+  for (const int m : plan.meshes) {
+    if (tri_base[m] >= 0) continue;
+    stored.push_back(m);
+    tri_base[m] = tris;
+    vert_base[m] = verts;
+    tris += static_cast<std::int64_t>(scene.meshes[m].tris.size());
+    verts += static_cast<std::int64_t>(scene.meshes[m].positions.size());
+  }
+  ReceiverMeshes d;
+  d.positions = Kokkos::View<Vec3d*, MemSpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::receiver_positions"),
+      verts);
+  d.corners = Kokkos::View<int*, MemSpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::receiver_corners"),
+      3 * tris);
+  for (const int m : stored) {
+    const AoMesh& mesh = scene.meshes[m];
+    const auto nv = static_cast<std::int64_t>(mesh.positions.size());
+    const auto nt = static_cast<std::int64_t>(mesh.tris.size());
+    Kokkos::deep_copy(Kokkos::subview(d.positions, std::make_pair(vert_base[m], vert_base[m] + nv)),
+                      compat::host_view(mesh.positions.data(), mesh.positions.size()));
+    Kokkos::deep_copy(
+        Kokkos::subview(d.corners, std::make_pair(3 * tri_base[m], 3 * (tri_base[m] + nt))),
+        compat::host_view(reinterpret_cast<const int*>(mesh.tris.data()), 3 * mesh.tris.size()));
+  }
+  d.receivers = Kokkos::View<ExpandReceiver*, MemSpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::expand_receivers"), nr);
+  std::vector<ExpandReceiver> table(nr);
+  for (std::size_t r = 0; r < nr; ++r) {
+    const int m = plan.meshes[r];
+    table[r].xform = scene.instances[plan.receivers[r]].xform;
+    table[r].tri_base = plan.tri_base[r];
+    table[r].mesh_tri_base = tri_base[m];
+    table[r].mesh_vert_base = vert_base[m];
+    table[r].mesh = m;
+    table[r].key = static_cast<std::uint32_t>(plan.receivers[r]);
+  }
+  Kokkos::deep_copy(d.receivers, compat::host_view(table.data(), nr));
+  return d;
+}
+
+// AffineD::point with every product rounded on its own: CUDA would fuse them into
+// multiply-adds, the host (-ffp-contract=off) does not, so this gives the host's bits in a
+// kernel. Same order: ((m0 x + m1 y) + m2 z) + t.
+KOKKOS_INLINE_FUNCTION Vec3d point_unfused(const AffineD& a, const Vec3d& p) {
+  using rtmini::detail::mul_rn;
+  const auto& m = a.m;
+  return {mul_rn(m[0][0], p.x) + mul_rn(m[0][1], p.y) + mul_rn(m[0][2], p.z) + m[0][3],
+          mul_rn(m[1][0], p.x) + mul_rn(m[1][1], p.y) + mul_rn(m[1][2], p.z) + m[1][3],
+          mul_rn(m[2][0], p.x) + mul_rn(m[2][1], p.y) + mul_rn(m[2][2], p.z) + m[2][3]};
+}
+
+// Global triangle g of receiver r: its stored triangle g - tri_base[r] moved to the world in
+// double and rounded to Real, its random-number item and its ray key. The world triangles
+// are formed here instead of on the host, so only the stored meshes cross to the device.
+void expand_receivers(const DeviceSamplePlan& d, const ReceiverMeshes& meshes) {
+  const auto tris = d.tris;
+  const auto items = d.items;
+  const auto keys = d.ray_keys;
+  const auto positions = meshes.positions;
+  const auto corners = meshes.corners;
+  const auto receivers = meshes.receivers;
+  const auto nr = static_cast<std::int64_t>(receivers.extent(0));
+  Kokkos::parallel_for(
+      "rtmini::bake::ao::expand_receivers",
+      Kokkos::RangePolicy<ExecSpace>(0, static_cast<std::int64_t>(tris.extent(0))),
+      KOKKOS_LAMBDA(std::int64_t g) {
+        std::int64_t lo = 0, hi = nr;  // last receiver with tri_base <= g (skips empty ones)
+        while (hi - lo > 1) {
+          const std::int64_t mid = (lo + hi) / 2;
+          if (receivers(mid).tri_base <= g)
+            lo = mid;
+          else
+            hi = mid;
+        }
+        const ExpandReceiver& r = receivers(lo);
+        const std::int64_t t = g - r.tri_base;
+        const std::int64_t c = 3 * (r.mesh_tri_base + t);
+        tris(g) = {Vec3(point_unfused(r.xform, positions(r.mesh_vert_base + corners(c)))),
+                   Vec3(point_unfused(r.xform, positions(r.mesh_vert_base + corners(c + 1)))),
+                   Vec3(point_unfused(r.xform, positions(r.mesh_vert_base + corners(c + 2))))};
+        items(g) = sample_item(r.mesh, t);
+        keys(g) = r.key;
+      });
+  // Done before the upload's phase ends (the console splits "Build BVHs" there), not in the
+  // first sample kernel's time.
+  ExecSpace().fence();
+}
+
 }  // namespace detail
 
 int stratum_side(int rays) {
@@ -115,40 +232,22 @@ int stratum_side(int rays) {
 }
 
 DeviceSamplePlan upload_plan(const AoScene& scene, const SamplePlan& plan) {
+  const std::int64_t triangles = plan.total_triangles();
   DeviceSamplePlan d;
-  d.tris =
-      Kokkos::View<Triangle*, MemSpace>("rtmini::bake::ao::receiver_tris", plan.total_triangles());
-  d.offsets = Kokkos::View<std::int64_t*, MemSpace>("rtmini::bake::ao::sample_offsets",
-                                                    plan.offsets.size());
-  d.items = Kokkos::View<std::uint64_t*, MemSpace>("rtmini::bake::ao::sample_items",
-                                                   plan.total_triangles());
-  d.ray_keys =
-      Kokkos::View<std::uint32_t*, MemSpace>("rtmini::bake::ao::ray_keys", plan.total_triangles());
-  auto th = Kokkos::create_mirror_view(d.tris);
-  auto ih = Kokkos::create_mirror_view(d.items);
-  auto kh = Kokkos::create_mirror_view(d.ray_keys);
-  // World triangles in double on the host (the same bits as the host's sample points). The
-  // upload of dragon x4's 400K triangles takes ~17 ms on the H200 machine whether this loop runs
-  // on one thread or sixteen (results/gpu/README.md, 2026-11-24): the cost is the allocation and
-  // the pageable copies, not the transform.
-  for (std::size_t r = 0; r < plan.receivers.size(); ++r) {
-    const AoInstance& inst = scene.instances[plan.receivers[r]];
-    const AoMesh& mesh = scene.meshes[inst.mesh];
-    for (std::int64_t g = plan.tri_base[r]; g < plan.tri_base[r + 1]; ++g) {
-      const auto& t = mesh.tris[g - plan.tri_base[r]];
-      th(g) = {Vec3(inst.xform.point(mesh.positions[t[0]])),
-               Vec3(inst.xform.point(mesh.positions[t[1]])),
-               Vec3(inst.xform.point(mesh.positions[t[2]]))};
-      ih(g) = plan.item(r, g);
-      kh(g) = static_cast<std::uint32_t>(plan.receivers[r]);
-    }
-  }
-  Kokkos::deep_copy(d.tris, th);
-  Kokkos::deep_copy(d.items, ih);
-  Kokkos::deep_copy(d.ray_keys, kh);
-  auto oh = Kokkos::create_mirror_view(d.offsets);
-  std::copy(plan.offsets.begin(), plan.offsets.end(), oh.data());
-  Kokkos::deep_copy(d.offsets, oh);
+  // Every element is written below (expansion kernel, copies): no zero fill first.
+  d.tris = Kokkos::View<Triangle*, MemSpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::receiver_tris"),
+      triangles);
+  d.items = Kokkos::View<std::uint64_t*, MemSpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::sample_items"), triangles);
+  d.ray_keys = Kokkos::View<std::uint32_t*, MemSpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::ray_keys"), triangles);
+  d.offsets = Kokkos::View<std::int64_t*, MemSpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::sample_offsets"),
+      plan.offsets.size());
+  // Straight from the vectors: one copy each, no host mirror to allocate and fill.
+  Kokkos::deep_copy(d.offsets, compat::host_view(plan.offsets.data(), plan.offsets.size()));
+  detail::expand_receivers(d, detail::upload_receiver_meshes(scene, plan));
   return d;
 }
 
