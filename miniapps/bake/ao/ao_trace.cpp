@@ -1,9 +1,7 @@
 #include "ao_trace.hpp"
 
 #include <algorithm>
-#include <array>
 #include <functional>
-#include <utility>
 
 #include "rtmini/geometry/offset.hpp"
 #include "rtmini/parallel/spread_order.hpp"
@@ -109,69 +107,33 @@ class PassProgress {
 };
 
 // A receiver as the expansion kernel sees it: where its world triangles go and where its
-// stored mesh lies in the concatenated device mesh arrays.
+// stored mesh lies in StoredMeshes' arrays.
 struct ExpandReceiver {
   AffineD xform;                    // object -> world, in double as on the host
   std::int64_t tri_base = 0;        // its first global triangle
-  std::int64_t mesh_tri_base = 0;   // its mesh's first triangle in ReceiverMeshes::corners / 3
-  std::int64_t mesh_vert_base = 0;  // its mesh's first vertex in ReceiverMeshes::positions
+  std::int64_t mesh_tri_base = 0;   // its mesh's first triangle in StoredMeshes::corners / 3
+  std::int64_t mesh_vert_base = 0;  // its mesh's first vertex in StoredMeshes::positions
   int mesh = 0;                     // stored mesh id (sample_item)
   std::uint32_t key = 0;            // instance id (ray key)
 };
 
-// The stored meshes of the receivers on the device, each once however many instances it has:
-// object-space positions in double and corner indices, concatenated, plus the receiver table.
-struct ReceiverMeshes {
-  Kokkos::View<Vec3d*, MemSpace> positions;
-  Kokkos::View<int*, MemSpace> corners;  // 3 per triangle, indices into the mesh's positions
-  Kokkos::View<ExpandReceiver*, MemSpace> receivers;
-};
-
-ReceiverMeshes upload_receiver_meshes(const AoScene& scene, const SamplePlan& plan) {
-  static_assert(sizeof(std::array<int, 3>) == 3 * sizeof(int), "AoMesh::tris must be packed");
+Kokkos::View<ExpandReceiver*, MemSpace> upload_receiver_table(const StoredMeshes& meshes,
+                                                              const AoScene& scene,
+                                                              const SamplePlan& plan) {
   const std::size_t nr = plan.receivers.size();
-  // First triangle and vertex of each stored mesh that receives, in order of first use.
-  std::vector<std::int64_t> tri_base(scene.meshes.size(), -1), vert_base(scene.meshes.size(), -1);
-  std::vector<int> stored;
-  std::int64_t tris = 0, verts = 0;
-  for (const int m : plan.meshes) {
-    if (tri_base[m] >= 0) continue;
-    stored.push_back(m);
-    tri_base[m] = tris;
-    vert_base[m] = verts;
-    tris += static_cast<std::int64_t>(scene.meshes[m].tris.size());
-    verts += static_cast<std::int64_t>(scene.meshes[m].positions.size());
-  }
-  ReceiverMeshes d;
-  d.positions = Kokkos::View<Vec3d*, MemSpace>(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::receiver_positions"),
-      verts);
-  d.corners = Kokkos::View<int*, MemSpace>(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::receiver_corners"),
-      3 * tris);
-  for (const int m : stored) {
-    const AoMesh& mesh = scene.meshes[m];
-    const auto nv = static_cast<std::int64_t>(mesh.positions.size());
-    const auto nt = static_cast<std::int64_t>(mesh.tris.size());
-    Kokkos::deep_copy(Kokkos::subview(d.positions, std::make_pair(vert_base[m], vert_base[m] + nv)),
-                      compat::host_view(mesh.positions.data(), mesh.positions.size()));
-    Kokkos::deep_copy(
-        Kokkos::subview(d.corners, std::make_pair(3 * tri_base[m], 3 * (tri_base[m] + nt))),
-        compat::host_view(reinterpret_cast<const int*>(mesh.tris.data()), 3 * mesh.tris.size()));
-  }
-  d.receivers = Kokkos::View<ExpandReceiver*, MemSpace>(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::expand_receivers"), nr);
   std::vector<ExpandReceiver> table(nr);
   for (std::size_t r = 0; r < nr; ++r) {
     const int m = plan.meshes[r];
     table[r].xform = scene.instances[plan.receivers[r]].xform;
     table[r].tri_base = plan.tri_base[r];
-    table[r].mesh_tri_base = tri_base[m];
-    table[r].mesh_vert_base = vert_base[m];
+    table[r].mesh_tri_base = meshes.tri_base[m];
+    table[r].mesh_vert_base = meshes.vertex_base[m];
     table[r].mesh = m;
     table[r].key = static_cast<std::uint32_t>(plan.receivers[r]);
   }
-  Kokkos::deep_copy(d.receivers, compat::host_view(table.data(), nr));
+  Kokkos::View<ExpandReceiver*, MemSpace> d(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::expand_receivers"), nr);
+  Kokkos::deep_copy(d, compat::host_view(table.data(), nr));
   return d;
 }
 
@@ -189,13 +151,13 @@ KOKKOS_INLINE_FUNCTION Vec3d point_unfused(const AffineD& a, const Vec3d& p) {
 // Global triangle g of receiver r: its stored triangle g - tri_base[r] moved to the world in
 // double and rounded to Real, its random-number item and its ray key. The world triangles
 // are formed here instead of on the host, so only the stored meshes cross to the device.
-void expand_receivers(const DeviceSamplePlan& d, const ReceiverMeshes& meshes) {
+void expand_receivers(const DeviceSamplePlan& d, const StoredMeshes& meshes,
+                      const Kokkos::View<ExpandReceiver*, MemSpace>& receivers) {
   const auto tris = d.tris;
   const auto items = d.items;
   const auto keys = d.ray_keys;
   const auto positions = meshes.positions;
   const auto corners = meshes.corners;
-  const auto receivers = meshes.receivers;
   const auto nr = static_cast<std::int64_t>(receivers.extent(0));
   Kokkos::parallel_for(
       "rtmini::bake::ao::expand_receivers",
@@ -231,7 +193,8 @@ int stratum_side(int rays) {
   return side;
 }
 
-DeviceSamplePlan upload_plan(const AoScene& scene, const SamplePlan& plan) {
+DeviceSamplePlan upload_plan(const StoredMeshes& meshes, const AoScene& scene,
+                             const SamplePlan& plan) {
   const std::int64_t triangles = plan.total_triangles();
   DeviceSamplePlan d;
   // Every element is written below (expansion kernel, copies): no zero fill first.
@@ -247,8 +210,12 @@ DeviceSamplePlan upload_plan(const AoScene& scene, const SamplePlan& plan) {
       plan.offsets.size());
   // Straight from the vectors: one copy each, no host mirror to allocate and fill.
   Kokkos::deep_copy(d.offsets, compat::host_view(plan.offsets.data(), plan.offsets.size()));
-  detail::expand_receivers(d, detail::upload_receiver_meshes(scene, plan));
+  detail::expand_receivers(d, meshes, detail::upload_receiver_table(meshes, scene, plan));
   return d;
+}
+
+DeviceSamplePlan upload_plan(const AoScene& scene, const SamplePlan& plan) {
+  return upload_plan(upload_meshes(scene), scene, plan);
 }
 
 std::vector<std::uint16_t> trace_samples(const OcclusionQuery& query, const DeviceSamplePlan& plan,
