@@ -152,7 +152,8 @@ KOKKOS_INLINE_FUNCTION Vec3d point_unfused(const AffineD& a, const Vec3d& p) {
 // double and rounded to Real, its random-number item and its ray key. The world triangles
 // are formed here instead of on the host, so only the stored meshes cross to the device.
 void expand_receivers(const DeviceSamplePlan& d, const StoredMeshes& meshes,
-                      const Kokkos::View<ExpandReceiver*, MemSpace>& receivers) {
+                      const Kokkos::View<ExpandReceiver*, MemSpace>& receiver_table) {
+  const auto receivers = receiver_table;
   const auto tris = d.tris;
   const auto items = d.items;
   const auto keys = d.ray_keys;
