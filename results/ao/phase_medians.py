@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Per-phase medians of `bake ao` logs: phase_medians.py DIR reads DIR/ao_<tag>_<rep>.log (the
-phase lines "Load scene ...  70.62 ms" that bake ao prints) and prints, per phase, the median and
-range of each tag (base, new, then any other) over its repetitions, and the verification hashes."""
+phase lines "Load scene ...  70.62 ms" that bake ao prints, indented sub-phases included) and
+prints, per phase, the median and range of each tag (base, new, then any other) over its
+repetitions, and the verification hashes."""
 import glob
 import re
 import statistics
@@ -11,7 +12,7 @@ phases, hashes = {}, {}
 for path in sorted(glob.glob(sys.argv[1] + "/ao_*_*.log")):
     tag = path.rsplit("/", 1)[1].split("_")[1]
     for line in open(path):
-        m = re.match(r"^(\S.*?) \.\.\.\s+([0-9.]+) ms", line)
+        m = re.match(r"^\s*(\S.*?) \.\.\.\s+([0-9.]+) ms", line)
         if m:
             phases.setdefault(m.group(1), {}).setdefault(tag, []).append(float(m.group(2)))
         h = re.search(r"verification ([0-9a-f]+)", line)

@@ -13,6 +13,7 @@
 #include "rtmini/bvh/clip.hpp"
 #include "rtmini/bvh/finish.hpp"
 #include "rtmini/bvh/presplit.hpp"
+#include "rtmini/parallel/host_threads.hpp"
 
 namespace rtmini::bvh {
 
@@ -667,6 +668,24 @@ std::vector<int> largest_first(const std::vector<Task>& tasks) {
   return order;
 }
 
+// Runs work(i) for each of the host space's threads at once. On threads of their own when they
+// can have a CPU each: an OpenMP worker spin-waits for milliseconds after a parallel region
+// before it sleeps (libgomp's default), ~7 ms of CPU time per build at two threads, while a
+// plain thread simply ends (results/bvh/README.md, sahbuild3 and sahbuild5). Where the caller
+// is pinned to fewer CPUs (OMP_PROC_BIND, an MPI rank bound to a core), threads started here
+// would share them, so the host space's own threads run it.
+template <class Work>
+void run_build_threads(const Work& work) {
+  const auto threads = static_cast<std::size_t>(Kokkos::DefaultHostExecutionSpace().concurrency());
+  if (threads <= cpus_for_new_threads()) {
+    on_threads(threads, work);
+    return;
+  }
+  Kokkos::parallel_for(
+      "rtmini::bvh::build_sah::parts",
+      Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace>(std::size_t(0), threads), work);
+}
+
 // Splits each part (parts[i] from tops[i]) down to ranges of at most fragment_max items and
 // builds those ranges' fragments (built[i][j] from parts[i].pending[j]), in one parallel region:
 // a thread splits the next part, largest first, while any is left, then builds the fragments of
@@ -692,7 +711,7 @@ void build_parts(const SpatialContext& ctx, const std::vector<Triangle>& input,
     for (auto j = by_size.rbegin(); j != by_size.rend(); ++j) ready.push_back({i, *j});
     ++parts_done;
   };
-  const auto work = [&](const int) {
+  const auto work = [&](const std::size_t) {
     while (true) {
       if (next_part.load() < count) {
         const int k = next_part.fetch_add(1);
@@ -719,9 +738,7 @@ void build_parts(const SpatialContext& ctx, const std::vector<Triangle>& input,
       build_fragment(ctx, input, t, built[job.first][job.second]);
     }
   };
-  const int threads = Kokkos::DefaultHostExecutionSpace().concurrency();
-  Kokkos::parallel_for("rtmini::bvh::build_sah::parts",
-                       Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace>(0, threads), work);
+  run_build_threads(work);
 }
 
 // The tree over all items (sets out.bounds) with padded child boxes and the leaves' triangles;

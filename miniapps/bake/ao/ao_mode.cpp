@@ -199,7 +199,7 @@ int run_ao_mode(Communicator& comm, ao::AoOptions o) {
   const double build_start = report.timer.now();
   const ao::DeviceScene device(scene, build_quality_named(o.bvh), ground);
   const double bvh_built = report.timer.now();
-  const ao::DeviceSamplePlan dplan = ao::upload_plan(scene, plan);
+  const ao::DeviceSamplePlan dplan = ao::upload_plan(device.meshes(), scene, plan);
   report.timer.stop();
   const double plan_upload_s = report.timer.now() - bvh_built;
   const double mesh_bvh_s = bvh_built - build_start;

@@ -106,6 +106,86 @@ class PassProgress {
   double total_rays_, rays_ = 0;
 };
 
+// A receiver as the expansion kernel sees it: where its world triangles go and where its
+// stored mesh lies in StoredMeshes' arrays.
+struct ExpandReceiver {
+  AffineD xform;                    // object -> world, in double as on the host
+  std::int64_t tri_base = 0;        // its first global triangle
+  std::int64_t mesh_tri_base = 0;   // its mesh's first triangle in StoredMeshes::corners / 3
+  std::int64_t mesh_vert_base = 0;  // its mesh's first vertex in StoredMeshes::positions
+  int mesh = 0;                     // stored mesh id (sample_item)
+  std::uint32_t key = 0;            // instance id (ray key)
+};
+
+Kokkos::View<ExpandReceiver*, MemSpace> upload_receiver_table(const StoredMeshes& meshes,
+                                                              const AoScene& scene,
+                                                              const SamplePlan& plan) {
+  const std::size_t nr = plan.receivers.size();
+  std::vector<ExpandReceiver> table(nr);
+  for (std::size_t r = 0; r < nr; ++r) {
+    const int m = plan.meshes[r];
+    table[r].xform = scene.instances[plan.receivers[r]].xform;
+    table[r].tri_base = plan.tri_base[r];
+    table[r].mesh_tri_base = meshes.tri_base[m];
+    table[r].mesh_vert_base = meshes.vertex_base[m];
+    table[r].mesh = m;
+    table[r].key = static_cast<std::uint32_t>(plan.receivers[r]);
+  }
+  Kokkos::View<ExpandReceiver*, MemSpace> d(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::expand_receivers"), nr);
+  Kokkos::deep_copy(d, compat::host_view(table.data(), nr));
+  return d;
+}
+
+// AffineD::point with every product rounded on its own: CUDA would fuse them into
+// multiply-adds, the host (-ffp-contract=off) does not, so this gives the host's bits in a
+// kernel. Same order: ((m0 x + m1 y) + m2 z) + t.
+KOKKOS_INLINE_FUNCTION Vec3d point_unfused(const AffineD& a, const Vec3d& p) {
+  using rtmini::detail::mul_rn;
+  const auto& m = a.m;
+  return {mul_rn(m[0][0], p.x) + mul_rn(m[0][1], p.y) + mul_rn(m[0][2], p.z) + m[0][3],
+          mul_rn(m[1][0], p.x) + mul_rn(m[1][1], p.y) + mul_rn(m[1][2], p.z) + m[1][3],
+          mul_rn(m[2][0], p.x) + mul_rn(m[2][1], p.y) + mul_rn(m[2][2], p.z) + m[2][3]};
+}
+
+// Global triangle g of receiver r: its stored triangle g - tri_base[r] moved to the world in
+// double and rounded to Real, its random-number item and its ray key. The world triangles
+// are formed here instead of on the host, so only the stored meshes cross to the device.
+void expand_receivers(const DeviceSamplePlan& d, const StoredMeshes& meshes,
+                      const Kokkos::View<ExpandReceiver*, MemSpace>& receiver_table) {
+  const auto receivers = receiver_table;
+  const auto tris = d.tris;
+  const auto items = d.items;
+  const auto keys = d.ray_keys;
+  const auto positions = meshes.positions;
+  const auto corners = meshes.corners;
+  const auto nr = static_cast<std::int64_t>(receivers.extent(0));
+  Kokkos::parallel_for(
+      "rtmini::bake::ao::expand_receivers",
+      Kokkos::RangePolicy<ExecSpace>(0, static_cast<std::int64_t>(tris.extent(0))),
+      KOKKOS_LAMBDA(std::int64_t g) {
+        std::int64_t lo = 0, hi = nr;  // last receiver with tri_base <= g (skips empty ones)
+        while (hi - lo > 1) {
+          const std::int64_t mid = (lo + hi) / 2;
+          if (receivers(mid).tri_base <= g)
+            lo = mid;
+          else
+            hi = mid;
+        }
+        const ExpandReceiver& r = receivers(lo);
+        const std::int64_t t = g - r.tri_base;
+        const std::int64_t c = 3 * (r.mesh_tri_base + t);
+        tris(g) = {Vec3(point_unfused(r.xform, positions(r.mesh_vert_base + corners(c)))),
+                   Vec3(point_unfused(r.xform, positions(r.mesh_vert_base + corners(c + 1)))),
+                   Vec3(point_unfused(r.xform, positions(r.mesh_vert_base + corners(c + 2))))};
+        items(g) = sample_item(r.mesh, t);
+        keys(g) = r.key;
+      });
+  // Done before the upload's phase ends (the console splits "Build BVHs" there), not in the
+  // first sample kernel's time.
+  ExecSpace().fence();
+}
+
 }  // namespace detail
 
 int stratum_side(int rays) {
@@ -114,42 +194,29 @@ int stratum_side(int rays) {
   return side;
 }
 
-DeviceSamplePlan upload_plan(const AoScene& scene, const SamplePlan& plan) {
+DeviceSamplePlan upload_plan(const StoredMeshes& meshes, const AoScene& scene,
+                             const SamplePlan& plan) {
+  const std::int64_t triangles = plan.total_triangles();
   DeviceSamplePlan d;
-  d.tris =
-      Kokkos::View<Triangle*, MemSpace>("rtmini::bake::ao::receiver_tris", plan.total_triangles());
-  d.offsets = Kokkos::View<std::int64_t*, MemSpace>("rtmini::bake::ao::sample_offsets",
-                                                    plan.offsets.size());
-  d.items = Kokkos::View<std::uint64_t*, MemSpace>("rtmini::bake::ao::sample_items",
-                                                   plan.total_triangles());
-  d.ray_keys =
-      Kokkos::View<std::uint32_t*, MemSpace>("rtmini::bake::ao::ray_keys", plan.total_triangles());
-  auto th = Kokkos::create_mirror_view(d.tris);
-  auto ih = Kokkos::create_mirror_view(d.items);
-  auto kh = Kokkos::create_mirror_view(d.ray_keys);
-  // World triangles in double on the host (the same bits as the host's sample points). The
-  // upload of dragon x4's 400K triangles takes ~17 ms on the H200 machine whether this loop runs
-  // on one thread or sixteen (results/gpu/README.md, 2026-11-24): the cost is the allocation and
-  // the pageable copies, not the transform.
-  for (std::size_t r = 0; r < plan.receivers.size(); ++r) {
-    const AoInstance& inst = scene.instances[plan.receivers[r]];
-    const AoMesh& mesh = scene.meshes[inst.mesh];
-    for (std::int64_t g = plan.tri_base[r]; g < plan.tri_base[r + 1]; ++g) {
-      const auto& t = mesh.tris[g - plan.tri_base[r]];
-      th(g) = {Vec3(inst.xform.point(mesh.positions[t[0]])),
-               Vec3(inst.xform.point(mesh.positions[t[1]])),
-               Vec3(inst.xform.point(mesh.positions[t[2]]))};
-      ih(g) = plan.item(r, g);
-      kh(g) = static_cast<std::uint32_t>(plan.receivers[r]);
-    }
-  }
-  Kokkos::deep_copy(d.tris, th);
-  Kokkos::deep_copy(d.items, ih);
-  Kokkos::deep_copy(d.ray_keys, kh);
-  auto oh = Kokkos::create_mirror_view(d.offsets);
-  std::copy(plan.offsets.begin(), plan.offsets.end(), oh.data());
-  Kokkos::deep_copy(d.offsets, oh);
+  // Every element is written below (expansion kernel, copies): no zero fill first.
+  d.tris = Kokkos::View<Triangle*, MemSpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::receiver_tris"),
+      triangles);
+  d.items = Kokkos::View<std::uint64_t*, MemSpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::sample_items"), triangles);
+  d.ray_keys = Kokkos::View<std::uint32_t*, MemSpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::ray_keys"), triangles);
+  d.offsets = Kokkos::View<std::int64_t*, MemSpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::sample_offsets"),
+      plan.offsets.size());
+  // Straight from the vectors: one copy each, no host mirror to allocate and fill.
+  Kokkos::deep_copy(d.offsets, compat::host_view(plan.offsets.data(), plan.offsets.size()));
+  detail::expand_receivers(d, meshes, detail::upload_receiver_table(meshes, scene, plan));
   return d;
+}
+
+DeviceSamplePlan upload_plan(const AoScene& scene, const SamplePlan& plan) {
+  return upload_plan(upload_meshes(scene), scene, plan);
 }
 
 std::vector<std::uint16_t> trace_samples(const OcclusionQuery& query, const DeviceSamplePlan& plan,

@@ -54,6 +54,11 @@ struct DeviceSamplePlan {
   Kokkos::View<std::uint32_t*, MemSpace> ray_keys;
   Kokkos::View<std::int64_t*, MemSpace> offsets;
 };
+// Formed on the device from the stored meshes already there (DeviceScene::meshes()) and the
+// receivers' transforms, with the host's arithmetic: the same bits as the host expanding them.
+DeviceSamplePlan upload_plan(const StoredMeshes& meshes, const AoScene& scene,
+                             const SamplePlan& plan);
+// The same, uploading the stored meshes first (tests).
 DeviceSamplePlan upload_plan(const AoScene& scene, const SamplePlan& plan);
 
 // Occluded-ray counts for sample points [first, last), in order. Timer phases:

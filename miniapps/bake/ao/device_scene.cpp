@@ -1,22 +1,69 @@
 #include "device_scene.hpp"
 
-namespace rtmini::ao {
+#include <array>
+#include <utility>
 
-DeviceScene::DeviceScene(const AoScene& scene, bvh::BuildQuality quality,
-                         const GroundPlane& ground) {
+namespace rtmini::ao {
+namespace detail {
+
+// Stored mesh m's triangles in object space, rounded to Real: the BVH build's input.
+Kokkos::View<Triangle*, MemSpace> object_triangles(const StoredMeshes& meshes, std::size_t m) {
+  const std::int64_t vb = meshes.vertex_base[m], tb = meshes.tri_base[m];
+  Kokkos::View<Triangle*, MemSpace> tris(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::object_tris"),
+      meshes.tri_base[m + 1] - tb);
+  const auto positions = meshes.positions;
+  const auto corners = meshes.corners;
+  Kokkos::parallel_for(
+      "rtmini::bake::ao::object_triangles",
+      Kokkos::RangePolicy<ExecSpace>(0, static_cast<std::int64_t>(tris.extent(0))),
+      KOKKOS_LAMBDA(std::int64_t t) {
+        const std::int64_t c = 3 * (tb + t);
+        tris(t) = {Vec3(positions(vb + corners(c))), Vec3(positions(vb + corners(c + 1))),
+                   Vec3(positions(vb + corners(c + 2)))};
+      });
+  return tris;
+}
+
+}  // namespace detail
+
+StoredMeshes upload_meshes(const AoScene& scene) {
+  static_assert(sizeof(std::array<int, 3>) == 3 * sizeof(int), "AoMesh::tris must be packed");
+  StoredMeshes d;
+  d.vertex_base.assign(1, 0);
+  d.tri_base.assign(1, 0);
+  for (const AoMesh& mesh : scene.meshes) {
+    d.vertex_base.push_back(d.vertex_base.back() +
+                            static_cast<std::int64_t>(mesh.positions.size()));
+    d.tri_base.push_back(d.tri_base.back() + static_cast<std::int64_t>(mesh.tris.size()));
+  }
+  // Every element is copied in below: no zero fill first.
+  d.positions = Kokkos::View<Vec3d*, MemSpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::mesh_positions"),
+      d.vertex_base.back());
+  d.corners = Kokkos::View<int*, MemSpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::ao::mesh_corners"),
+      3 * d.tri_base.back());
+  // Straight from the host vectors into their places: no mirror to allocate and fill.
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    const AoMesh& mesh = scene.meshes[m];
+    Kokkos::deep_copy(
+        Kokkos::subview(d.positions, std::make_pair(d.vertex_base[m], d.vertex_base[m + 1])),
+        compat::host_view(mesh.positions.data(), mesh.positions.size()));
+    Kokkos::deep_copy(
+        Kokkos::subview(d.corners, std::make_pair(3 * d.tri_base[m], 3 * d.tri_base[m + 1])),
+        compat::host_view(reinterpret_cast<const int*>(mesh.tris.data()), 3 * mesh.tris.size()));
+  }
+  return d;
+}
+
+DeviceScene::DeviceScene(const AoScene& scene, bvh::BuildQuality quality, const GroundPlane& ground)
+    : meshes_(upload_meshes(scene)) {
   ExecSpace space;
   Kokkos::View<BvhRef*, MemSpace> refs("rtmini::bake::ao::mesh_bvhs", scene.meshes.size());
   auto refs_h = Kokkos::create_mirror_view(refs);
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
-    const AoMesh& mesh = scene.meshes[m];
-    Kokkos::View<Triangle*, MemSpace> tris("rtmini::bake::ao::object_tris", mesh.tris.size());
-    auto tris_h = Kokkos::create_mirror_view(tris);
-    for (std::size_t t = 0; t < mesh.tris.size(); ++t) {
-      const auto& v = mesh.tris[t];
-      tris_h(t) = {Vec3(mesh.positions[v[0]]), Vec3(mesh.positions[v[1]]),
-                   Vec3(mesh.positions[v[2]])};
-    }
-    Kokkos::deep_copy(tris, tris_h);
+    const Kokkos::View<Triangle*, MemSpace> tris = detail::object_triangles(meshes_, m);
     // AO asks any-hit queries only, which trace the binary tree: no wide copy to build.
     bvhs_.push_back(
         bvh::build<ExecSpace, MemSpace>(space, tris, quality, bvh::QuantizedWide::kNever));
@@ -49,7 +96,8 @@ DeviceScene::DeviceScene(const AoScene& scene, bvh::BuildQuality quality,
     d.hi = Vec3(wb.hi + pad);
   }
   Kokkos::deep_copy(insts, insts_h);
-  bytes_ += refs.span() * sizeof(BvhRef) + insts.span() * sizeof(DeviceInstance);
+  bytes_ += refs.span() * sizeof(BvhRef) + insts.span() * sizeof(DeviceInstance) +
+            meshes_.positions.span() * sizeof(Vec3d) + meshes_.corners.span() * sizeof(int);
 
   query_.meshes = refs;
   query_.instances = insts;

@@ -3,6 +3,7 @@
 // (object space) and a top-level list of instances with world boxes and
 // world->object transforms; rays are moved into each instance's space and
 // traced against the shared mesh BVH (one copy per mesh, as the sample does).
+#include <cstdint>
 #include <vector>
 
 #include "affine.hpp"
@@ -71,14 +72,27 @@ struct OcclusionQuery {
   }
 };
 
-// Owns the device BVHs and instance table; query() is the kernel-side view.
+// The stored meshes on the device as the host holds them: object-space positions in double
+// and corner indices, every mesh's concatenated (mesh m's vertices from vertex_base[m], its
+// triangles from tri_base[m]). Only these cross to the device: the BVHs' float triangles and
+// the receivers' world triangles (ao_trace.hpp's upload_plan) are formed from them there.
+struct StoredMeshes {
+  Kokkos::View<Vec3d*, MemSpace> positions;
+  Kokkos::View<int*, MemSpace> corners;  // 3 per triangle, indices into the mesh's positions
+  std::vector<std::int64_t> vertex_base, tri_base;  // per stored mesh, one past the last at the end
+};
+StoredMeshes upload_meshes(const AoScene& scene);
+
+// Owns the device BVHs, instance table and stored meshes; query() is the kernel-side view.
 class DeviceScene {
  public:
   DeviceScene(const AoScene& scene, bvh::BuildQuality quality, const GroundPlane& ground);
   const OcclusionQuery& query() const { return query_; }
+  const StoredMeshes& meshes() const { return meshes_; }
   std::size_t bytes() const { return bytes_; }
 
  private:
+  StoredMeshes meshes_;
   std::vector<bvh::Bvh<MemSpace>> bvhs_;
   OcclusionQuery query_;
   std::size_t bytes_ = 0;

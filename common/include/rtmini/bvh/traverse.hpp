@@ -159,22 +159,20 @@ struct LeafLaneHits {
 // lane runs the scalar test's operations in the same order (and -ffp-contract=off keeps products
 // unfused), so t, u and v are bit for bit the scalar results; only the double-precision redo of
 // zero edge functions is left to the scalar test (flagged in `redo`).
-template <int kLanes>
-__attribute__((always_inline)) inline LeafLaneHits watertight_lanes(const Real* rows, int count,
-                                                                    const WatertightRay& r,
-                                                                    Real tmin, Real tmax) {
-  // Rows of the leaf by the ray's axis permutation: vertex v's axis k lies at row 3 v + k.
-  auto row = [&](int vertex, int axis) {
-    return load_row<kLanes>(rows + (3 * vertex + axis) * kLanes);
-  };
-  const Real ox = r.org[r.kx], oy = r.org[r.ky], oz = r.org[r.kz];
-  const RealLanes Az = row(0, r.kz) - oz, Bz = row(1, r.kz) - oz, Cz = row(2, r.kz) - oz;
-  const RealLanes ax = (row(0, r.kx) - ox) - r.sx * Az;
-  const RealLanes ay = (row(0, r.ky) - oy) - r.sy * Az;
-  const RealLanes bx = (row(1, r.kx) - ox) - r.sx * Bz;
-  const RealLanes by = (row(1, r.ky) - oy) - r.sy * Bz;
-  const RealLanes cx = (row(2, r.kx) - ox) - r.sx * Cz;
-  const RealLanes cy = (row(2, r.ky) - oy) - r.sy * Cz;
+// `rel(vertex, axis)` = the leaf's row of that vertex coordinate minus the ray origin's (the
+// first operation of the scalar test, so both forms below give the same bits).
+template <class RelativeRow>
+__attribute__((always_inline)) inline LeafLaneHits watertight_lanes_relative(RelativeRow rel,
+                                                                             int count,
+                                                                             const WatertightRay& r,
+                                                                             Real tmin, Real tmax) {
+  const RealLanes Az = rel(0, r.kz), Bz = rel(1, r.kz), Cz = rel(2, r.kz);
+  const RealLanes ax = rel(0, r.kx) - r.sx * Az;
+  const RealLanes ay = rel(0, r.ky) - r.sy * Az;
+  const RealLanes bx = rel(1, r.kx) - r.sx * Bz;
+  const RealLanes by = rel(1, r.ky) - r.sy * Bz;
+  const RealLanes cx = rel(2, r.kx) - r.sx * Cz;
+  const RealLanes cy = rel(2, r.ky) - r.sy * Cz;
   const RealLanes U = cx * by - cy * bx;
   const RealLanes V = ax * cy - ay * cx;
   const RealLanes W = bx * ay - by * ax;
@@ -199,6 +197,34 @@ __attribute__((always_inline)) inline LeafLaneHits watertight_lanes(const Real* 
   out.redo = lane_bits(redo);
   return out;
 }
+
+template <int kLanes>
+__attribute__((always_inline)) inline LeafLaneHits watertight_lanes(const Real* rows, int count,
+                                                                    const WatertightRay& r,
+                                                                    Real tmin, Real tmax) {
+  // Rows of the leaf by the ray's axis permutation: vertex v's axis k lies at row 3 v + k.
+  auto rel = [&](int vertex, int axis) {
+    return load_row<kLanes>(rows + (3 * vertex + axis) * kLanes) - r.org[axis];
+  };
+  return watertight_lanes_relative(rel, count, r, tmin, tmax);
+}
+
+// A leaf's nine rows relative to an origin that several rays share (a packet of AO rays from one
+// point): subtracted once per leaf instead of once per ray.
+struct RelativeRows {
+  RealLanes row[9];
+  template <int kLanes>
+  __attribute__((always_inline)) void fill(const Real* rows, const Vec3& org) {
+    for (int vertex = 0; vertex < 3; ++vertex)
+      for (int axis = 0; axis < 3; ++axis)
+        row[3 * vertex + axis] = load_row<kLanes>(rows + (3 * vertex + axis) * kLanes) - org[axis];
+  }
+  __attribute__((always_inline)) LeafLaneHits test(int count, const WatertightRay& r, Real tmin,
+                                                   Real tmax) const {
+    auto rel = [&](int vertex, int axis) { return row[3 * vertex + axis]; };
+    return watertight_lanes_relative(rel, count, r, tmin, tmax);
+  }
+};
 
 __attribute__((always_inline)) inline int wide_box_test(const WideNode& nd, bool neg_x, bool neg_y,
                                                         bool neg_z, Real ox, Real oy, Real oz,
@@ -451,26 +477,13 @@ KOKKOS_FORCEINLINE_FUNCTION bool take_hit(Real t, Real u, Real v, int id, Real& 
   return kAnyHit;
 }
 
-// A wide-tree leaf of kLanes lanes per row: updates hit/tmax; true when any-hit may stop.
-template <int kLanes, bool kAnyHit, bool kStats>
-KOKKOS_FORCEINLINE_FUNCTION bool intersect_leaf_rows(const Real* rows, int count,
-                                                     const WatertightRay& wr, const Ray& ray,
-                                                     Real& tmax, Hit& hit, bool& found,
-                                                     TraversalStats* stats) {
-  const LeafRows<kLanes> l{rows};
-  if (kStats) stats->tests += count;
-  // Lanes the scalar test decides: all of them without vector extensions, else the redo lanes.
-  int scalar_lanes = (1 << count) - 1;
-#if defined(__GNUC__) && !defined(__CUDACC__)
-  const LeafLaneHits lanes = watertight_lanes<kLanes>(rows, count, wr, ray.tmin, tmax);
-  for (int m = lanes.hit; m != 0; m &= m - 1) {
-    const int k = __builtin_ctz(m);
-    if (!(lanes.t[k] <= tmax)) continue;  // a closer hit in this leaf came first
-    if (take_hit<kAnyHit>(lanes.t[k], lanes.u[k], lanes.v[k], l.prim(k), tmax, hit, found))
-      return true;
-  }
-  scalar_lanes = lanes.redo;
-#endif
+// The lanes `scalar_lanes` of a leaf by the scalar test (all of them without vector extensions,
+// else the vector test's redo lanes): updates hit/tmax; true when any-hit may stop.
+template <int kLanes, bool kAnyHit>
+KOKKOS_FORCEINLINE_FUNCTION bool intersect_scalar_lanes(const LeafRows<kLanes>& l, int count,
+                                                        int scalar_lanes, const WatertightRay& wr,
+                                                        const Ray& ray, Real& tmax, Hit& hit,
+                                                        bool& found) {
   for (int k = 0; k < count; ++k) {
     if (!(scalar_lanes >> k & 1)) continue;
     const Triangle tri = l.triangle(k);
@@ -479,6 +492,44 @@ KOKKOS_FORCEINLINE_FUNCTION bool intersect_leaf_rows(const Real* rows, int count
     if (take_hit<kAnyHit>(t, u, v, l.prim(k), tmax, hit, found)) return true;
   }
   return false;
+}
+
+#if defined(__GNUC__) && !defined(__CUDACC__)
+// Takes the hits of a leaf's vector test (watertight_lanes) in lane order, then the lanes the
+// scalar test redoes: updates hit/tmax; true when any-hit may stop.
+template <int kLanes, bool kAnyHit, bool kStats>
+KOKKOS_FORCEINLINE_FUNCTION bool take_leaf_lanes(const Real* rows, int count,
+                                                 const LeafLaneHits& lanes, const WatertightRay& wr,
+                                                 const Ray& ray, Real& tmax, Hit& hit, bool& found,
+                                                 TraversalStats* stats) {
+  const LeafRows<kLanes> l{rows};
+  if (kStats) stats->tests += count;
+  for (int m = lanes.hit; m != 0; m &= m - 1) {
+    const int k = __builtin_ctz(m);
+    if (!(lanes.t[k] <= tmax)) continue;  // a closer hit in this leaf came first
+    if (take_hit<kAnyHit>(lanes.t[k], lanes.u[k], lanes.v[k], l.prim(k), tmax, hit, found))
+      return true;
+  }
+  return intersect_scalar_lanes<kLanes, kAnyHit>(l, count, lanes.redo, wr, ray, tmax, hit, found);
+}
+#endif
+
+// A wide-tree leaf of kLanes lanes per row: updates hit/tmax; true when any-hit may stop.
+template <int kLanes, bool kAnyHit, bool kStats>
+KOKKOS_FORCEINLINE_FUNCTION bool intersect_leaf_rows(const Real* rows, int count,
+                                                     const WatertightRay& wr, const Ray& ray,
+                                                     Real& tmax, Hit& hit, bool& found,
+                                                     TraversalStats* stats) {
+#if defined(__GNUC__) && !defined(__CUDACC__)
+  const LeafLaneHits lanes = watertight_lanes<kLanes>(rows, count, wr, ray.tmin, tmax);
+  return take_leaf_lanes<kLanes, kAnyHit, kStats>(rows, count, lanes, wr, ray, tmax, hit, found,
+                                                  stats);
+#else
+  const LeafRows<kLanes> l{rows};
+  if (kStats) stats->tests += count;
+  return intersect_scalar_lanes<kLanes, kAnyHit>(l, count, (1 << count) - 1, wr, ray, tmax, hit,
+                                                 found);
+#endif
 }
 
 // A wide-tree leaf (compact or full by its count): updates hit/tmax; true when any-hit may stop.
@@ -657,7 +708,9 @@ KOKKOS_INLINE_FUNCTION bool traverse_wide(const BvhT& bvh, const Ray& ray, Hit& 
 // (closest hit: the smallest t, then the lowest id, whatever the order leaves are tested in).
 // What the packet saves on coherent rays (a camera's, or shadow rays toward one light) is the
 // per-ray walk: one stack, one node fetch, one set of branches for eight rays, and the eight
-// rays' box and leaf tests are independent, so their latencies overlap.
+// rays' box and leaf tests are independent, so their latencies overlap. Any-hit packets test a
+// node's leaves one step late, to overlap their fetch with the next node's (occlude_packet_with);
+// packets whose rays share an origin subtract it from a leaf's rows once for all their rays.
 #if defined(__GNUC__) && !defined(__CUDACC__)
 inline constexpr bool kHavePacketTraversal = true;
 static_assert(kPacketSize == 8, "transpose_bytes and the tmax snapshot are for packets of 8");
@@ -693,11 +746,37 @@ struct PacketEntry {
   int rays;
 };
 
+// The rays `rays` of a packet whose rays all share one origin (AO rays from one point, a pinhole
+// camera's) against one leaf: its rows relative to that origin are computed once, not per ray
+// (the same subtraction, so the same bits); returns the rays an any-hit test finished.
+template <int kLanes, bool kAnyHit>
+KOKKOS_FORCEINLINE_FUNCTION int shared_origin_leaf(const Real* rows, int count, int rays,
+                                                   PacketRays& p, Hit* hits, bool* found) {
+  RelativeRows rel;
+  rel.fill<kLanes>(rows, p.rays[lowest_bit(rays)].org);
+  int done = 0;
+  for (; rays != 0; rays &= rays - 1) {
+    const int r = lowest_bit(rays);
+    const LeafLaneHits lanes = rel.test(count, p.wr[r], p.rays[r].tmin, p.tmax[r]);
+    if (take_leaf_lanes<kLanes, kAnyHit, false>(rows, count, lanes, p.wr[r], p.rays[r], p.tmax[r],
+                                                hits[r], found[r], nullptr))
+      done |= 1 << r;
+  }
+  return done;
+}
+
 // Tests the leaf child `c` for each ray of `rays`; returns the rays an any-hit test finished.
-template <class BvhT, bool kAnyHit>
+template <class BvhT, bool kAnyHit, bool kSharedOrigin>
 KOKKOS_FORCEINLINE_FUNCTION int packet_leaf(const BvhT& bvh, std::uint32_t c, int rays,
                                             PacketRays& p, Hit* hits, bool* found) {
   const TriangleLanes& block = bvh.leaves(leaf_first(c) >> 1);
+  if constexpr (kSharedOrigin) {
+    const int count = static_cast<int>(leaf_count(c));
+    const Real* rows = leaf_rows(block, c);
+    if (count <= kCompactLeafSize)
+      return shared_origin_leaf<kCompactLeafSize, kAnyHit>(rows, count, rays, p, hits, found);
+    return shared_origin_leaf<kMaxLeafSize, kAnyHit>(rows, count, rays, p, hits, found);
+  }
   int done = 0;
   for (; rays != 0; rays &= rays - 1) {
     const int r = lowest_bit(rays);
@@ -708,7 +787,8 @@ KOKKOS_FORCEINLINE_FUNCTION int packet_leaf(const BvhT& bvh, std::uint32_t c, in
   return done;
 }
 
-template <class BvhT, bool kAnyHit, bool kFma>
+// The closest-hit packet walk (any hits: occlude_packet_with below).
+template <class BvhT, bool kFma, bool kSharedOrigin>
 inline void traverse_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* hits, bool* found) {
   constexpr int kPacketStack = (kWidth - 1) * kStackSize;
   PacketEntry stack[kPacketStack];
@@ -741,22 +821,17 @@ inline void traverse_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* 
       if (c == kEmptyLeaf) continue;
       const int rays = byte_of(per_child, k) & live;
       if (rays == 0) continue;
-      if (kAnyHit) {
-        live &= ~packet_leaf<BvhT, kAnyHit>(bvh, c, rays, p, hits, found);
-        if (live == 0) return;
-      } else {
-        const Real before[kPacketSize] = {p.tmax[0], p.tmax[1], p.tmax[2], p.tmax[3],
-                                          p.tmax[4], p.tmax[5], p.tmax[6], p.tmax[7]};
-        packet_leaf<BvhT, kAnyHit>(bvh, c, rays, p, hits, found);
-        for (int m2 = rays; m2 != 0; m2 &= m2 - 1) {
-          const int r = lowest_bit(m2);
-          if (p.tmax[r] != before[r]) shrunk |= 1 << r;
-        }
+      const Real before[kPacketSize] = {p.tmax[0], p.tmax[1], p.tmax[2], p.tmax[3],
+                                        p.tmax[4], p.tmax[5], p.tmax[6], p.tmax[7]};
+      packet_leaf<BvhT, false, kSharedOrigin>(bvh, c, rays, p, hits, found);
+      for (int m2 = rays; m2 != 0; m2 &= m2 - 1) {
+        const int r = lowest_bit(m2);
+        if (p.tmax[r] != before[r]) shrunk |= 1 << r;
       }
     }
     // Closest hit: a ray whose tmax moved drops the inner children now beyond it (as the
     // single-ray traversal does).
-    if (!kAnyHit && shrunk != 0) {
+    if (shrunk != 0) {
       for (int m = shrunk; m != 0; m &= m - 1) {
         const int r = lowest_bit(m);
         const int keep = lanes_not_after(tn[r], cull_limit<kFma>(p.tmax[r], p.box[r]));
@@ -784,16 +859,7 @@ inline void traverse_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* 
       at = {nd.child[k0], byte_of(per_child, k0) & live};
       continue;
     }
-    if (kAnyHit) {  // lane order, as the single-ray any hit
-      at = {nd.child[k0], byte_of(per_child, k0) & live};
-      for (; inner != 0; inner &= inner - 1) {
-        const int k = lowest_bit(inner);
-        prefetch_node(bvh.wide(nd.child[k]));
-        stack[sp++] = {nd.child[k], byte_of(per_child, k) & live};
-      }
-      continue;
-    }
-    // Closest hit: children by the nearest entry over their rays, pushed far-to-near.
+    // Children by the nearest entry over their rays, pushed far-to-near.
     PacketEntry ids[kWidth];
     Real ds[kWidth];
     int n = 0;
@@ -822,6 +888,107 @@ inline void traverse_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* 
   }
 }
 
+// Leaf children a node's box tests found, and the rays that hit each.
+struct PendingLeaves {
+  std::uint32_t leaf[kWidth];
+  int rays[kWidth];
+  int count = 0;
+};
+
+// The any-hit packet walk. A node's leaves are tested one step later, after the next node's box
+// tests: both were prefetched together, so the leaves' cache misses overlap the next node's
+// instead of following them (the packet's leaf loads were its largest stall). Any blocker ends a
+// ray whichever leaf it is found in, so testing leaves later changes no answer; a ray stays in
+// the packet until its first blocker, and the walk stops when no ray is left.
+template <class BvhT, bool kFma, bool kSharedOrigin>
+inline void occlude_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* hits, bool* found) {
+  constexpr int kPacketStack = (kWidth - 1) * kStackSize;
+  PacketEntry stack[kPacketStack];
+  int sp = 0;
+  PacketEntry at{0u, live};
+  PendingLeaves pending;
+  while (true) {
+    // Each ray's box test of the next node: byte r of `per_ray` = the children ray r hits.
+    at.rays &= live;
+    std::uint64_t per_ray = 0;
+    int any_child = 0;
+    if (at.rays != 0) {
+      const WideNode& nd = bvh.wide(at.node);
+      alignas(32) Real tn[kWidth];  // (entry distances: unused by any hit)
+      for (int m = at.rays; m != 0; m &= m - 1) {
+        const int r = lowest_bit(m);
+        const int h = box_test<kFma>(nd, p.box[r], p.rays[r].tmin, p.tmax[r], tn);
+        per_ray |= std::uint64_t(h) << (8 * r);
+        any_child |= h;
+      }
+    }
+    // The previous node's leaves, fetched while this node's boxes were tested.
+    for (int j = 0; j < pending.count; ++j) {
+      const int rays = pending.rays[j] & live;
+      if (rays == 0) continue;
+      live &= ~packet_leaf<BvhT, true, kSharedOrigin>(bvh, pending.leaf[j], rays, p, hits, found);
+      if (live == 0) return;
+    }
+    pending.count = 0;
+    if (any_child == 0) {
+      if (sp == 0) return;
+      at = stack[--sp];
+      continue;
+    }
+    const WideNode& nd = bvh.wide(at.node);
+    const std::uint64_t per_child = transpose_bytes(per_ray);
+    const int leaves = leaf_lanes(nd);
+    int inner = 0;
+    for (int m = any_child; m != 0; m &= m - 1) {
+      const int k = lowest_bit(m);
+      const int rays = byte_of(per_child, k) & live;
+      if (rays == 0) continue;
+      if (!(leaves >> k & 1)) {
+        inner |= 1 << k;
+        continue;
+      }
+      const std::uint32_t c = nd.child[k];
+      if (c == kEmptyLeaf) continue;
+      prefetch_leaf(bvh.leaves(leaf_first(c) >> 1), c);
+      pending.leaf[pending.count] = c;
+      pending.rays[pending.count++] = rays;
+    }
+    if (inner == 0) {  // the pending leaves are tested after the next entry's box tests
+      at = sp > 0 ? stack[--sp] : PacketEntry{0u, 0};
+      continue;
+    }
+    // Lane order, as the single-ray any hit; the next node is fetched with the pending leaves.
+    const int k0 = lowest_bit(inner);
+    at = {nd.child[k0], byte_of(per_child, k0) & live};
+    prefetch_node(bvh.wide(at.node));
+    for (inner &= inner - 1; inner != 0; inner &= inner - 1) {
+      const int k = lowest_bit(inner);
+      prefetch_node(bvh.wide(nd.child[k]));
+      stack[sp++] = {nd.child[k], byte_of(per_child, k) & live};
+    }
+  }
+}
+
+// True when rays [0, n) have the same origin, bit for bit.
+inline bool shares_origin(const Ray* rays, int n) {
+  for (int r = 1; r < n; ++r)
+    if (std::memcmp(&rays[r].org, &rays[0].org, sizeof(Vec3)) != 0) return false;
+  return true;
+}
+
+// The packet walk for the kind of query and the rays' origins.
+template <class BvhT, bool kAnyHit, bool kFma>
+inline void traverse_packet_by(const BvhT& bvh, PacketRays& p, int live, Hit* hits, bool* found,
+                               bool shared_origin) {
+  if constexpr (kAnyHit) {
+    if (shared_origin) return occlude_packet_with<BvhT, kFma, true>(bvh, p, live, hits, found);
+    return occlude_packet_with<BvhT, kFma, false>(bvh, p, live, hits, found);
+  } else {
+    if (shared_origin) return traverse_packet_with<BvhT, kFma, true>(bvh, p, live, hits, found);
+    return traverse_packet_with<BvhT, kFma, false>(bvh, p, live, hits, found);
+  }
+}
+
 // The packet traversal of rays [0, n) (n <= kPacketSize) with the FMA box test where every ray
 // can take it (both tests are conservative; the choice is speed only).
 template <class BvhT, bool kAnyHit>
@@ -845,11 +1012,12 @@ inline void traverse_packet(const BvhT& bvh, const Ray* rays, int n, Hit* hits, 
   }
   for (int r = n; r < kPacketSize; ++r) p.tmax[r] = Real(0);
   if (live == 0 || bvh.num_prims == 0) return;
+  const bool shared = shares_origin(rays, n);
 #if RTMINI_FMA_BOX_TEST
-  if (fma) return traverse_packet_with<BvhT, kAnyHit, true>(bvh, p, live, hits, found);
+  if (fma) return traverse_packet_by<BvhT, kAnyHit, true>(bvh, p, live, hits, found, shared);
 #endif
   (void)fma;
-  traverse_packet_with<BvhT, kAnyHit, false>(bvh, p, live, hits, found);
+  traverse_packet_by<BvhT, kAnyHit, false>(bvh, p, live, hits, found, shared);
 }
 #else
 inline constexpr bool kHavePacketTraversal = false;
