@@ -11,7 +11,20 @@ namespace {
 // pinhole centre ray for depth/normal/object and the edge stencil.
 template <unsigned kFeatures>
 struct PixelKernel {
-  RadianceEstimator<kFeatures> est;
+  // How a vertex's lobes (Lambert, glossy reflection, glossy transmission) sample the lights,
+  // by backend: one pass over the lights for all of them where the execution space cannot reach
+  // host memory (a GPU), a pass per lobe on the host. Both give the same sums in the same
+  // order (RadianceEstimator::gather_light), so every host hash is the same either way; they
+  // differ in what the compiler makes of them. Measured (results/gpu/README.md, "sketchtrace's
+  // GPU slowdown"): on an H100 the one pass rendered dist_first 1000x800 32 spp in 0.383-0.396 s
+  // against 0.526-0.559 s for the pass per lobe (-27 %; the 4K two-sphere, no glossy lobes,
+  // unchanged), while on the host (OpenMP, 2 threads) it rendered dist_first 8-44 % slower in 5
+  // of 5 alternated pairs. On CUDA the one pass moves dist_first's hash (18b8a1b1d0ddc23f ->
+  // c599089d83fc4b1b): nvcc contracts multiply-adds across the restructured code differently
+  // (the host build has -ffp-contract=off).
+  static constexpr bool kOnePassLobes =
+      !Kokkos::SpaceAccessibility<Kokkos::DefaultExecutionSpace, Kokkos::HostSpace>::accessible;
+  RadianceEstimator<kFeatures, kOnePassLobes> est;
   StencilParams stencil;
   bool aov;
   Kokkos::View<const std::int64_t*, MemSpace> pixels;

@@ -12,9 +12,11 @@
 #   cmake -S . -B build-cuda "${deps_flags[@]}" -DKokkos_ROOT=/opt/kokkos-cuda \
 #     -DCMAKE_CXX_COMPILER=g++ -DRTMINI_ENABLE_TESTS=OFF && cmake --build build-cuda -j 16 \
 #     --target sketchtrace
-# Outputs (logs, ncu reports) under $OUT (or /tmp/sketchtrace_out). Expected: one hash per
-# scene for every build (this branch changes no output); at 0996fc7 on the H200:
-# 4K 3f0816169ad7e169, dist_first 18b8a1b1d0ddc23f.
+# Outputs (logs, ncu reports) under $OUT (or /tmp/sketchtrace_out). Expected hashes on CUDA:
+# 4K 3f0816169ad7e169 for every build; dist_first 18b8a1b1d0ddc23f for builds that sample a
+# vertex's lobes in a pass per lobe on the device (0996fc7 to main 23bae46) and
+# c599089d83fc4b1b for those with the one-pass lobes (3a56415, branch sketchlobe): nvcc's
+# multiply-add contraction differs between the two (miniapps/sketchtrace/README.md).
 set -u
 [ $# -ge 1 ] || { echo "usage: sketchtrace_device.sh NAME=BUILD [NAME=BUILD...]" >&2; exit 2; }
 OUT=${OUT:-/tmp/sketchtrace_out}
