@@ -21,6 +21,8 @@ ResultSink::ResultSink(const Communicator& comm, const PixelOrder& order,
 
 ResultSink::~ResultSink() {
 #ifdef RTMINI_HAVE_MPI
+  // A failure can unwind past sends still in flight on these buffers.
+  if (!sends_.empty()) comm_.keep_until_exit(sends_);
   if (mpi_ != MPI_COMM_NULL) MPI_Comm_free(&mpi_);
 #endif
 }

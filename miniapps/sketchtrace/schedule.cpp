@@ -138,6 +138,12 @@ class PeerScheduler : public Scheduler {
     loads_.assign(p, 0.0);
   }
   ~PeerScheduler() override {
+    // A failure can unwind past sends and a round still in flight on these buffers.
+    if (round_active_) {
+      comm_.keep_until_exit(round_in_);
+      comm_.keep_until_exit(round_all_);
+    }
+    if (!sends_.empty()) comm_.keep_until_exit(sends_);
     if (mpi_ != MPI_COMM_NULL) MPI_Comm_free(&mpi_);
   }
 
@@ -186,12 +192,15 @@ class PeerScheduler : public Scheduler {
       poll();
       if (!finished_) std::this_thread::sleep_for(std::chrono::microseconds(50));
     }
-    if (round_active_) comm_.wait(round_req_);
+    if (round_active_) {
+      comm_.wait(round_req_);
+      round_active_ = false;
+    }
     // Drain every message still addressed to this rank, then complete the sends.
     std::vector<std::int64_t> expected(sent_to_.size());
     MPI_Request req;
     MPI_Ialltoall(sent_to_.data(), 1, MPI_INT64_T, expected.data(), 1, MPI_INT64_T, mpi_, &req);
-    comm_.wait(req);
+    comm_.wait_keeping(req, sent_to_, expected);
     for (std::size_t src = 0; src < expected.size(); ++src)
       while (received_from_[src] < expected[src]) receive(static_cast<int>(src), true);
     for (auto& s : sends_) comm_.wait(s.req);
@@ -335,8 +344,9 @@ class PeerScheduler : public Scheduler {
       round_in_[0] = remaining_;
       round_in_[1] = static_cast<double>(done_);
       round_in_[2] = stop_ ? 1.0 : 0.0;
-      MPI_Iallgather(round_in_, 3, MPI_DOUBLE, round_all_.data(), 3, MPI_DOUBLE, mpi_, &round_req_);
-      comm_.count(sizeof round_in_);
+      MPI_Iallgather(round_in_.data(), 3, MPI_DOUBLE, round_all_.data(), 3, MPI_DOUBLE, mpi_,
+                     &round_req_);
+      comm_.count(round_in_.size() * sizeof(double));
       round_active_ = true;
     }
   }
@@ -357,7 +367,7 @@ class PeerScheduler : public Scheduler {
   std::vector<std::int64_t> sent_to_, received_from_;
   bool round_active_ = false, finished_ = false, stop_ = false;
   MPI_Request round_req_ = MPI_REQUEST_NULL;
-  double round_in_[3] = {0, 0, 0};
+  std::vector<double> round_in_ = std::vector<double>(3, 0.0);  // this rank's part of a round
   std::vector<double> round_all_;  // every rank's {remaining, done, stop} of the last round
   std::vector<double> loads_;      // every rank's remaining cost at the last round
 };

@@ -94,14 +94,20 @@ class Communicator {
   // the process exits, before the exception unwinds the caller.
   template <class... Owned>
   void wait_keeping(MPI_Request& req, Owned&... owned) const {
-    static_assert((!std::is_const<Owned>::value && ...),
-                  "a const buffer would be copied, not kept");
     try {
       wait(req);
     } catch (const PeerFailure&) {
-      (abandoned_.push_back(std::make_shared<Owned>(std::move(owned))), ...);
+      (keep_until_exit(owned), ...);
       throw;
     }
+  }
+  // Moves `buffers` to abandoned_, kept until the process exits. For an object destroyed while
+  // requests on its buffers may still be in flight (a failure unwinding past it), for the
+  // reason wait_keeping() gives.
+  template <class T>
+  void keep_until_exit(T& buffers) const {
+    static_assert(!std::is_const<T>::value, "a const buffer would be copied, not kept");
+    abandoned_.push_back(std::make_shared<T>(std::move(buffers)));
   }
   // MPI_Probe on `comm` (a duplicate of this one) that throws PeerFailure
   // instead of waiting forever for a failed peer.
