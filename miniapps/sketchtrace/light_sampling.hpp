@@ -301,110 +301,199 @@ struct GlossyResponse {
   KOKKOS_INLINE_FUNCTION Real delta(const Vec3& wi) const { return lobe(wi); }
 };
 
-// Sums over lights of L_e R(wi) / pdf(wi) (area lights, two-sided; pdf by solid angle, quads
-// by spherical rectangle or area, mesh lights by area) and I R(wi) / r^2 (point lights), with
-// R the shading point's `response` (LambertResponse, or a glossy lobe times its MIS weight).
-// `kPaths` (FeatureBits) compiles in shaft culling, mesh lights and point lights; the caller
-// leaves out only those its scene never uses.
-template <unsigned kPaths = kEveryLightPath, class Scene, class Response>
-KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, const Rng& rng,
-                                         const ShadowPlan& plan, const Response& response,
-                                         TraceCounter& c) {
-  Vec3 sum(Real(0));
+// A run-time choice between the two responses above (`glossy`), so that a shading point's
+// lobes can share one type in a LightLobes pass. Fields as in those: Lambert reads `axis` as
+// ns and `side` as ng; the arithmetic is theirs.
+struct LobeResponse {
+  bool glossy = false;
+  Vec3 axis, side_normal;
+  Real shininess = 0, light_count = 1, lobe_count = 1;
+  KOKKOS_INLINE_FUNCTION Vec3 side() const { return side_normal; }
+  KOKKOS_INLINE_FUNCTION LambertResponse as_lambert() const { return {axis, side_normal}; }
+  KOKKOS_INLINE_FUNCTION GlossyResponse as_glossy() const {
+    return {axis, side_normal, shininess, light_count, lobe_count};
+  }
+  KOKKOS_INLINE_FUNCTION Real operator()(const Vec3& wi, Real light_pdf) const {
+    return glossy ? as_glossy()(wi, light_pdf) : as_lambert()(wi, light_pdf);
+  }
+  KOKKOS_INLINE_FUNCTION Real delta(const Vec3& wi) const {
+    return glossy ? as_glossy().delta(wi) : as_lambert().delta(wi);
+  }
+};
+
+// One lobe's part in a light-sampling pass: whether it takes part, how it responds and the
+// first random pair of its shadow samples (what ShadowPlan::pair_base is for a lone lobe).
+template <class Response>
+struct LightLobe {
+  bool active = false;
+  Response response;
+  std::uint32_t pair_base = 0;
+};
+
+// A pass over the lights for one lobe alone (the host's way; trace_kernel.hpp).
+template <class Response_>
+struct OneLobe {
+  using Response = Response_;
+  static constexpr int kCount = 1;
+  LightLobe<Response> lobe;
+  KOKKOS_INLINE_FUNCTION const LightLobe<Response>& at(int) const { return lobe; }
+};
+
+// The lobes of one shading point that sample the lights in one pass (Lambert, a glossy
+// lobe's reflection and transmission: the device's way), so that what depends on the point
+// and a light alone (the spherical rectangle) is computed once for all of them. Lobes are
+// picked by value, not by index into an array: a per-thread array indexed at run time would
+// live in local memory.
+struct LightLobes {
+  using Response = LobeResponse;
+  static constexpr int kCount = 3;
+  LightLobe<LobeResponse> lambert, reflection, transmission;
+  KOKKOS_INLINE_FUNCTION LightLobe<LobeResponse> at(int k) const {
+    return k == 0 ? lambert : (k == 1 ? reflection : transmission);
+  }
+};
+
+// What each lobe of a pass gathered, in the order of the pass's lobes (zero for lobes that
+// took no part). Picked by value, like LightLobes.
+struct LobeLight {
+  Vec3 lambert{Real(0)}, reflection{Real(0)}, transmission{Real(0)};
+  KOKKOS_INLINE_FUNCTION Vec3 at(int k) const {
+    return k == 0 ? lambert : (k == 1 ? reflection : transmission);
+  }
+  KOKKOS_INLINE_FUNCTION void set(int k, const Vec3& v) {
+    if (k == 0)
+      lambert = v;
+    else if (k == 1)
+      reflection = v;
+    else
+      transmission = v;
+  }
+};
+
+// For every active lobe of `lobes` (OneLobe or LightLobes), the sum over lights of
+// L_e R(wi) / pdf(wi) (area lights, two-sided; pdf by solid angle, quads by spherical
+// rectangle or area, mesh lights by area) and I R(wi) / r^2 (point lights), R the lobe's
+// response (LambertResponse, or a glossy lobe times its MIS weight). Each lobe's sum runs
+// over the same lights and samples, in the same order, as a pass of that lobe alone, so
+// either way of passing gives the same sums.
+// `kPaths` (FeatureBits) compiles in the glossy lobes (without kGlossy only the first lobe
+// takes part), shaft culling, mesh lights and point lights; the caller leaves out only those
+// its scene never uses.
+template <unsigned kPaths = kEveryLightPath, class Scene, class Lobes>
+KOKKOS_INLINE_FUNCTION LobeLight direct_light(const Scene& scene, const Surface& s, const Rng& rng,
+                                              const ShadowPlan& plan, const Lobes& lobes,
+                                              TraceCounter& c) {
+  using Response = typename Lobes::Response;
+  constexpr int kLobes = (kPaths & kGlossy) ? Lobes::kCount : 1;
+  LobeLight out;
   const int samples = plan.soft ? plan.samples : 1;
   const Real inv_samples = Real(1) / Real(samples);
-  int light = 0;
-  const Vec3 org = offset_ray_origin(s.p, response.side(), s.coordinate_bound);
-  const bvh::ShaftBlockers* blockers = nullptr;
-  auto area_sample = [&](const Vec3& q, const Vec3& nl, const Vec3& le, Real area) {
+  // One shadow sample towards q on a light (unit normal nl, emission le), whose pdf there is
+  // 1 / solid_angle (solid_angle > 0) or, by area, d2 / (cos_l area). Every sample of a pass
+  // goes through this one visibility test: on a GPU each call site of a traversal is another
+  // inlined copy of it.
+  auto light_sample = [&](Vec3& sum, const Response& response, const Vec3& org,
+                          const bvh::ShaftBlockers* blockers, const Vec3& q, const Vec3& nl,
+                          const Vec3& le, Real area, Real solid_angle) {
     const Vec3 w = q - s.p;
     const Real d2 = dot(w, w);
     if (!(d2 > Real(0))) return;
     const Vec3 wi = w / math::sqrt(d2);
-    const Real cos_l = math::fabs(dot(nl, wi));
-    const Real f = response(wi, d2 / (cos_l * area));
-    if (!(f > Real(0)) || cos_l <= Real(0)) return;
+    Real weight;
+    if (solid_angle > Real(0)) {
+      const Real f = response(wi, Real(1) / solid_angle);
+      if (!(f > Real(0))) return;
+      weight = f * solid_angle * inv_samples;
+    } else {
+      const Real cos_l = math::fabs(dot(nl, wi));
+      const Real f = response(wi, d2 / (cos_l * area));
+      if (!(f > Real(0)) || cos_l <= Real(0)) return;
+      weight = f * cos_l * area / d2 * inv_samples;
+    }
     if (!visible(scene, org, q, s.time, c, blockers)) return;
-    sum += le * (f * cos_l * area / d2 * inv_samples);
-  };
-  auto solid_angle_sample = [&](const Vec3& q, const Vec3& le, Real solid_angle) {
-    const Vec3 w = q - s.p;
-    const Real d2 = dot(w, w);
-    if (!(d2 > Real(0))) return;
-    const Vec3 wi = w / math::sqrt(d2);
-    const Real f = response(wi, Real(1) / solid_angle);
-    if (!(f > Real(0))) return;
-    if (!visible(scene, org, q, s.time, c, blockers)) return;
-    sum += le * (f * solid_angle * inv_samples);
+    sum += le * weight;
   };
   const StrataShape shape = strata_shape(samples * plan.pixel_strata);
+  int light = 0;
   for (int l = 0; l < scene.num_quads; ++l, ++light) {
     const QuadLight ql = scene.quads(l);
-    if (!plan.soft) {
-      area_sample(ql.corner + ql.u * Real(0.5) + ql.v * Real(0.5), ql.normal, ql.emission, ql.area);
-      continue;
-    }
     SphericalRect rect;
-    const bool by_solid_angle = spherical_rect(ql, s.p, rect);
-    bvh::ShaftBlockers shaft;
-    blockers = (kPaths & kShafts) && samples >= kShaftMinSamples &&
-                       quad_shaft_blockers(scene, org, ql, shaft, c)
-                   ? &shaft
-                   : nullptr;
-    const std::uint32_t key = plan.key ^ static_cast<std::uint32_t>(light);
-    const std::uint32_t pair0 = plan.pair_base + static_cast<std::uint32_t>(light * samples);
-    // Consecutive pairs share one Philox block (Rng::uniform2 draws the same numbers).
-    r123::Philox4x32::ctr_type block{};
-    std::uint32_t block_id = ~0u;
-    int cell = first_cell(plan);
-    for (int j = 0; j < samples; ++j, cell = next_cell(plan, cell)) {
-      const std::uint32_t pair = pair0 + static_cast<std::uint32_t>(j);
-      if ((pair >> 1) != block_id) {
-        block_id = pair >> 1;
-        block = rng.block(block_id);
+    const bool by_solid_angle = plan.soft && spherical_rect(ql, s.p, rect);
+    for (int k = 0; k < kLobes; ++k) {
+      const LightLobe<Response> lobe = lobes.at(k);
+      if (!lobe.active) continue;
+      const Vec3 org = offset_ray_origin(s.p, lobe.response.side(), s.coordinate_bound);
+      Vec3 sum = out.at(k);
+      bvh::ShaftBlockers shaft;
+      const bvh::ShaftBlockers* blockers = (kPaths & kShafts) && samples >= kShaftMinSamples &&
+                                                   quad_shaft_blockers(scene, org, ql, shaft, c)
+                                               ? &shaft
+                                               : nullptr;
+      const std::uint32_t key = plan.key ^ static_cast<std::uint32_t>(light);
+      const std::uint32_t pair0 = lobe.pair_base + static_cast<std::uint32_t>(light * samples);
+      // Consecutive pairs share one Philox block (Rng::uniform2 draws the same numbers).
+      r123::Philox4x32::ctr_type block{};
+      std::uint32_t block_id = ~0u;
+      int cell = first_cell(plan);
+      for (int j = 0; j < samples; ++j, cell = next_cell(plan, cell)) {
+        Real x = Real(0.5), y = Real(0.5);  // without soft shadows: the light's centre, by area
+        if (plan.soft) {
+          const std::uint32_t pair = pair0 + static_cast<std::uint32_t>(j);
+          if ((pair >> 1) != block_id) {
+            block_id = pair >> 1;
+            block = rng.block(block_id);
+          }
+          const unsigned o = (pair & 1u) * 2u;
+          light_stratum(plan, j, cell, shape, key, Real(Rng::to_unit(block.v[o])),
+                        Real(Rng::to_unit(block.v[o + 1])), x, y);
+        }
+        const Vec3 q =
+            by_solid_angle ? spherical_rect_point(rect, x, y) : ql.corner + ql.u * x + ql.v * y;
+        light_sample(sum, lobe.response, org, blockers, q, ql.normal, ql.emission, ql.area,
+                     by_solid_angle ? rect.solid_angle : Real(0));
       }
-      const unsigned o = (pair & 1u) * 2u;
-      Real x, y;
-      light_stratum(plan, j, cell, shape, key, Real(Rng::to_unit(block.v[o])),
-                    Real(Rng::to_unit(block.v[o + 1])), x, y);
-      if (by_solid_angle)
-        solid_angle_sample(spherical_rect_point(rect, x, y), ql.emission, rect.solid_angle);
-      else
-        area_sample(ql.corner + ql.u * x + ql.v * y, ql.normal, ql.emission, ql.area);
+      out.set(k, sum);
     }
-    blockers = nullptr;
   }
   const int mesh_lights = (kPaths & kMeshLights) ? scene.num_mesh_lights : 0;
   for (int l = 0; l < mesh_lights; ++l, ++light) {
     const MeshLight ml = scene.mesh_lights(l);
-    int cell = first_cell(plan);
-    for (int j = 0; j < samples; ++j, cell = next_cell(plan, cell)) {
-      float a, b;
-      rng.uniform2(plan.pair_base + static_cast<std::uint32_t>(light * samples + j), a, b);
-      Real x = a, y = b;
-      if (plan.soft)
-        light_stratum(plan, j, cell, shape, plan.key ^ static_cast<std::uint32_t>(light), Real(a),
-                      Real(b), x, y);
-      // Pick a triangle by area with x (binary search of the CDF), reuse x's
-      // position inside that triangle's CDF interval as the first barycentric number.
-      int lo = ml.first, hi = ml.first + ml.count - 1;
-      while (lo < hi) {
-        const int mid = (lo + hi) / 2;
-        if (scene.emissive_cdf(mid) > x)
-          hi = mid;
-        else
-          lo = mid + 1;
+    for (int k = 0; k < kLobes; ++k) {
+      const LightLobe<Response> lobe = lobes.at(k);
+      if (!lobe.active) continue;
+      const Vec3 org = offset_ray_origin(s.p, lobe.response.side(), s.coordinate_bound);
+      Vec3 sum = out.at(k);
+      int cell = first_cell(plan);
+      for (int j = 0; j < samples; ++j, cell = next_cell(plan, cell)) {
+        float a, b;
+        rng.uniform2(lobe.pair_base + static_cast<std::uint32_t>(light * samples + j), a, b);
+        Real x = a, y = b;
+        if (plan.soft)
+          light_stratum(plan, j, cell, shape, plan.key ^ static_cast<std::uint32_t>(light), Real(a),
+                        Real(b), x, y);
+        // Pick a triangle by area with x (binary search of the CDF), reuse x's
+        // position inside that triangle's CDF interval as the first barycentric number.
+        int lo = ml.first, hi = ml.first + ml.count - 1;
+        while (lo < hi) {
+          const int mid = (lo + hi) / 2;
+          if (scene.emissive_cdf(mid) > x)
+            hi = mid;
+          else
+            lo = mid + 1;
+        }
+        const Real c0 = lo == ml.first ? Real(0) : scene.emissive_cdf(lo - 1);
+        const Real c1 = scene.emissive_cdf(lo);
+        const Real r1 = below_one(c1 > c0 ? (x - c0) / (c1 - c0) : Real(0.5));
+        const int tri = scene.emissive_tris(lo);
+        const Triangle& t = scene.mesh.tris(tri);
+        Real bu, bv;
+        uniform_triangle(r1, y, bu, bv);
+        const Vec3 q = barycentric_point(t.a, t.b, t.c, bu, bv);
+        const Vec3 le = scene.mesh.materials(scene.mesh.tri_material(tri)).emissive;
+        light_sample(sum, lobe.response, org, nullptr, q, triangle_normal(t.a, t.b, t.c), le,
+                     ml.area, Real(0));
       }
-      const Real c0 = lo == ml.first ? Real(0) : scene.emissive_cdf(lo - 1);
-      const Real c1 = scene.emissive_cdf(lo);
-      const Real r1 = below_one(c1 > c0 ? (x - c0) / (c1 - c0) : Real(0.5));
-      const int tri = scene.emissive_tris(lo);
-      const Triangle& t = scene.mesh.tris(tri);
-      Real bu, bv;
-      uniform_triangle(r1, y, bu, bv);
-      const Vec3 q = barycentric_point(t.a, t.b, t.c, bu, bv);
-      const Vec3 le = scene.mesh.materials(scene.mesh.tri_material(tri)).emissive;
-      area_sample(q, triangle_normal(t.a, t.b, t.c), le, ml.area);
+      out.set(k, sum);
     }
   }
   const int point_lights = (kPaths & kPointLights) ? scene.num_points : 0;
@@ -414,12 +503,30 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, c
     const Real d2 = dot(w, w);
     if (!(d2 > Real(0))) continue;
     const Vec3 wi = w / math::sqrt(d2);
-    const Real f = response.delta(wi);
-    if (!(f > Real(0))) continue;
-    if (!visible(scene, org, pl.position, s.time, c)) continue;
-    sum += pl.intensity * (f / d2);
+    for (int k = 0; k < kLobes; ++k) {
+      const LightLobe<Response> lobe = lobes.at(k);
+      if (!lobe.active) continue;
+      const Real f = lobe.response.delta(wi);
+      if (!(f > Real(0))) continue;
+      const Vec3 org = offset_ray_origin(s.p, lobe.response.side(), s.coordinate_bound);
+      if (!visible(scene, org, pl.position, s.time, c)) continue;
+      out.set(k, out.at(k) + pl.intensity * (f / d2));
+    }
   }
-  return sum;
+  return out;
+}
+
+// direct_light for one lobe alone, the pass's only (first) lobe: its shadow samples' pairs from
+// plan.pair_base.
+template <unsigned kPaths = kEveryLightPath, class Scene, class Response>
+KOKKOS_INLINE_FUNCTION Vec3 direct_light_one(const Scene& scene, const Surface& s, const Rng& rng,
+                                             const ShadowPlan& plan, const Response& response,
+                                             TraceCounter& c) {
+  OneLobe<Response> lobe;
+  lobe.lobe.active = true;
+  lobe.lobe.response = response;
+  lobe.lobe.pair_base = plan.pair_base;
+  return direct_light<kPaths>(scene, s, rng, plan, lobe, c).at(0);
 }
 
 // Irradiance-like sum over lights of L_e cos_s / pdf (area lights) and I cos_s / r^2 (point
@@ -427,7 +534,7 @@ KOKKOS_INLINE_FUNCTION Vec3 direct_light(const Scene& scene, const Surface& s, c
 template <unsigned kPaths = kEveryLightPath, class Scene>
 KOKKOS_INLINE_FUNCTION Vec3 direct_irradiance(const Scene& scene, const Surface& s, const Rng& rng,
                                               const ShadowPlan& plan, TraceCounter& c) {
-  return direct_light<kPaths>(scene, s, rng, plan, LambertResponse{s.ns, s.ng}, c);
+  return direct_light_one<kPaths>(scene, s, rng, plan, LambertResponse{s.ns, s.ng}, c);
 }
 
 }  // namespace rtmini::sketch

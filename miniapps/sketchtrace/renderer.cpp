@@ -7,11 +7,37 @@
 namespace rtmini::sketch {
 namespace {
 
+// Launch bounds of the render kernel on a GPU (the host ignores them): at least
+// kRenderMinBlocks blocks of kRenderBlockThreads threads resident per multiprocessor, so the
+// compiler fits the kernel in 65536 / (blocks x threads) registers, spilling the rest to
+// local memory. Unbounded (0, the default) every instantiation with secondary rays and
+// lights takes 255 registers: 2 blocks of 128 threads, 12 % of an H100's warps active
+// (results/gpu/README.md). A build option (-DRTMINI_SKETCH_MIN_BLOCKS=3 or 4: 168 or 128
+// registers) until the device measures which pays.
+#ifndef RTMINI_SKETCH_MIN_BLOCKS
+#define RTMINI_SKETCH_MIN_BLOCKS 0
+#endif
+inline constexpr unsigned kRenderBlockThreads = 128;
+inline constexpr unsigned kRenderMinBlocks = RTMINI_SKETCH_MIN_BLOCKS;
+
 // One pixel: the radiance samples, then (when AOVs or edges are wanted) the
 // pinhole centre ray for depth/normal/object and the edge stencil.
 template <unsigned kFeatures>
 struct PixelKernel {
-  RadianceEstimator<kFeatures> est;
+  // How a vertex's lobes (Lambert, glossy reflection, glossy transmission) sample the lights,
+  // by backend: one pass over the lights for all of them where the execution space cannot reach
+  // host memory (a GPU), a pass per lobe on the host. Both give the same sums in the same
+  // order (RadianceEstimator::gather_light), so every host hash is the same either way; they
+  // differ in what the compiler makes of them. Measured (results/gpu/README.md, "sketchtrace's
+  // GPU slowdown"): on an H100 the one pass rendered dist_first 1000x800 32 spp in 0.383-0.396 s
+  // against 0.526-0.559 s for the pass per lobe (-27 %; the 4K two-sphere, no glossy lobes,
+  // unchanged), while on the host (OpenMP, 2 threads) it rendered dist_first 8-44 % slower in 5
+  // of 5 alternated pairs. On CUDA the one pass moves dist_first's hash (18b8a1b1d0ddc23f ->
+  // c599089d83fc4b1b): nvcc contracts multiply-adds across the restructured code differently
+  // (the host build has -ffp-contract=off).
+  static constexpr bool kOnePassLobes =
+      !Kokkos::SpaceAccessibility<Kokkos::DefaultExecutionSpace, Kokkos::HostSpace>::accessible;
+  RadianceEstimator<kFeatures, kOnePassLobes> est;
   StencilParams stencil;
   bool aov;
   Kokkos::View<const std::int64_t*, MemSpace> pixels;
@@ -167,11 +193,17 @@ void Renderer::launch(const TraceParams& params, bool aov,
                       const Kokkos::View<std::int64_t*, MemSpace>& pixels,
                       const Kokkos::View<PixelResult*, MemSpace>& out) const {
   PixelKernel<kFeatures> kernel{{scene_, camera_, params}, stencil_, aov, pixels, out};
-  using Policy =
-      Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace, Kokkos::Schedule<Kokkos::Dynamic>,
-                          Kokkos::IndexType<std::int64_t>>;
-  Kokkos::parallel_for("rtmini::sketch::render",
-                       Policy(0, static_cast<std::int64_t>(pixels.extent(0))), kernel);
+  const std::int64_t n = static_cast<std::int64_t>(pixels.extent(0));
+  using Schedule = Kokkos::Schedule<Kokkos::Dynamic>;
+  using Index = Kokkos::IndexType<std::int64_t>;
+  if constexpr (kRenderMinBlocks > 0) {
+    using Bounds = Kokkos::LaunchBounds<kRenderBlockThreads, kRenderMinBlocks>;
+    using Policy = Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace, Schedule, Index, Bounds>;
+    Kokkos::parallel_for("rtmini::sketch::render", Policy(0, n), kernel);
+  } else {
+    using Policy = Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace, Schedule, Index>;
+    Kokkos::parallel_for("rtmini::sketch::render", Policy(0, n), kernel);
+  }
 }
 
 template <std::size_t I>

@@ -31,6 +31,7 @@ class Renderer {
 
   unsigned features() const { return features_; }
   const DeviceScene& scene() const { return scene_; }
+  const DeviceCamera& camera() const { return camera_; }
   const TraceParams& params() const { return params_; }
 
  private:

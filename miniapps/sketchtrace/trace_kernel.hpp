@@ -55,7 +55,9 @@ KOKKOS_INLINE_FUNCTION std::uint32_t pixel_key(std::uint64_t seed, std::uint64_t
                   hash_u32(static_cast<std::uint32_t>(pixel) ^ hash_u32(tag + 0x632be5abu)));
 }
 
-template <unsigned kFeatures>
+// kOnePassLobes: how a vertex's lobes sample the lights (gather_light); renderer.cpp picks it
+// per backend.
+template <unsigned kFeatures, bool kOnePassLobes = false>
 struct RadianceEstimator {
   KernelScene<kFeatures> scene;
   DeviceCamera camera;
@@ -83,29 +85,77 @@ struct RadianceEstimator {
     return static_cast<std::uint32_t>(lights * (p.shadow_samples > 1 ? p.shadow_samples : 1));
   }
 
-  // Light a glossy lobe reflects or transmits towards the viewer, sampled from the lights
-  // and weighted against the lobe's own sampling (`lobe_samples` continuation rays).
-  KOKKOS_INLINE_FUNCTION Vec3 glossy_direct(const Surface& s, const DeviceMaterial& m,
-                                            const Vec3& dir, const Rng& rng, ShadowPlan plan,
-                                            std::uint32_t slot, int lobe_samples,
-                                            TraceCounter& c) const {
-    Vec3 l(Real(0));
-    if (!is_glossy(m.shininess) || !p.soft_shadows || p.bounces == 0) return l;
-    const SpecularLobes lobes = specular_lobes(m, s, dir);
-    const int lights = scene.num_quads + scene.num_mesh_lights;
-    GlossyResponse r{lobes.reflected, s.ng, m.shininess, Real(plan.samples), Real(lobe_samples)};
-    const std::uint32_t set = shadow_set_pairs(lights);
-    if (max_component(lobes.w_r) > Real(0)) {
-      plan.pair_base = kGlossyShadowPair + 2u * slot * set;
-      l += lobes.w_r * direct_light<kFeatures>(scene, s, rng, plan, r, c);
+  // Whether glossy lobes sampling the lights are compiled in.
+  static constexpr bool kGlossyLight =
+      (kFeatures & kLights) && (kFeatures & kSecondary) && (kFeatures & kGlossy);
+
+  // Whether material m's glossy lobes sample the lights (then `spec` holds them).
+  KOKKOS_INLINE_FUNCTION bool glossy_light(const Surface& s, const DeviceMaterial& m,
+                                           const Vec3& dir, SpecularLobes& spec) const {
+    if (!kGlossyLight || !is_glossy(m.shininess) || !p.soft_shadows || p.bounces == 0) return false;
+    spec = specular_lobes(m, s, dir);
+    return true;
+  }
+
+  // The lobes of a vertex that sample the lights: Lambert (`lambert`) and, with `glossy`, the
+  // reflection and transmission of `spec` weighted against the lobe's own sampling
+  // (`lobe_samples` continuation rays), each with its own set of random pairs.
+  KOKKOS_INLINE_FUNCTION LightLobes light_lobes(const Surface& s, const DeviceMaterial& m,
+                                                const ShadowPlan& plan, std::uint32_t slot,
+                                                int lobe_samples, bool lambert, bool glossy,
+                                                const SpecularLobes& spec) const {
+    LightLobes lobes;
+    lobes.lambert.active = lambert;
+    lobes.lambert.response.axis = s.ns;
+    lobes.lambert.response.side_normal = s.ng;
+    lobes.lambert.pair_base = plan.pair_base;
+    if (!glossy) return lobes;
+    const std::uint32_t set = shadow_set_pairs(scene.num_quads + scene.num_mesh_lights);
+    LobeResponse r;
+    r.glossy = true;
+    r.shininess = m.shininess;
+    r.light_count = Real(plan.samples);
+    r.lobe_count = Real(lobe_samples);
+    lobes.reflection.active = max_component(spec.w_r) > Real(0);
+    lobes.reflection.response = r;
+    lobes.reflection.response.axis = spec.reflected;
+    lobes.reflection.response.side_normal = s.ng;
+    lobes.reflection.pair_base = kGlossyShadowPair + 2u * slot * set;
+    lobes.transmission.active = max_component(spec.w_t) > Real(0);
+    lobes.transmission.response = r;
+    lobes.transmission.response.axis = spec.refracted;
+    lobes.transmission.response.side_normal = -s.ng;
+    lobes.transmission.pair_base = kGlossyShadowPair + (2u * slot + 1u) * set;
+    return lobes;
+  }
+
+  // What the active lobes gather from the lights: all in one pass over the lights
+  // (kOnePassLobes), or a pass per lobe with its own response type (LambertResponse,
+  // GlossyResponse). The sums are the same (direct_light); renderer.cpp says which backend
+  // takes which and why.
+  KOKKOS_INLINE_FUNCTION LobeLight gather_light(const Surface& s, const Rng& rng,
+                                                const ShadowPlan& plan, const LightLobes& lobes,
+                                                TraceCounter& c) const {
+    if constexpr (kOnePassLobes) {
+      return direct_light<kFeatures>(scene, s, rng, plan, lobes, c);
+    } else {
+      LobeLight light;
+      if (lobes.lambert.active)
+        light.lambert = direct_light_one<kFeatures>(scene, s, rng, plan,
+                                                    lobes.lambert.response.as_lambert(), c);
+      ShadowPlan lobe_plan = plan;
+      if (lobes.reflection.active) {
+        lobe_plan.pair_base = lobes.reflection.pair_base;
+        light.reflection = direct_light_one<kFeatures>(scene, s, rng, lobe_plan,
+                                                       lobes.reflection.response.as_glossy(), c);
+      }
+      if (lobes.transmission.active) {
+        lobe_plan.pair_base = lobes.transmission.pair_base;
+        light.transmission = direct_light_one<kFeatures>(
+            scene, s, rng, lobe_plan, lobes.transmission.response.as_glossy(), c);
+      }
+      return light;
     }
-    if (max_component(lobes.w_t) > Real(0)) {
-      plan.pair_base = kGlossyShadowPair + (2u * slot + 1u) * set;
-      r.axis = lobes.refracted;
-      r.normal = -s.ng;
-      l += lobes.w_t * direct_light<kFeatures>(scene, s, rng, plan, r, c);
-    }
-    return l;
   }
 
   // Light a vertex sends back along -dir, less its emission: Lambert (ambient plus sampled
@@ -114,19 +164,30 @@ struct RadianceEstimator {
                                            const Vec3& dir, const Rng& rng, const ShadowPlan& plan,
                                            std::uint32_t slot, int lobe_samples,
                                            TraceCounter& c) const {
-    Vec3 l(Real(0));
     const Vec3 kd = m.diffuse * m.opacity;
-    if (max_component(kd) > Real(0)) {
+    const bool lambert = max_component(kd) > Real(0);
+    SpecularLobes spec;
+    const bool glossy = glossy_light(s, m, dir, spec);
+    LobeLight light;
+    if ((kFeatures & kLights) && (lambert || glossy))
+      light = gather_light(s, rng, plan,
+                           light_lobes(s, m, plan, slot, lobe_samples, lambert, glossy, spec), c);
+    Vec3 l(Real(0));
+    if (lambert) {
       Vec3 e = p.ambient;
       if (kFeatures & kLights) {
-        Vec3 direct = direct_irradiance<kFeatures>(scene, s, rng, plan, c) * Real(1.0 / math::kPi);
+        Vec3 direct = light.lambert * Real(1.0 / math::kPi);
         if (kFeatures & kTextures) direct *= s.self_shadow;  // parallax self-shadowing
         e += direct;
       }
       l = kd * e;
     }
-    if ((kFeatures & kLights) && (kFeatures & kSecondary) && (kFeatures & kGlossy))
-      l += glossy_direct(s, m, dir, rng, plan, slot, lobe_samples, c);
+    if (kGlossyLight) {
+      Vec3 g(Real(0));
+      if (glossy && max_component(spec.w_r) > Real(0)) g += spec.w_r * light.reflection;
+      if (glossy && max_component(spec.w_t) > Real(0)) g += spec.w_t * light.transmission;
+      l += g;
+    }
     return l;
   }
 
