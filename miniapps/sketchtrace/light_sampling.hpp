@@ -388,30 +388,30 @@ KOKKOS_INLINE_FUNCTION LobeLight direct_light(const Scene& scene, const Surface&
   LobeLight out;
   const int samples = plan.soft ? plan.samples : 1;
   const Real inv_samples = Real(1) / Real(samples);
-  // One shadow sample towards q on a light (unit normal nl, emission le), whose pdf there is
-  // 1 / solid_angle (solid_angle > 0) or, by area, d2 / (cos_l area). Every sample of a pass
-  // goes through this one visibility test: on a GPU each call site of a traversal is another
-  // inlined copy of it.
-  auto light_sample = [&](Vec3& sum, const Response& response, const Vec3& org,
-                          const bvh::ShaftBlockers* blockers, const Vec3& q, const Vec3& nl,
-                          const Vec3& le, Real area, Real solid_angle) {
+  auto area_sample = [&](Vec3& sum, const Response& response, const Vec3& org,
+                         const bvh::ShaftBlockers* blockers, const Vec3& q, const Vec3& nl,
+                         const Vec3& le, Real area) {
     const Vec3 w = q - s.p;
     const Real d2 = dot(w, w);
     if (!(d2 > Real(0))) return;
     const Vec3 wi = w / math::sqrt(d2);
-    Real weight;
-    if (solid_angle > Real(0)) {
-      const Real f = response(wi, Real(1) / solid_angle);
-      if (!(f > Real(0))) return;
-      weight = f * solid_angle * inv_samples;
-    } else {
-      const Real cos_l = math::fabs(dot(nl, wi));
-      const Real f = response(wi, d2 / (cos_l * area));
-      if (!(f > Real(0)) || cos_l <= Real(0)) return;
-      weight = f * cos_l * area / d2 * inv_samples;
-    }
+    const Real cos_l = math::fabs(dot(nl, wi));
+    const Real f = response(wi, d2 / (cos_l * area));
+    if (!(f > Real(0)) || cos_l <= Real(0)) return;
     if (!visible(scene, org, q, s.time, c, blockers)) return;
-    sum += le * weight;
+    sum += le * (f * cos_l * area / d2 * inv_samples);
+  };
+  auto solid_angle_sample = [&](Vec3& sum, const Response& response, const Vec3& org,
+                                const bvh::ShaftBlockers* blockers, const Vec3& q, const Vec3& le,
+                                Real solid_angle) {
+    const Vec3 w = q - s.p;
+    const Real d2 = dot(w, w);
+    if (!(d2 > Real(0))) return;
+    const Vec3 wi = w / math::sqrt(d2);
+    const Real f = response(wi, Real(1) / solid_angle);
+    if (!(f > Real(0))) return;
+    if (!visible(scene, org, q, s.time, c, blockers)) return;
+    sum += le * (f * solid_angle * inv_samples);
   };
   const StrataShape shape = strata_shape(samples * plan.pixel_strata);
   int light = 0;
@@ -424,6 +424,13 @@ KOKKOS_INLINE_FUNCTION LobeLight direct_light(const Scene& scene, const Surface&
       if (!lobe.active) continue;
       const Vec3 org = offset_ray_origin(s.p, lobe.response.side(), s.coordinate_bound);
       Vec3 sum = out.at(k);
+      if (!plan.soft) {
+        area_sample(sum, lobe.response, org, nullptr,
+                    ql.corner + ql.u * Real(0.5) + ql.v * Real(0.5), ql.normal, ql.emission,
+                    ql.area);
+        out.set(k, sum);
+        continue;
+      }
       bvh::ShaftBlockers shaft;
       const bvh::ShaftBlockers* blockers = (kPaths & kShafts) && samples >= kShaftMinSamples &&
                                                    quad_shaft_blockers(scene, org, ql, shaft, c)
@@ -436,21 +443,21 @@ KOKKOS_INLINE_FUNCTION LobeLight direct_light(const Scene& scene, const Surface&
       std::uint32_t block_id = ~0u;
       int cell = first_cell(plan);
       for (int j = 0; j < samples; ++j, cell = next_cell(plan, cell)) {
-        Real x = Real(0.5), y = Real(0.5);  // without soft shadows: the light's centre, by area
-        if (plan.soft) {
-          const std::uint32_t pair = pair0 + static_cast<std::uint32_t>(j);
-          if ((pair >> 1) != block_id) {
-            block_id = pair >> 1;
-            block = rng.block(block_id);
-          }
-          const unsigned o = (pair & 1u) * 2u;
-          light_stratum(plan, j, cell, shape, key, Real(Rng::to_unit(block.v[o])),
-                        Real(Rng::to_unit(block.v[o + 1])), x, y);
+        const std::uint32_t pair = pair0 + static_cast<std::uint32_t>(j);
+        if ((pair >> 1) != block_id) {
+          block_id = pair >> 1;
+          block = rng.block(block_id);
         }
-        const Vec3 q =
-            by_solid_angle ? spherical_rect_point(rect, x, y) : ql.corner + ql.u * x + ql.v * y;
-        light_sample(sum, lobe.response, org, blockers, q, ql.normal, ql.emission, ql.area,
-                     by_solid_angle ? rect.solid_angle : Real(0));
+        const unsigned o = (pair & 1u) * 2u;
+        Real x, y;
+        light_stratum(plan, j, cell, shape, key, Real(Rng::to_unit(block.v[o])),
+                      Real(Rng::to_unit(block.v[o + 1])), x, y);
+        if (by_solid_angle)
+          solid_angle_sample(sum, lobe.response, org, blockers, spherical_rect_point(rect, x, y),
+                             ql.emission, rect.solid_angle);
+        else
+          area_sample(sum, lobe.response, org, blockers, ql.corner + ql.u * x + ql.v * y, ql.normal,
+                      ql.emission, ql.area);
       }
       out.set(k, sum);
     }
@@ -490,8 +497,8 @@ KOKKOS_INLINE_FUNCTION LobeLight direct_light(const Scene& scene, const Surface&
         uniform_triangle(r1, y, bu, bv);
         const Vec3 q = barycentric_point(t.a, t.b, t.c, bu, bv);
         const Vec3 le = scene.mesh.materials(scene.mesh.tri_material(tri)).emissive;
-        light_sample(sum, lobe.response, org, nullptr, q, triangle_normal(t.a, t.b, t.c), le,
-                     ml.area, Real(0));
+        area_sample(sum, lobe.response, org, nullptr, q, triangle_normal(t.a, t.b, t.c), le,
+                    ml.area);
       }
       out.set(k, sum);
     }
