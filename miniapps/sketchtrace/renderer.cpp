@@ -7,19 +7,6 @@
 namespace rtmini::sketch {
 namespace {
 
-// Launch bounds of the render kernel on a GPU (the host ignores them): at least
-// kRenderMinBlocks blocks of kRenderBlockThreads threads resident per multiprocessor, so the
-// compiler fits the kernel in 65536 / (blocks x threads) registers, spilling the rest to
-// local memory. Unbounded (0, the default) every instantiation with secondary rays and
-// lights takes 255 registers: 2 blocks of 128 threads, 12 % of an H100's warps active
-// (results/gpu/README.md). A build option (-DRTMINI_SKETCH_MIN_BLOCKS=3 or 4: 168 or 128
-// registers) until the device measures which pays.
-#ifndef RTMINI_SKETCH_MIN_BLOCKS
-#define RTMINI_SKETCH_MIN_BLOCKS 0
-#endif
-inline constexpr unsigned kRenderBlockThreads = 128;
-inline constexpr unsigned kRenderMinBlocks = RTMINI_SKETCH_MIN_BLOCKS;
-
 // One pixel: the radiance samples, then (when AOVs or edges are wanted) the
 // pinhole centre ray for depth/normal/object and the edge stencil.
 template <unsigned kFeatures>
@@ -193,17 +180,11 @@ void Renderer::launch(const TraceParams& params, bool aov,
                       const Kokkos::View<std::int64_t*, MemSpace>& pixels,
                       const Kokkos::View<PixelResult*, MemSpace>& out) const {
   PixelKernel<kFeatures> kernel{{scene_, camera_, params}, stencil_, aov, pixels, out};
-  const std::int64_t n = static_cast<std::int64_t>(pixels.extent(0));
-  using Schedule = Kokkos::Schedule<Kokkos::Dynamic>;
-  using Index = Kokkos::IndexType<std::int64_t>;
-  if constexpr (kRenderMinBlocks > 0) {
-    using Bounds = Kokkos::LaunchBounds<kRenderBlockThreads, kRenderMinBlocks>;
-    using Policy = Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace, Schedule, Index, Bounds>;
-    Kokkos::parallel_for("rtmini::sketch::render", Policy(0, n), kernel);
-  } else {
-    using Policy = Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace, Schedule, Index>;
-    Kokkos::parallel_for("rtmini::sketch::render", Policy(0, n), kernel);
-  }
+  using Policy =
+      Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace, Kokkos::Schedule<Kokkos::Dynamic>,
+                          Kokkos::IndexType<std::int64_t>>;
+  Kokkos::parallel_for("rtmini::sketch::render",
+                       Policy(0, static_cast<std::int64_t>(pixels.extent(0))), kernel);
 }
 
 template <std::size_t I>
