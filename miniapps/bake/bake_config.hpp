@@ -37,6 +37,8 @@ struct BakeConfig {
   Vec3f background{0.f, 0.f, 0.f};
   bvh::BuildQuality bvh = bvh::BuildQuality::kLbvh;
   bool cache_hits = true;
+  // --exchange: after the first halo exchange send only the colours that changed (map_exchange.hpp)
+  bool changed_exchanges = true;
   bool two_sided = false;  // mirrors reflect on both sides (README: why one-sided is the default)
   bool progress = false;
   int stop_after_iteration = -1;  // hidden test hook: checkpoint, then exit 4

@@ -83,7 +83,7 @@ MemoryEstimate estimate_memory(const Mesh& mesh, const BakeSceneHost& s, std::in
             static_cast<std::int64_t>(c.viewpoints) * (vec * 2 + 8);
   m.maps = 2 * local_colors * col;  // prev + next on the device
   // Local map; exchange buffers (and with changed-only exchanges a message each way besides).
-  m.host = local_colors * col + (changed_only_exchanges() ? 4 : 2) * my_items * col;
+  m.host = local_colors * col + (c.changed_exchanges ? 4 : 2) * my_items * col;
   // Formatted output text (~60 bytes a colour), at its peak held twice over in part: the
   // per-task pieces, grown by appending, and the joined copy (bakeshop_mpi_writer.cpp).
   m.host += my_vertices * c.stored_viewpoints() * 90;
@@ -750,7 +750,8 @@ void BakeRun::plan_map() {
       layout_ = make_sparse_layout(host_, layout_, read_items(), owner_, comm_.rank());
       chef_->set_map_offset(layout_.device, layout_.sparse);
     }
-    exchange_ = std::make_unique<MapExchange>(comm_, host_, layout_, owner_, halo_entries());
+    exchange_ = std::make_unique<MapExchange>(comm_, host_, layout_, owner_, halo_entries(),
+                                              c_.changed_exchanges);
     report_map_plan();
   }
   prev_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_prev", layout_.colors());
@@ -817,7 +818,8 @@ void BakeRun::finish_fused_plan() {
   next_ = next;
   prev_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_prev", layout_.colors());
   pending_ = PendingHalo{};
-  exchange_ = std::make_unique<MapExchange>(comm_, host_, layout_, owner_, halo_entries());
+  exchange_ = std::make_unique<MapExchange>(comm_, host_, layout_, owner_, halo_entries(),
+                                            c_.changed_exchanges);
   report_map_plan();
 }
 

@@ -51,6 +51,7 @@ std::string default_output(const std::string& input) {
 // The map bake's options and the values that need converting after parsing.
 struct MapCli {
   std::string lookup = "kdtree", balance = "cost", bvh_kind = "lbvh", mode = "map";
+  std::string exchange = "changed";
   std::string directions = "sphere";
   std::string background;
   bool no_cache = false;
@@ -84,6 +85,9 @@ void MapCli::add_to(CLI::App& app, BakeConfig& c) {
                  "pilot (equal work as a pilot of 8 rays per vertex estimates it) or measured "
                  "(cost, then recut once by each rank's measured time of the first mirror "
                  "iteration: the ownership, not the output, varies from run to run)");
+  app.add_option("--exchange", exchange,
+                 "halo exchanges after the first: changed (only colours that changed since the "
+                 "last one; same output) or full (every halo colour every time)");
   app.add_option("--batch-size", c.batch_size, "vertices per batch (0 = vertices/ranks)");
   app.add_option("--time-limit", c.time_limit_minutes,
                  "minutes; checkpoint and exit 4 if the next iteration would not fit (0 = none)");
@@ -128,6 +132,9 @@ void MapCli::finish_directions(BakeConfig& c) const {
 void MapCli::finish(BakeConfig& c) const {
   if (c.input.empty()) throw InputError("input is required (or a subcommand: ao, render)");
   if (mode != "map") throw InputError("--mode must be map or ao (got '" + mode + "')");
+  if (exchange != "changed" && exchange != "full")
+    throw InputError("--exchange must be changed or full (got '" + exchange + "')");
+  c.changed_exchanges = exchange == "changed";
   if (lookup == "kdtree")
     c.lookup = Lookup::kKdTree;
   else if (lookup == "sf")

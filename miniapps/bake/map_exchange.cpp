@@ -150,11 +150,6 @@ bool mpi_takes_map_memory() {
 #endif
 }
 
-bool changed_only_exchanges() {
-  const char* e = std::getenv("RTMINI_BAKE_CHANGED_EXCHANGE");
-  return e && std::string(e) == "1";
-}
-
 MapLayout make_map_layout(const BakeSceneHost& scene, const std::vector<char>& present) {
   MapLayout l;
   const std::int64_t nv = scene.vertices();
@@ -270,7 +265,8 @@ std::vector<Vec3f> fetch_vertex_colors(const Communicator& comm, const std::vect
 
 MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
                          const MapLayout& layout, const std::vector<int>& owner,
-                         const std::vector<std::int64_t>& halo) {
+                         const std::vector<std::int64_t>& halo, bool changed_only)
+    : changed_only_(changed_only) {
   const int ranks = comm.size();
   // Requests: the halo entries grouped by owner (ascending within each group, as `halo` is).
   std::vector<int> ask(ranks, 0);
@@ -305,7 +301,6 @@ MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
   send_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_send", send.size());
   recv_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_recv", recv.size());
   direct_ = mpi_takes_map_memory();
-  changed_only_ = changed_only_exchanges();
   if (!direct_) {
     host_send_.resize(send.size());
     host_recv_.resize(recv.size());

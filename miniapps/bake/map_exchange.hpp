@@ -73,25 +73,22 @@ std::vector<Vec3f> fetch_vertex_colors(const Communicator& comm, const std::vect
 // it the exchange stages through host buffers.
 bool mpi_takes_map_memory();
 
-// Whether later exchanges send only changed colours (RTMINI_BAKE_CHANGED_EXCHANGE=1; opt-in: on
-// one 2-core host they moved 22 % of the bytes but took longer, results/bake/distributed.md).
-bool changed_only_exchanges();
-
 class MapExchange {
  public:
   // Plans the exchange (collective): `halo` lists, ascending, the colours (global entry
   // numbers, scene.color_offset) this rank reads but does not own: all of a vertex's, or only
   // those its lookups read; owner[v] is the rank that computes vertex v.
   MapExchange(const Communicator& comm, const BakeSceneHost& scene, const MapLayout& layout,
-              const std::vector<int>& owner, const std::vector<std::int64_t>& halo);
+              const std::vector<int>& owner, const std::vector<std::int64_t>& halo,
+              bool changed_only);
 
   // Refreshes the halo entries of `map` from their owners (collective); returns bytes sent. The
-  // first run sends every halo entry. With RTMINI_BAKE_CHANGED_EXCHANGE=1, later runs send, per
-  // destination, only the entries whose colour changed (bit for bit) since the last run, with a
-  // bitmask of the destination's entries or a list of their indices, whichever is smaller; the
-  // receiver keeps the last colour of the others. A view-independent vertex's colour, and a mirror
-  // colour whose reflected path ends on such vertices, stop changing after an iteration or two, so
-  // later exchanges shrink.
+  // first run sends every halo entry. With `changed_only` (bake --exchange changed, the default),
+  // later runs send, per destination, only the entries whose colour changed (bit for bit) since the
+  // last run, with a bitmask of the destination's entries or a list of their indices, whichever is
+  // smaller; the receiver keeps the last colour of the others. A view-independent vertex's colour,
+  // and a mirror colour whose reflected path ends on such vertices, stop changing after an
+  // iteration or two, so later exchanges shrink.
   std::int64_t run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
 
   std::int64_t send_colors() const { return total(send_counts_); }
@@ -120,7 +117,7 @@ class MapExchange {
   std::vector<Vec3f> host_send_, host_recv_;  // only when MPI cannot take MemSpace (direct_)
   bool direct_ = false;
   bool sent_ = false;                                  // the first (full) run is done
-  bool changed_only_ = false;                          // RTMINI_BAKE_CHANGED_EXCHANGE=1
+  bool changed_only_ = false;                          // bake --exchange changed
   Kokkos::View<std::int32_t*, MemSpace> send_rank_;    // destination of each send entry
   Kokkos::View<std::int64_t*, MemSpace> first_entry_;  // send_displs_ and the send entries
   // Changed-only runs' scratch, kept from run to run: changed entries before each send entry,

@@ -16,7 +16,7 @@
 #     room), 1..16 ranks x 1 thread, N=200 K=3 as weak (weakrooms_P), the same with --bvh sah
 #     (weakroomssah_P: the LBVH's nodes per ray grow more with P), and P concurrent 1-rank
 #     bakes of the 1-room scene (busyrooms_P_i);
-#   the changed-only exchange (RTMINI_BAKE_CHANGED_EXCHANGE=1) against the full one, bunny_room
+#   the changed-only exchange (--exchange changed, the default) against the full one, bunny_room
 #     N=300 K=4 at 2x8 4x4 16x1, alternated three times (exchange_{full,changed}_PxT_I);
 #   one bake that does not fit replicated: 1,008,204 vertices (side 710) at N=1000 K=2 on 16x1.
 # Every run writes its summary (verification hash, peak RSS per rank, map statistics) and
@@ -124,9 +124,8 @@ if [ "$what" = exchange ] || [ "$what" = all ]; then
   for i in 1 2 3; do
     for pt in 2x8 4x4 16x1; do
       for ex in full changed; do
-        RTMINI_BAKE_CHANGED_EXCHANGE=$([ $ex = changed ] && echo 1 || echo 0) \
-          run "exchange_${ex}_${pt}_$i" "${pt%x*}" "${pt#*x}" "$out/bunny_room.bs" \
-          -o "$out/strong.bsb" --viewpoints 300 --iterations 4
+        run "exchange_${ex}_${pt}_$i" "${pt%x*}" "${pt#*x}" "$out/bunny_room.bs" \
+          -o "$out/strong.bsb" --viewpoints 300 --iterations 4 --exchange "$ex"
       done
     done
   done

@@ -148,10 +148,10 @@ case $case_name in
     run "$ranks" "${args[@]}" -o pilot.bs --balance pilot --summary pilot.json >log5.txt 2>&1 ||
       { cat log5.txt; fail "$ranks-rank bake with --balance pilot failed"; }
     cmp one.bs pilot.bs || fail "--balance pilot differs from 1 rank"
-    # Changed-only exchanges after the first (opt-in): the same bytes, and fewer colours moved.
-    RTMINI_BAKE_CHANGED_EXCHANGE=1 run "$ranks" "${args[@]}" -o changed.bs --summary changed.json \
-      >log9.txt 2>&1 || { cat log9.txt; fail "$ranks-rank bake with changed-only exchanges failed"; }
-    cmp one.bs changed.bs || fail "changed-only exchanges differ from 1 rank"
+    # Full exchanges every iteration (the default sends only changed colours): the same bytes.
+    run "$ranks" "${args[@]}" -o full.bs --exchange full --summary full.json \
+      >log9.txt 2>&1 || { cat log9.txt; fail "$ranks-rank bake with full exchanges failed"; }
+    cmp one.bs full.bs || fail "--exchange full differs from 1 rank"
     # The measured recut after iteration 1, from a skew that makes it move work for certain
     # (rank r taken as 1 + r times slower than counted), and from the measured times.
     run "$ranks" "${args[@]}" -o skew.bs --balance measured --recut-test-skew 1 --summary skew.json \
@@ -184,9 +184,10 @@ if r > 1:
     assert m["halo"] == "traced", m
     assert m["local_colors_max"] < colors, (m, colors)
     assert m["exchange_bytes_per_iteration"] > 0
-    changed = json.load(open("changed.json"))["scene"]["map"]["exchange_changed_fraction"]
-    print("changed-only exchanges: fraction of the halo colours sent", changed)
-    assert 0 <= changed < 1, changed
+    changed = m["exchange_changed_fraction"]
+    full = json.load(open("full.json"))["scene"]["map"]["exchange_changed_fraction"]
+    print("changed-only exchanges: fraction of the halo colours sent", changed, "(full:", full, ")")
+    assert 0 <= changed < 1 and full == 1, (changed, full)
 # Work counters: every rank's, and the counted cut balances the modelled iteration cost at least
 # as well as the pilot's estimate (both are deterministic for this input).
 pilot = json.load(open("pilot.json"))
