@@ -337,7 +337,7 @@ TEST(Bvh, AutoBuildFollowsRaysPerTriangle) {
     return bvh::choose_build_quality(tris, rays_per_tri * tris, true);
   };
   EXPECT_EQ(device(192), bvh::BuildQuality::kLbvh) << "AO's default 3 x 64 rays per triangle";
-  EXPECT_EQ(device(2000), bvh::BuildQuality::kPloc);
+  EXPECT_EQ(device(5000), bvh::BuildQuality::kPloc);
   EXPECT_EQ(device(50000), bvh::BuildQuality::kSah);
   EXPECT_EQ(bvh::choose_build_quality(tris, 10 * tris, false), bvh::BuildQuality::kLbvh);
   EXPECT_EQ(bvh::choose_build_quality(tris, 192 * tris, false), bvh::BuildQuality::kSah);

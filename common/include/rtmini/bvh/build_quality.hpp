@@ -36,11 +36,12 @@ struct BuildCost {
 };
 
 // One H200: LBVH build 0.90 ms and AO 1.61 Grays/s on the dragon (100K triangles); SAH build on
-// the device machine's host 84 ms, AO 1.89 Grays/s; PLOC build 3.07 ms (median of 3), AO 1.69
-// Grays/s (results/gpu/README.md, results/bvh/README.md). PLOC beats the LBVH from ~720 rays per
-// triangle, the SAH build beats PLOC from ~13,000.
+// the device machine's host 84 ms, AO 1.89 Grays/s; PLOC with treelet restructuring build
+// 14.55 ms, AO 1.755 Grays/s (H200, mid trial c629598; results/gpu/README.md,
+// results/bvh/README.md). PLOC beats the LBVH from ~2,700 rays per triangle, the SAH build beats
+// PLOC from ~17,000.
 inline constexpr BuildCost kDeviceBuildCosts[] = {{BuildQuality::kLbvh, 9.0, 0.621},
-                                                  {BuildQuality::kPloc, 30.7, 0.591},
+                                                  {BuildQuality::kPloc, 145.5, 0.570},
                                                   {BuildQuality::kSah, 840.0, 0.529}};
 // This workplace's 2-core host, 2 threads (OpenMP): LBVH build 390 ms, SAH 556 ms, PLOC 4.7-9.8 s
 // for the dragon (medians, shared machine); SAH AO 5.32 Mrays/s, the LBVH's rays doing 1.11x
