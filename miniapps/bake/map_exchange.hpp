@@ -99,14 +99,16 @@ class MapExchange {
   std::int64_t changed_colors() const { return changed_colors_; }
   std::int64_t offered_colors() const { return offered_colors_; }
 
+  // The two kinds of run() (public only because nvcc rejects device lambdas in private members).
+  std::int64_t run_full(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
+  std::int64_t run_changed(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
+
  private:
   static std::int64_t total(const std::vector<int>& c) {
     std::int64_t s = 0;
     for (int x : c) s += x;
     return s;
   }
-  std::int64_t run_full(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
-  std::int64_t run_changed(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
   // The words a changed-only message to or from a rank holds: as a bitmask or an index list.
   static std::int64_t mask_words(std::int64_t entries) { return (entries + 31) / 32; }
   std::vector<int> send_counts_, send_displs_, recv_counts_, recv_displs_;  // in colours
