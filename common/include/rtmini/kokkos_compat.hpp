@@ -103,24 +103,6 @@ void sort_by_key(const ExecSpace& space, const Kokkos::View<std::uint32_t*, Memo
 #endif
 }
 
-// Atomic exchange that also orders memory (acquire-release at device scope): writes before it
-// are visible to the thread that later exchanges its value out, and writes released by the
-// previous value's writer are visible after it. Kokkos 4 (desul) issues one atom.exch.acq_rel
-// on CUDA; 3.4 has only relaxed atomics, so full fences go on either side (what both versions'
-// Kokkos::memory_fence, fence.sc on CUDA, would cost on each side).
-template <class T>
-KOKKOS_INLINE_FUNCTION T atomic_exchange_acq_rel(T* dest, T value) {
-#if KOKKOS_VERSION >= 40000
-  return desul::atomic_exchange(dest, value, desul::MemoryOrderAcqRel(),
-                                desul::MemoryScopeDevice());
-#else
-  Kokkos::memory_fence();
-  const T old = Kokkos::atomic_exchange(dest, value);
-  Kokkos::memory_fence();
-  return old;
-#endif
-}
-
 // Bit-level reinterpretation usable in device code (std::bit_cast is C++20).
 template <class To, class From>
 KOKKOS_INLINE_FUNCTION To bit_cast(const From& from) {

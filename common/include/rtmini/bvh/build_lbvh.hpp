@@ -235,11 +235,11 @@ void build_hierarchy(const ExecSpace& space, Kokkos::View<const Triangle*, Memor
           const bool left_child = lo == 0 || (hi != ni && level_hi < level_lo);
           const int parent = left_child ? hi : lo - 1;
           summary(node) = mine;
-          // Publishes our summary and, when second, makes the sibling's visible: one ordered
-          // exchange instead of a relaxed one between two full fences.
-          const std::uint64_t other = compat::atomic_exchange_acq_rel(
-              &handoff(parent), pack_handoff(node, left_child ? lo : hi));
+          Kokkos::memory_fence();
+          const std::uint64_t other =
+              Kokkos::atomic_exchange(&handoff(parent), pack_handoff(node, left_child ? lo : hi));
           if (other == kNoHandoff) return;  // the sibling finishes the parent
+          Kokkos::memory_fence();
           const int sibling = static_cast<int>(other >> 32);
           const int end = static_cast<int>(other & 0xffffffffu);
           const NodeSummary theirs = summary(sibling);
