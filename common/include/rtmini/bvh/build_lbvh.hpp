@@ -227,12 +227,9 @@ void build_hierarchy(const ExecSpace& space, Kokkos::View<const Triangle*, Memor
         mine.box = triangle_box(t);
         mine.cost = mine.box.surface_area();  // Ci = 1
         int node = ni + k, lo = k, hi = k;
-        // The levels of the bounding splits lo - 1 and hi (0: none, at the array's ends; every
-        // real split's level is > 0). Climbing moves one end, so one of them carries over.
-        std::uint64_t level_lo = lo == 0 ? 0 : detail::split_level(codes, lo - 1);
-        std::uint64_t level_hi = hi == ni ? 0 : detail::split_level(codes, hi);
         while (true) {
-          const bool left_child = lo == 0 || (hi != ni && level_hi < level_lo);
+          const bool left_child = lo == 0 || (hi != ni && detail::split_level(codes, hi) <
+                                                              detail::split_level(codes, lo - 1));
           const int parent = left_child ? hi : lo - 1;
           summary(node) = mine;
           Kokkos::memory_fence();
@@ -245,13 +242,10 @@ void build_hierarchy(const ExecSpace& space, Kokkos::View<const Triangle*, Memor
           const NodeSummary theirs = summary(sibling);
           const NodeSummary left = left_child ? mine : theirs, right = left_child ? theirs : mine;
           const int left_id = left_child ? node : sibling, right_id = left_child ? sibling : node;
-          if (left_child) {
+          if (left_child)
             hi = end;
-            level_hi = hi == ni ? 0 : detail::split_level(codes, hi);
-          } else {
+          else
             lo = end;
-            level_lo = lo == 0 ? 0 : detail::split_level(codes, lo - 1);
-          }
           // The parent splits between positions `parent` and `parent + 1`.
           BvhNode record;
           record.set_child(0, left.box, child_reference(left_id, lo, parent, left.cost, ni));
