@@ -101,7 +101,7 @@ Real recomputed_cost(const HostNodes& t, int node, int ni, std::vector<int>& rea
 TEST(Treelet, RebuildFindsTheCheapestTopology) {
   std::mt19937 gen(2013);
   int improved = 0;
-  for (int trial = 0; trial < 15; ++trial) {
+  for (int trial = 0; trial < 40; ++trial) {
     for (int n = 3; n <= bvh::kTreeletLeaves; ++n) {
       const int ni = n - 1;
       const HostNodes t = random_chain(n, gen);

@@ -167,50 +167,30 @@ KOKKOS_INLINE_FUNCTION Aabb triangle_box(const Triangle& t) {
   return b;
 }
 
-// What a finished node leaves for the thread that finishes its parent: box and signed cost in
-// one 32-byte record (two 16-byte loads on a GPU instead of seven scalar ones from two arrays).
-struct alignas(16) NodeSummary {
-  Aabb box;
-  Real cost;
-};
-
-// The handoff at a parent: the first child to arrive leaves its node id (high 32 bits) and its
-// range's outer endpoint (low 32 bits); the second takes both in the same atomic exchange.
-inline constexpr std::uint64_t kNoHandoff = ~std::uint64_t(0);
-
-KOKKOS_INLINE_FUNCTION std::uint64_t pack_handoff(int node, int endpoint) {
-  return std::uint64_t(static_cast<std::uint32_t>(node)) << 32 |
-         static_cast<std::uint32_t>(endpoint);
-}
-
-// A node record's reference to child `c` covering sorted positions [lo, hi]: a one-triangle
-// leaf, a leaf range when the subtree is cheaper as one leaf, else internal node c's record.
-KOKKOS_INLINE_FUNCTION std::uint32_t child_reference(int c, int lo, int hi, Real cost, int ni) {
-  if (c >= ni) return make_leaf(static_cast<std::uint32_t>(c - ni), 1);
-  if (math::signbit(cost))
-    return make_leaf(static_cast<std::uint32_t>(lo), static_cast<std::uint32_t>(hi - lo + 1));
-  return static_cast<std::uint32_t>(c + 1);
-}
-
 // The hierarchy, boxes, costs and node records in one bottom-up pass. Internal node i is the
 // split between sorted positions i and i + 1; a node covering [lo, hi] hangs below whichever of
-// its bounding splits (lo - 1 or hi) is lower in the tree. Its thread publishes its box and cost,
-// then swaps its id and outer endpoint into the parent's handoff: the first to arrive stops
-// there, the second learns its sibling and the parent's whole range and finishes it, so every
-// node is finished exactly once, after both children. The climbing thread keeps its own node's
-// box and cost in registers and reads only the sibling's. Node ids: internal i, leaf k ->
-// (n - 1) + k. Traversal starts at node record 0, so the root's record goes there and internal
-// node i's to record i + 1 (the root's own record slot holds a copy of it): n records.
-// Collapsed subtrees become leaf ranges; records inside them are written too but never reached.
+// its bounding splits (lo - 1 or hi) is lower in the tree. Its thread writes its box, cost and
+// id, then swaps its outer endpoint into the parent: the first to arrive stops there, the second
+// learns the parent's whole range and finishes it, so every node is finished exactly once, after
+// both children. Node ids: internal i, leaf k -> (n - 1) + k. Traversal starts at node record 0,
+// so the root's record goes there and internal node i's to record i + 1 (the root's own record
+// slot holds a copy of it): n records. Collapsed subtrees become leaf ranges; records inside them
+// are written too but never reached.
 template <class ExecSpace, class MemorySpace>
 void build_hierarchy(const ExecSpace& space, Kokkos::View<const Triangle*, MemorySpace> input,
                      const MortonOrder<MemorySpace>& order, Bvh<MemorySpace>& bvh) {
   const int n = bvh.num_prims, ni = n - 1;  // n >= 2
-  Kokkos::View<NodeSummary*, MemorySpace> summary(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::summaries"), ni + n);
-  Kokkos::View<std::uint64_t*, MemorySpace> handoff(
+  Kokkos::View<Aabb*, MemorySpace> box(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::boxes"), ni + n);
+  Kokkos::View<Real*, MemorySpace> cost(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::cost"), ni + n);
+  Kokkos::View<int* [2], MemorySpace> kids(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::children"), ni);
+  Kokkos::View<int* [2], MemorySpace> range(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::range"), ni);
+  Kokkos::View<int*, MemorySpace> handoff(
       Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bvh::build::handoff"), ni);
-  Kokkos::deep_copy(space, handoff, kNoHandoff);
+  Kokkos::deep_copy(space, handoff, -1);
   const auto codes = order.codes;
   const auto index = order.index;
   const auto tris = bvh.tris;
@@ -223,37 +203,44 @@ void build_hierarchy(const ExecSpace& space, Kokkos::View<const Triangle*, Memor
         const Triangle t = input(p);
         tris(k) = t;
         prim(k) = p;
-        NodeSummary mine;
-        mine.box = triangle_box(t);
-        mine.cost = mine.box.surface_area();  // Ci = 1
+        const Aabb leaf_box = triangle_box(t);
         int node = ni + k, lo = k, hi = k;
+        box(node) = leaf_box;
+        cost(node) = leaf_box.surface_area();  // Ci = 1
         while (true) {
           const bool left_child = lo == 0 || (hi != ni && detail::split_level(codes, hi) <
                                                               detail::split_level(codes, lo - 1));
           const int parent = left_child ? hi : lo - 1;
-          summary(node) = mine;
+          kids(parent, left_child ? 0 : 1) = node;
           Kokkos::memory_fence();
-          const std::uint64_t other =
-              Kokkos::atomic_exchange(&handoff(parent), pack_handoff(node, left_child ? lo : hi));
-          if (other == kNoHandoff) return;  // the sibling finishes the parent
+          const int other = Kokkos::atomic_exchange(&handoff(parent), left_child ? lo : hi);
+          if (other < 0) return;  // the sibling finishes the parent
           Kokkos::memory_fence();
-          const int sibling = static_cast<int>(other >> 32);
-          const int end = static_cast<int>(other & 0xffffffffu);
-          const NodeSummary theirs = summary(sibling);
-          const NodeSummary left = left_child ? mine : theirs, right = left_child ? theirs : mine;
-          const int left_id = left_child ? node : sibling, right_id = left_child ? sibling : node;
           if (left_child)
-            hi = end;
+            hi = other;
           else
-            lo = end;
-          // The parent splits between positions `parent` and `parent + 1`.
-          BvhNode record;
-          record.set_child(0, left.box, child_reference(left_id, lo, parent, left.cost, ni));
-          record.set_child(1, right.box, child_reference(right_id, parent + 1, hi, right.cost, ni));
+            lo = other;
           node = parent;
-          mine.box = left.box;
-          mine.box.expand(right.box);
-          mine.cost = subtree_cost(mine.box.surface_area(), hi - lo + 1, left.cost, right.cost);
+          range(node, 0) = lo;
+          range(node, 1) = hi;
+          const int l = kids(node, 0), r = kids(node, 1);
+          Aabb nb = box(l);
+          nb.expand(box(r));
+          box(node) = nb;
+          cost(node) = subtree_cost(nb.surface_area(), hi - lo + 1, cost(l), cost(r));
+          BvhNode record;
+          for (int s = 0; s < 2; ++s) {
+            const int c = kids(node, s);
+            std::uint32_t ref;
+            if (c >= ni)
+              ref = make_leaf(static_cast<std::uint32_t>(c - ni), 1);
+            else if (math::signbit(cost(c)))
+              ref = make_leaf(static_cast<std::uint32_t>(range(c, 0)),
+                              static_cast<std::uint32_t>(range(c, 1) - range(c, 0) + 1));
+            else
+              ref = static_cast<std::uint32_t>(c + 1);
+            record.set_child(s, box(c), ref);
+          }
           nodes(node + 1) = record;
           if (lo == 0 && hi == ni) {
             nodes(0) = record;
