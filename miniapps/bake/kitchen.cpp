@@ -418,6 +418,7 @@ class BakeRun {
   ReferenceMap reference_;
 
   std::unique_ptr<BakeSceneDevice> scene_;
+  double scene_rss_bytes_ = 0;  // peak RSS once the scene and its BVH are up, before any map
   std::unique_ptr<Chef> chef_;
   MapLayout layout_;
   std::unique_ptr<MapExchange> exchange_;
@@ -688,6 +689,7 @@ void BakeRun::setup() {
   if (!c_.reference.empty()) reference_ = read_reference_map(c_.reference, mesh_);
   scene_ =
       std::make_unique<BakeSceneDevice>(upload_bake_scene(mesh_, host_, c_.viewpoints, c_.bvh));
+  scene_rss_bytes_ = peak_rss_bytes();
   if (halo_ == Halo::kTraced && (counts_traced_cost() || c_.balance == Balance::kPilot))
     balance_by_pilot();
   chef_ = std::make_unique<Chef>(*scene_, c_, my_items_);
@@ -1337,6 +1339,10 @@ void BakeRun::report_results() {
   report_.scene["output_bytes"] = written_.file_bytes;
   report_.scene["peak_rss_bytes_per_rank"] =
       comm_.allgatherv(std::vector<double>{peak_rss_bytes()});
+  // What a rank holds besides the map (the replicated scene, its BVH, the runtimes): the part
+  // of the peak that does not fall with the ranks.
+  report_.scene["scene_rss_bytes_per_rank"] =
+      comm_.allgatherv(std::vector<double>{scene_rss_bytes_});
   if (!c_.timings.empty())
     write_timings_file(comm_, c_, timer_,
                        {"read", "setup", "base", "map", "halo", "iterate", "write"}, iter_records_,

@@ -17,11 +17,13 @@ def rows(out, prefix):
         p = s["phases"]
         m = s["scene"].get("map", {})
         rss = s["scene"].get("peak_rss_bytes_per_rank", [s.get("peak_memory_bytes", 0)])
+        base = s["scene"].get("scene_rss_bytes_per_rank", [0])
         found.append({
             "name": os.path.basename(path)[:-5], "ranks": s["ranks"], "threads": s["threads"],
             "time": p.get("base", 0) + p.get("map", 0) + p.get("halo", 0) + p.get("iterate", 0),
             "vertices": s["scene"]["vertices"], "colors": s["scene"]["colors"],
             "rss_max": max(rss) / 2**30, "rss_min": min(rss) / 2**30,
+            "scene_rss": max(base) / 2**30,
             "local": m.get("local_colors_max", 0), "remote": m.get("remote_read_fraction", 0),
             "bytes": m.get("exchange_bytes_per_iteration", 0), "hash": s["verification_hash"]})
     found.sort(key=lambda r: (r["ranks"] * r["threads"], r["ranks"]))
@@ -194,6 +196,42 @@ def exchange_table(out):
               f"{100 * r[0]['changed']:.1f} % | {' '.join(sorted(set(x['hash'] for x in r)))} |")
 
 
+def scaling_table(out):
+    """Strong scaling in one run (scaling_1x1 once, scaling_PxT_I alternated): per shape the median
+    bake time, its ratio to 1 x 16's median and the parallel efficiency against 1 x 1."""
+    found = rows(out, "scaling")
+    one = [r for r in found if r["name"] == "scaling_1x1"]
+    runs = {}
+    for r in found:
+        if r["name"] != "scaling_1x1":
+            runs.setdefault((r["ranks"], r["threads"]), []).append(r)
+    if not one or not runs:
+        return
+    med = lambda x: sorted(x)[len(x) // 2]
+    t1 = one[0]["time"]
+    t16 = med([x["time"] for x in runs.get((1, 16), one)])
+    print("\n### Strong scaling in one run (bunny_room N=300 K=4; 1 x 1 once, the rest alternated)\n")
+    print("| ranks x threads | runs | bake time median [min-max] (s) | vs 1 x 16 | efficiency vs 1 x 1 "
+          "| peak RSS/rank max (GiB) | bound 1.2/P x map + scene (GiB) | remote reads | exchange MB/it "
+          "| hashes |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    # The issue's memory bound: 1.2/P of the 1-rank figure's map part, plus the scene (the peak
+    # before any map, measured per run: it is replicated and does not fall with P).
+    map1 = one[0]["rss_max"] - one[0]["scene_rss"]
+    bound = lambda r, p: f"{1.2 / p * map1 + r['scene_rss']:.3f}" if r["scene_rss"] > 0 else "-"
+    print(f"| 1 x 1 | 1 | {t1:.3f} | - | 100 % | {one[0]['rss_max']:.3f} | {bound(one[0], 1)} | "
+          f"0.0 % | 0.00 | {one[0]['hash']} |")
+    for (p, t) in sorted(runs, key=lambda k: k[0]):
+        r = runs[(p, t)]
+        times = [x["time"] for x in r]
+        m = med(times)
+        print(f"| {p} x {t} | {len(r)} | {m:.3f} [{min(times):.3f}-{max(times):.3f}] | "
+              f"{m / t16:.2f} | {100 * t1 / (p * t * m):.0f} % | {max(x['rss_max'] for x in r):.3f} | "
+              f"{bound(max(r, key=lambda x: x['scene_rss']), p)} | "
+              f"{100 * r[0]['remote']:.1f} % | "
+              f"{r[0]['bytes'] / 1e6:.2f} | {' '.join(sorted(set(x['hash'] for x in r)))} |")
+
+
 out = sys.argv[1]
 table("Strong scaling (bunny_room, N=300, K=4)", rows(out, "strong"), False)
 spatial = rows(out, "spatial")
@@ -205,7 +243,7 @@ if pilot:
     strong = rows(out, "strong")
     table("Strong scaling, --balance pilot (the cut before the recount; against strong_1x1)",
           strong[:1] + pilot, False)
-balance(out, ["strong", "pilot", "spatial", "weak", "weakspatial", "weakmeasured", "weakrooms",
+balance(out, ["strong", "scaling", "pilot", "spatial", "weak", "weakspatial", "weakmeasured", "weakrooms",
               "weakroomssah"])
 weak = rows(out, "weak")
 table("Weak scaling (two sheets, side 150 sqrt(P), N=200, K=3)", weak, True)
@@ -224,3 +262,4 @@ table("Weak scaling on closed rooms, --bvh sah", weakroomssah, True)
 busy_table(out, weakrooms, [], "busyrooms", "the 1-room scene")
 exchange_table(out)
 table("1M vertices, N=1000, K=2", rows(out, "big"), True)
+scaling_table(out)

@@ -18,10 +18,12 @@
 #     bakes of the 1-room scene (busyrooms_P_i);
 #   the changed-only exchange (--exchange changed, the default) against the full one, bunny_room
 #     N=300 K=4 at 2x8 4x4 16x1, alternated three times (exchange_{full,changed}_PxT_I);
+#   strong scaling in one run for the acceptance table (scaling): bunny_room N=300 K=4, 1x1 once,
+#     then 1x16 2x8 4x4 8x2 16x1 alternated three times (scaling_PxT_I), default options;
 #   one bake that does not fit replicated: 1,008,204 vertices (side 710) at N=1000 K=2 on 16x1.
 # Every run writes its summary (verification hash, peak RSS per rank, map statistics) and
 # timings (.h5) to OUT_DIR; table.md collects them. Usage (from the repository root, build/ built):
-#   results/bake/run_distributed.sh OUT_DIR [strong|weak|weakrooms|exchange|big|all]
+#   results/bake/run_distributed.sh OUT_DIR [strong|scaling|weak|weakrooms|exchange|big|all]
 set -eu
 out=$1
 what=${2:-all}
@@ -127,6 +129,17 @@ if [ "$what" = exchange ] || [ "$what" = all ]; then
         run "exchange_${ex}_${pt}_$i" "${pt%x*}" "${pt#*x}" "$out/bunny_room.bs" \
           -o "$out/strong.bsb" --viewpoints 300 --iterations 4 --exchange "$ex"
       done
+    done
+  done
+  rm -f "$out/strong.bsb"
+fi
+if [ "$what" = scaling ] || [ "$what" = all ]; then
+  "$gen" bunny_room --scene "$src/inputs/meshes/stanford-bunny.obj" -o "$out/bunny_room.bs"
+  run scaling_1x1 1 1 "$out/bunny_room.bs" -o "$out/strong.bsb" --viewpoints 300 --iterations 4
+  for i in 1 2 3; do
+    for pt in 1x16 2x8 4x4 8x2 16x1; do
+      run "scaling_${pt}_$i" "${pt%x*}" "${pt#*x}" "$out/bunny_room.bs" -o "$out/strong.bsb" \
+        --viewpoints 300 --iterations 4
     done
   done
   rm -f "$out/strong.bsb"

@@ -53,6 +53,10 @@ using std::tan;
 #ifndef KOKKOS_VERSION
 #error "Kokkos_Core.hpp did not define KOKKOS_VERSION"
 #endif
+#if defined(KOKKOS_ENABLE_CUDA) && defined(__CUDACC__)
+#include <cub/device/device_radix_sort.cuh>
+#include <stdexcept>
+#endif
 
 namespace rtmini::compat {
 
@@ -60,6 +64,14 @@ namespace rtmini::compat {
 inline constexpr bool kKokkos4 = true;
 #else
 inline constexpr bool kKokkos4 = false;
+#endif
+
+#if defined(KOKKOS_ENABLE_CUDA) && defined(__CUDACC__)
+// A CUDA runtime call's error as an exception naming the call.
+inline void check_cuda(cudaError_t status, const char* what) {
+  if (status != cudaSuccess)
+    throw std::runtime_error(std::string(what) + ": " + cudaGetErrorString(status));
+}
 #endif
 
 // Sort a 1D view of keys in place on its own execution space.
@@ -74,6 +86,29 @@ void sort(const ExecSpace& space, const ViewType& view) {
 #endif
 }
 
+namespace detail {
+// Kokkos 3.4 has no sort by key: each pair packed into one 64-bit key (key high, value low) in
+// `packed`, sorted whole (so equal keys come out ordered by value), and unpacked.
+template <class ExecSpace, class MemorySpace>
+void sort_packed_pairs(const ExecSpace& space,
+                       const Kokkos::View<std::uint32_t*, MemorySpace>& keys,
+                       const Kokkos::View<std::uint32_t*, MemorySpace>& values,
+                       const Kokkos::View<std::uint64_t*, MemorySpace>& packed) {
+  const std::int64_t n = static_cast<std::int64_t>(keys.extent(0));
+  using Policy = Kokkos::RangePolicy<ExecSpace, Kokkos::IndexType<std::int64_t> >;
+  Kokkos::parallel_for(
+      "rtmini::compat::sort_by_key::pack", Policy(space, 0, n),
+      KOKKOS_LAMBDA(std::int64_t i) { packed(i) = std::uint64_t(keys(i)) << 32 | values(i); });
+  sort(space, packed);
+  Kokkos::parallel_for(
+      "rtmini::compat::sort_by_key::unpack", Policy(space, 0, n), KOKKOS_LAMBDA(std::int64_t i) {
+        keys(i) = static_cast<std::uint32_t>(packed(i) >> 32);
+        values(i) = static_cast<std::uint32_t>(packed(i) & 0xffffffffu);
+      });
+  space.fence();
+}
+}  // namespace detail
+
 // Sorts `keys` ascending on `space` and permutes `values` with them. 4.3+ has
 // Kokkos::Experimental::sort_by_key (on CUDA thrust's radix sort of the 32-bit keys: half the
 // passes of a 64-bit key, and stable, so equal keys keep ascending values as below); 3.4 has
@@ -86,21 +121,60 @@ void sort_by_key(const ExecSpace& space, const Kokkos::View<std::uint32_t*, Memo
 #if KOKKOS_VERSION >= 40300
   Kokkos::Experimental::sort_by_key(space, keys, values);
 #else
-  const std::int64_t n = static_cast<std::int64_t>(keys.extent(0));
-  using Policy = Kokkos::RangePolicy<ExecSpace, Kokkos::IndexType<std::int64_t> >;
   Kokkos::View<std::uint64_t*, MemorySpace> packed(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::compat::sort_by_key"), n);
-  Kokkos::parallel_for(
-      "rtmini::compat::sort_by_key::pack", Policy(space, 0, n),
-      KOKKOS_LAMBDA(std::int64_t i) { packed(i) = std::uint64_t(keys(i)) << 32 | values(i); });
-  sort(space, packed);
-  Kokkos::parallel_for(
-      "rtmini::compat::sort_by_key::unpack", Policy(space, 0, n), KOKKOS_LAMBDA(std::int64_t i) {
-        keys(i) = static_cast<std::uint32_t>(packed(i) >> 32);
-        values(i) = static_cast<std::uint32_t>(packed(i) & 0xffffffffu);
-      });
-  space.fence();
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::compat::sort_by_key"),
+      keys.extent(0));
+  detail::sort_packed_pairs(space, keys, values, packed);
 #endif
+}
+
+// sort_by_key in storage the caller provides, for keys below 2^key_bits: keys[0] and values[0]
+// hold the pairs; keys[1] and values[1] (as long) and `temp` (sort_pairs_temp_bytes) are
+// scratch. Returns which half, 0 or 1, holds the sorted pairs. On CUDA this is CUB's radix sort
+// of only the key bits used, ping-ponging between the halves (stable: equal keys keep their
+// order), without thrust's allocation, copy back and synchronization per call; on Kokkos 3.4 the
+// packed sort above in `temp`; elsewhere Kokkos' sort_by_key in place.
+template <class ExecSpace>
+std::size_t sort_pairs_temp_bytes(int n, int key_bits) {
+#if defined(KOKKOS_ENABLE_CUDA) && defined(__CUDACC__)
+  if constexpr (std::is_same_v<ExecSpace, Kokkos::Cuda>) {
+    std::size_t bytes = 0;
+    cub::DoubleBuffer<std::uint32_t> k(nullptr, nullptr), v(nullptr, nullptr);
+    check_cuda(cub::DeviceRadixSort::SortPairs(nullptr, bytes, k, v, n, 0, key_bits),
+               "cub::DeviceRadixSort::SortPairs (temporary size)");
+    return bytes;
+  }
+#endif
+  (void)key_bits;
+  return KOKKOS_VERSION >= 40300 ? 0 : static_cast<std::size_t>(n) * sizeof(std::uint64_t);
+}
+
+template <class ExecSpace, class MemorySpace>
+int sort_pairs(const ExecSpace& space, const Kokkos::View<std::uint32_t*, MemorySpace> (&keys)[2],
+               const Kokkos::View<std::uint32_t*, MemorySpace> (&values)[2],
+               const Kokkos::View<unsigned char*, MemorySpace>& temp, int key_bits) {
+#if defined(KOKKOS_ENABLE_CUDA) && defined(__CUDACC__)
+  if constexpr (std::is_same_v<ExecSpace, Kokkos::Cuda>) {
+    const int n = static_cast<int>(keys[0].extent(0));  // 32-bit offsets: CUB's faster kernels
+    cub::DoubleBuffer<std::uint32_t> k(keys[0].data(), keys[1].data());
+    cub::DoubleBuffer<std::uint32_t> v(values[0].data(), values[1].data());
+    std::size_t bytes = temp.extent(0);
+    check_cuda(cub::DeviceRadixSort::SortPairs(temp.data(), bytes, k, v, n, 0, key_bits,
+                                               space.cuda_stream()),
+               "cub::DeviceRadixSort::SortPairs");
+    return k.selector;
+  }
+#endif
+  (void)key_bits;
+#if KOKKOS_VERSION >= 40300
+  (void)temp;
+  Kokkos::Experimental::sort_by_key(space, keys[0], values[0]);
+#else
+  const Kokkos::View<std::uint64_t*, MemorySpace> packed(
+      reinterpret_cast<std::uint64_t*>(temp.data()), keys[0].extent(0));
+  detail::sort_packed_pairs(space, keys[0], values[0], packed);
+#endif
+  return 0;
 }
 
 // Bit-level reinterpretation usable in device code (std::bit_cast is C++20).

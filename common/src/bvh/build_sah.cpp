@@ -108,7 +108,14 @@ struct BinBox {
     a.hi = Vec3(hi[0], hi[1], hi[2]);
     return a;
   }
-  Real surface_area() const { return aabb().surface_area(); }
+  // Aabb::surface_area's arithmetic, with its emptiness test as a select rather than branches
+  // (a bin's sweep box is never empty, so those branches only cost their instructions).
+  Real surface_area() const {
+    const Real ex = hi[0] - lo[0], ey = hi[1] - lo[1], ez = hi[2] - lo[2];
+    const bool empty = !((lo[0] <= hi[0]) & (lo[1] <= hi[1]) & (lo[2] <= hi[2]));
+    const Real area = Real(2) * (ex * ey + ey * ez + ez * ex);
+    return empty ? Real(0) : area;
+  }
 };
 static_assert(offsetof(Item, box) == 0 && sizeof(Aabb) == 6 * sizeof(Real) &&
                   sizeof(Item) >= sizeof(Aabb) + 4 * sizeof(Real),
@@ -136,32 +143,106 @@ int median_split(std::vector<Item>& items, const Task& t) {
   return mid;
 }
 
+// Bounds of centroids as four lanes (x, y, z and the item's index, never read), so adding an
+// item is one 4-wide min and max instead of six scalar ones; the same comparisons as
+// Aabb::expand, so in the same order the same bounds.
+struct CentroidBounds {
+  Real lo[4], hi[4];
+  CentroidBounds() {
+    for (int j = 0; j < 4; ++j) lo[j] = Real(1e30), hi[j] = Real(-1e30);
+  }
+  void expand(const Item& it) {
+    Real c[4];
+    std::memcpy(c, &it.centroid, sizeof c);
+    for (int j = 0; j < 4; ++j) lo[j] = lo[j] < c[j] ? lo[j] : c[j];
+    for (int j = 0; j < 4; ++j) hi[j] = hi[j] > c[j] ? hi[j] : c[j];
+  }
+  Aabb aabb() const {
+    Aabb a;
+    a.lo = Vec3(lo[0], lo[1], lo[2]);
+    a.hi = Vec3(hi[0], hi[1], hi[2]);
+    return a;
+  }
+};
+static_assert(offsetof(Item, centroid) + 4 * sizeof(Real) <= sizeof(Item),
+              "an item's centroid can be read as one 4-lane load");
+
 // Moves the items with `left(item)` true to the front of [b, e) (the same swaps as
 // std::partition) and returns the first of the others; also bounds each side's centroids,
 // so the children need no pass of their own.
 template <class Pred>
 int partition_bounding(std::vector<Item>& items, int b, int e, const Pred& left, Aabb& lc,
                        Aabb& rc) {
+  CentroidBounds lb, rb;
   int first = b, last = e;
   while (true) {
     while (true) {
-      if (first == last) return first;
+      if (first == last) {
+        lc = lb.aabb();
+        rc = rb.aabb();
+        return first;
+      }
       if (!left(items[first])) break;
-      lc.expand(items[first].centroid);
+      lb.expand(items[first]);
       ++first;
     }
-    rc.expand(items[first].centroid);
+    rb.expand(items[first]);
     --last;
     while (true) {
-      if (first == last) return first;
+      if (first == last) {
+        lc = lb.aabb();
+        rc = rb.aabb();
+        return first;
+      }
       if (left(items[last])) break;
-      rc.expand(items[last].centroid);
+      rb.expand(items[last]);
       --last;
     }
-    lc.expand(items[last].centroid);
+    lb.expand(items[last]);
     std::swap(items[first], items[last]);
     ++first;
   }
+}
+
+// Ranges from this size on are partitioned without branches on the items (partition_batched).
+constexpr int kBatchedPartition = 8;
+// Misplaced items gathered per side in one step of partition_batched.
+constexpr int kSwapBatch = 128;
+
+// partition_bounding's result without a branch per item, whose outcome the predictor cannot
+// guess at the top of the tree: std::partition swaps the k-th item of the left part that
+// belongs right with the k-th item from the right end of the right part that belongs left, so
+// one pass counts the left items (the partition point), then batches of both sides' misplaced
+// positions are gathered (the position is stored and the count advances by the predicate) and
+// swapped pairwise. The sides' centroid bounds are then taken over the same items in another
+// order, which can only change the sign of a zero bound (inputs are finite), and that moves no
+// bin: a bin is (centroid - lo) * scale truncated, and an extent of -0 or +0 is no extent.
+template <class Pred>
+int partition_batched(std::vector<Item>& items, int b, int e, const Pred& left, Aabb& lc,
+                      Aabb& rc) {
+  int mid = b;
+  for (int i = b; i < e; ++i) mid += left(items[i]) ? 1 : 0;
+  int lo = b, hi = e - 1;  // the next positions to look at on either side
+  int low[kSwapBatch], high[kSwapBatch];
+  while (true) {
+    int nl = 0, nh = 0;  // equal: both sides hold as many misplaced items
+    for (; lo < mid && nl < kSwapBatch; ++lo) {
+      low[nl] = lo;
+      nl += left(items[lo]) ? 0 : 1;
+    }
+    for (; hi >= mid && nh < kSwapBatch; --hi) {
+      high[nh] = hi;
+      nh += left(items[hi]) ? 1 : 0;
+    }
+    for (int k = 0; k < nl; ++k) std::swap(items[low[k]], items[high[k]]);
+    if (nl < kSwapBatch) break;
+  }
+  CentroidBounds lb, rb;
+  for (int i = b; i < mid; ++i) lb.expand(items[i]);
+  for (int i = mid; i < e; ++i) rb.expand(items[i]);
+  lc = lb.aabb();
+  rc = rb.aabb();
+  return mid;
 }
 
 // partition_bounding on "the item's bin on `axis` is at most `last_bin`", as the same scaled
@@ -172,8 +253,9 @@ int partition_by_bin(std::vector<Item>& items, int b, int e, int axis, Real lo, 
   const Real limit = Real(last_bin + 1);
   auto on_axis = [&](auto fixed) {
     constexpr int a = decltype(fixed)::value;
-    return partition_bounding(
-        items, b, e, [&](const Item& x) { return (x.centroid[a] - lo) * scale < limit; }, lc, rc);
+    const auto left = [&](const Item& x) { return (x.centroid[a] - lo) * scale < limit; };
+    if (e - b >= kBatchedPartition) return partition_batched(items, b, e, left, lc, rc);
+    return partition_bounding(items, b, e, left, lc, rc);
   };
   if (axis == 0) return on_axis(std::integral_constant<int, 0>());
   if (axis == 1) return on_axis(std::integral_constant<int, 1>());
@@ -376,6 +458,22 @@ bool split_spatially(const SpatialContext& ctx, const Task& t, const SpatialSpli
   return true;
 }
 
+// The boxes of the sides of the plane after bin `last_left`, merged from the occupied bins in
+// the order the sweeps merge them (the left side upwards, the right side downwards), so the same
+// boxes as the sweeps' running ones to the bit.
+void best_boxes(const BinBox* bins, unsigned occupied, int last_left, Aabb& left, Aabb& right) {
+  const unsigned left_bins = (2u << last_left) - 1u;
+  BinBox l, r;
+  for (unsigned m = occupied & left_bins; m != 0; m &= m - 1) l.expand(bins[lowest_bit(m)]);
+  for (unsigned m = occupied & ~left_bins; m != 0;) {
+    const int k = highest_bit(m);
+    m &= ~(1u << k);
+    r.expand(bins[k]);
+  }
+  left = l.aabb();
+  right = r.aabb();
+}
+
 // Best binned split of the task's range: true with the two halves, false for "make a leaf".
 // One pass bins every item on all three axes (bin boxes are min/max, so exact in any order);
 // the chosen bins' boxes are the children's boxes, and the partition bounds their centroids.
@@ -391,6 +489,7 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
   const Vec3 ext = cb.extent();
   BinBox bins[3][kBins];
   int counts[3][kBins] = {};
+  unsigned occupied_on[3] = {};  // bit k: bin k holds an item
   Real scale[3];
   for (int axis = 0; axis < 3; ++axis)
     scale[axis] = ext[axis] > Real(0) ? Real(kBins) / ext[axis] * Real(0.999999) : Real(0);
@@ -404,16 +503,15 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
           std::min(kBins - 1, static_cast<int>((it.centroid[axis] - cb.lo[axis]) * scale[axis]));
       bins[axis][k].expand(lo, hi);
       ++counts[axis][k];
+      occupied_on[axis] |= 1u << k;
     }
   }
-  Aabb best_left, best_right;
   for (int axis = 0; axis < 3; ++axis) {
     if (!(ext[axis] > Real(0))) continue;
     // The sweeps visit occupied bins only: an empty bin adds nothing to a running box or count,
     // and a candidate plane after one repeats the previous candidate's cost, which never wins
     // (strict <). Most nodes are small, so most of their 16 bins are empty.
-    unsigned occupied = 0;
-    for (int k = 0; k < kBins; ++k) occupied |= (counts[axis][k] != 0 ? 1u : 0u) << k;
+    const unsigned occupied = occupied_on[axis];
     BinBox right_box[kBins];  // [k]: bins k.. (read only at occupied k)
     int right_count[kBins];
     BinBox acc;
@@ -438,15 +536,17 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
       const Real c = kTraversalCost * parent_area +
                      kTriangleCost * (cnt * acc.surface_area() +
                                       right_count[next] * right_box[next].surface_area());
-      if (c < best) {
-        best = c;
-        best_axis = axis;
-        best_bin = k;
-        best_left = acc.aabb();
-        best_right = right_box[next].aabb();
-      }
+      // Kept without a branch (whether a candidate improves is hard to predict); the winner's
+      // boxes are merged again below.
+      const bool better = c < best;
+      best = better ? c : best;
+      best_axis = better ? axis : best_axis;
+      best_bin = better ? k : best_bin;
     }
   }
+  Aabb best_left, best_right;
+  if (best_axis >= 0)
+    best_boxes(bins[best_axis], occupied_on[best_axis], best_bin, best_left, best_right);
   if (spatial_worth_trying(ctx, t, best_axis, best_left, best_right)) {
     const SpatialSplit sp = find_spatial_split(ctx, t, best);
     if (sp.axis >= 0 && split_spatially(ctx, t, sp, lists, out)) return true;
@@ -482,11 +582,16 @@ struct Fragment {
 
 // The leaves' triangles in leaf order, zero-area ones as points. Gathered in one loop after a
 // fragment's build rather than leaf by leaf within it: the reads are scattered over the input,
-// and a loop of nothing else keeps many of them in flight.
+// and a loop of nothing else, fetching ahead, keeps many of them in flight.
 void gather_leaf_triangles(const std::vector<Triangle>& input, const std::vector<int>& prim,
                            std::vector<Triangle>& tris) {
-  tris.resize(prim.size());
-  for (std::size_t i = 0; i < prim.size(); ++i) tris[i] = point_if_zero_area(input[prim[i]]);
+  constexpr std::size_t kAhead = 16;  // triangles fetched ahead of their use
+  const std::size_t n = prim.size();
+  tris.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i + kAhead < n) __builtin_prefetch(&input[prim[i + kAhead]]);
+    tris[i] = point_if_zero_area(input[prim[i]]);
+  }
 }
 
 // The serial top-down build of items[task.begin, task.end), depth first (the left child is
@@ -557,26 +662,32 @@ std::uint32_t append_fragment(const Fragment& f, HostBvh& out) {
 }
 
 // One item per triangle, or per pre-split part of a sliver when splitting pays (presplit.hpp)
-// and no spatial splits will.
-std::vector<Item> make_items(const std::vector<Triangle>& input, double split_budget,
-                             bool spatial) {
+// and no spatial splits will; `root` gets the items' bounds (range_task's, from the loop that
+// makes them where that is the last: one pass fewer over the items).
+std::vector<Item> make_items(const std::vector<Triangle>& input, double split_budget, bool spatial,
+                             Task& root) {
   const int n = static_cast<int>(input.size());
-  std::vector<Item> items(n);
-  Aabb bounds;
+  std::vector<Item> items;
+  items.reserve(n);  // each written once (a sized vector would first fill every item's box)
+  Aabb bounds, centroids;
   for (int i = 0; i < n; ++i) {
     Aabb b;
     b.expand(input[i].a);
     b.expand(input[i].b);
     b.expand(input[i].c);
-    items[i] = {b, (input[i].a + input[i].b + input[i].c) * (Real(1) / Real(3)), i};
+    const Vec3 c = (input[i].a + input[i].b + input[i].c) * (Real(1) / Real(3));
+    items.push_back({b, c, i});
     bounds.expand(b);
+    centroids.expand(c);
   }
+  root = {0, n, -1, 0, 0, bounds, centroids, nullptr, 0};
   if (spatial) return items;
   const std::vector<SplitReference> refs = presplit_triangles(input, bounds, split_budget);
   if (refs.empty()) return items;
   items.resize(refs.size());
   for (std::size_t i = 0; i < refs.size(); ++i)
     items[i] = {refs[i].box, refs[i].centroid, refs[i].prim};
+  root = range_task(items, 0, static_cast<int>(items.size()), -1, 0, 0);
   return items;
 }
 
@@ -742,11 +853,11 @@ void build_parts(const SpatialContext& ctx, const std::vector<Triangle>& input,
 }
 
 // The tree over all items (sets out.bounds) with padded child boxes and the leaves' triangles;
-// with spatial splits, up to `budget` references more than items.
-void build_tree(Items& items, const std::vector<Triangle>& input, bool spatial, double budget,
-                HostBvh& out) {
+// `root` is the range of all items with its bounds. With spatial splits, up to `budget`
+// references more than items.
+void build_tree(Items& items, Task root, const std::vector<Triangle>& input, bool spatial,
+                double budget, HostBvh& out) {
   const int n = static_cast<int>(items.size());
-  Task root = range_task(items, 0, n, -1, 0, 0);
   root.items = &items;
   out.bounds = root.box;
   if (n == 0) return;
@@ -820,11 +931,12 @@ HostBvh build_sah_host(const std::vector<Triangle>& input, double split_budget,
                        SpatialSplits spatial_splits) {
   HostBvh out;
   const bool spatial = uses_spatial_splits(input, spatial_splits);
-  Items items = make_items(input, split_budget, spatial);
+  Task root{};
+  Items items = make_items(input, split_budget, spatial, root);
   const double per_triangle =
       is_auto_split_budget(split_budget) ? kSpatialSplitAutoBudget : split_budget;
   const double budget = per_triangle * double(input.size());
-  build_tree(items, input, spatial, budget, out);
+  build_tree(items, root, input, spatial, budget, out);
   out.spatial_splits = spatial;
   return out;
 }

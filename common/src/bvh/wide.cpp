@@ -123,18 +123,21 @@ void plan_node(const std::vector<BvhNode>& binary, std::uint32_t node, const Ran
   float c0[kWidth], c1[kWidth];
   child_costs(plans, nd, 0, c0);
   child_costs(plans, nd, 1, c1);
-  // The two children sharing i slots (i >= 2), the first best split.
+  // The two children sharing i slots (i >= 2), the first best split (kept by selects: which
+  // split wins is data, not a pattern a branch predictor learns).
   float shared[kWidth + 1];
   std::uint8_t shared_split[kWidth + 1] = {};
   for (int i = 2; i <= kWidth; ++i) {
-    shared[i] = std::numeric_limits<float>::infinity();
+    float best = std::numeric_limits<float>::infinity();
+    int best_k = 0;
     for (int k = 1; k < i; ++k) {
       const float c = c0[k - 1] + c1[i - k - 1];
-      if (c < shared[i]) {
-        shared[i] = c;
-        shared_split[i] = std::uint8_t(k);
-      }
+      const bool better = c < best;
+      best = better ? c : best;
+      best_k = better ? k : best_k;
     }
+    shared[i] = best;
+    shared_split[i] = std::uint8_t(best_k);
   }
   Aabb box = nd.box(0);
   box.expand(nd.box(1));
@@ -151,11 +154,26 @@ void plan_node(const std::vector<BvhNode>& binary, std::uint32_t node, const Ran
   }
 }
 
-// Triangle ranges and plans of every internal node, children before parents.
+// Triangle ranges and plans of every internal node, children before parents: in reverse id
+// order where every internal child has a larger id than its parent, as in the SAH builder's
+// depth-first order (a linear walk the hardware prefetches, without a stack: the plans are the
+// same in any children-first order), else (the LBVH's and PLOC's trees) by a post-order walk.
 void plan_collapse(const std::vector<BvhNode>& binary, int merge, std::vector<Range>& ranges,
                    std::vector<CollapsePlan>& plans) {
   ranges.assign(binary.size(), Range{});
   plans.assign(binary.size(), CollapsePlan{});
+  const auto plan = [&](std::uint32_t node) {
+    ranges[node] = subtree_range(binary[node], ranges);
+    plan_node(binary, node, ranges[node], merge, plans);
+  };
+  const auto children_after = [&](std::uint32_t node) {
+    for (const std::uint32_t c : binary[node].child)
+      if (!is_leaf(c) && c <= node) return false;
+    return true;
+  };
+  auto next = static_cast<std::uint32_t>(binary.size());
+  while (next > 0 && children_after(next - 1)) plan(--next);
+  if (next == 0) return;
   std::vector<std::pair<std::uint32_t, bool>> work{{0u, false}};
   while (!work.empty()) {
     const auto [node, children_done] = work.back();
@@ -167,8 +185,7 @@ void plan_collapse(const std::vector<BvhNode>& binary, int merge, std::vector<Ra
         if (!is_leaf(nd.child[k])) work.push_back({nd.child[k], false});
       continue;
     }
-    ranges[node] = subtree_range(nd, ranges);
-    plan_node(binary, node, ranges[node], merge, plans);
+    plan(node);
   }
 }
 

@@ -100,6 +100,10 @@ struct Bvh {
   CompactGrid grid;
   Kokkos::View<Triangle*, MemorySpace> tris;
   Kokkos::View<int*, MemorySpace> prim;
+  // Where a builder made nodes, tris and prim one allocation (build_lbvh, scratch_arena.hpp: one
+  // cudaMalloc instead of three), that allocation: those Views do not own their memory, so keep
+  // the Bvh (not only a copy of one of them) while they are used. Empty otherwise.
+  Kokkos::View<unsigned char*, MemorySpace> storage;
   Aabb bounds;
   int num_prims = 0;
   BuildQuality quality = BuildQuality::kLbvh;

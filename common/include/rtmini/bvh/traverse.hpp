@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <new>
 #include <type_traits>
 #if defined(__GNUC__) && !defined(__CUDACC__) && defined(__SSE__)
 #include <immintrin.h>
@@ -737,13 +738,106 @@ struct PacketRays {
   const Ray* rays;
   WideRay box[kPacketSize];
   WatertightRay wr[kPacketSize];
-  Real tmax[kPacketSize];
+  alignas(32) Real tmax[kPacketSize];
+#if RTMINI_FMA_BOX_TEST
+  // The FMA box test's constants with ray r in lane r (fma_box_test_by_child), and whether every
+  // ray of the packet has the same direction octant (then the near planes are the packet's).
+  struct Lanes {
+    alignas(32) Real inv[3][kPacketSize];
+    alignas(32) Real org_inv[3][kPacketSize];
+    alignas(32) Real tmin[kPacketSize];
+    alignas(32) Real slack[kPacketSize];
+    alignas(32) Real negative[3][kPacketSize];  // -0 where WideRay::neg_* (sign bit), else +0
+  } lanes;
+  bool one_octant;
+#endif
 };
+
+// A node's box tests for a packet: byte k of per_child = the rays that hit child k; bit k of
+// children = some ray hits child k.
+struct PacketBoxHits {
+  std::uint64_t per_child = 0;
+  int children = 0;
+};
+
+#if RTMINI_FMA_BOX_TEST
+// Rays of a packet from which its node's box tests go child by child rather than ray by ray:
+// eight children's tests of all eight lanes cost less than one test per ray from about this many
+// rays (packets of one direction octant; kMinMixedRaysByChild where blends pick each lane's near
+// planes). Both measured on the dragon's shadow and AO rays (results/bvh/README.md).
+inline constexpr int kMinRaysByChild = 3;
+inline constexpr int kMinMixedRaysByChild = 4;
+
+// The FMA box test of one node for the rays `rays` of a packet at once, child by child, ray r in
+// lane r: byte k of the result = the rays that hit child k. Lane r runs fma_box_test's operations
+// for ray r in the same order on the same planes (each ray's near plane of an axis by the sign of
+// its direction: the packet's when its rays share their octant, kOneOctant, else lane by lane),
+// so each ray finds the children its own test finds. No transpose; one child's rays per vector
+// instead of one ray's children.
+template <bool kOneOctant>
+inline PacketBoxHits fma_box_test_by_child(const WideNode& nd, const PacketRays& p, int rays) {
+  const PacketRays::Lanes& l = p.lanes;
+  const __m256 ix = _mm256_load_ps(l.inv[0]), iy = _mm256_load_ps(l.inv[1]),
+               iz = _mm256_load_ps(l.inv[2]);
+  const __m256 qx = _mm256_load_ps(l.org_inv[0]), qy = _mm256_load_ps(l.org_inv[1]),
+               qz = _mm256_load_ps(l.org_inv[2]);
+  const __m256 tmin = _mm256_load_ps(l.tmin), tmax = _mm256_load_ps(p.tmax);
+  const __m256 slack = _mm256_load_ps(l.slack), widening = _mm256_set1_ps(kFmaBoxWidening);
+  const __m256 sx = _mm256_load_ps(l.negative[0]), sy = _mm256_load_ps(l.negative[1]),
+               sz = _mm256_load_ps(l.negative[2]);
+  // One octant: the planes by the packet's signs; else lo and hi (the blends below pick).
+  const WideRay& r = p.box[lowest_bit(rays)];
+  const bool swap_x = kOneOctant && r.neg_x, swap_y = kOneOctant && r.neg_y,
+             swap_z = kOneOctant && r.neg_z;
+  const Real* near_x = swap_x ? nd.hi_x : nd.lo_x;
+  const Real* near_y = swap_y ? nd.hi_y : nd.lo_y;
+  const Real* near_z = swap_z ? nd.hi_z : nd.lo_z;
+  const Real* far_x = swap_x ? nd.lo_x : nd.hi_x;
+  const Real* far_y = swap_y ? nd.lo_y : nd.hi_y;
+  const Real* far_z = swap_z ? nd.lo_z : nd.hi_z;
+  PacketBoxHits out;
+  for (int k = 0; k < kWidth; ++k) {
+    __m256 a = _mm256_fmsub_ps(_mm256_set1_ps(near_x[k]), ix, qx);
+    __m256 b = _mm256_fmsub_ps(_mm256_set1_ps(near_y[k]), iy, qy);
+    __m256 c = _mm256_fmsub_ps(_mm256_set1_ps(near_z[k]), iz, qz);
+    __m256 d = _mm256_fmsub_ps(_mm256_set1_ps(far_x[k]), ix, qx);
+    __m256 e = _mm256_fmsub_ps(_mm256_set1_ps(far_y[k]), iy, qy);
+    __m256 f = _mm256_fmsub_ps(_mm256_set1_ps(far_z[k]), iz, qz);
+    if constexpr (!kOneOctant) {
+      // Lanes whose ray has WideRay::neg_* on an axis swap that axis's near and far planes.
+      const __m256 a0 = a, b0 = b, c0 = c;
+      a = _mm256_blendv_ps(a0, d, sx);
+      d = _mm256_blendv_ps(d, a0, sx);
+      b = _mm256_blendv_ps(b0, e, sy);
+      e = _mm256_blendv_ps(e, b0, sy);
+      c = _mm256_blendv_ps(c0, f, sz);
+      f = _mm256_blendv_ps(f, c0, sz);
+    }
+    const __m256 near = _mm256_max_ps(_mm256_max_ps(a, b), _mm256_max_ps(c, tmin));
+    const __m256 far = _mm256_fmadd_ps(_mm256_min_ps(_mm256_min_ps(d, e), _mm256_min_ps(f, tmax)),
+                                       widening, slack);
+    const int hit = _mm256_movemask_ps(_mm256_cmp_ps(near, far, _CMP_LE_OQ)) & rays;
+    out.per_child |= std::uint64_t(hit) << (8 * k);
+    out.children |= (hit != 0 ? 1 : 0) << k;
+  }
+  return out;
+}
+#endif
 
 // A pending node and the rays that reached it.
 struct PacketEntry {
   std::uint32_t node;
   int rays;
+};
+
+// A packet walk's pending nodes with their rays: at most kWidth - 1 siblings per level of a
+// path, as the single-ray walk's stack.
+struct PacketStack {
+  PacketEntry entry[(kWidth - 1) * kStackSize];
+  int size = 0;
+  KOKKOS_FORCEINLINE_FUNCTION bool empty() const { return size == 0; }
+  KOKKOS_FORCEINLINE_FUNCTION void push(const PacketEntry& e) { entry[size++] = e; }
+  KOKKOS_FORCEINLINE_FUNCTION PacketEntry pop() { return entry[--size]; }
 };
 
 // The rays `rays` of a packet whose rays all share one origin (AO rays from one point, a pinhole
@@ -790,9 +884,7 @@ KOKKOS_FORCEINLINE_FUNCTION int packet_leaf(const BvhT& bvh, std::uint32_t c, in
 // The closest-hit packet walk (any hits: occlude_packet_with below).
 template <class BvhT, bool kFma, bool kSharedOrigin>
 inline void traverse_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* hits, bool* found) {
-  constexpr int kPacketStack = (kWidth - 1) * kStackSize;
-  PacketEntry stack[kPacketStack];
-  int sp = 0;
+  PacketStack stack;
   PacketEntry at{0u, live};
   while (true) {
     const WideNode& nd = bvh.wide(at.node);
@@ -847,8 +939,8 @@ inline void traverse_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* 
     }
     if (inner == 0) {
       do {
-        if (sp == 0) return;
-        at = stack[--sp];
+        if (stack.empty()) return;
+        at = stack.pop();
         at.rays &= live;
       } while (at.rays == 0);
       continue;
@@ -882,10 +974,37 @@ inline void traverse_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* 
     }
     for (int j = 0; j < n - 1; ++j) {
       prefetch_node(bvh.wide(ids[j].node));
-      stack[sp++] = ids[j];
+      stack.push(ids[j]);
     }
     at = ids[n - 1];
   }
+}
+
+// The box tests of one node for the rays `rays` of a packet: byte k of the result = the rays
+// that hit child k (any hit; entry distances are not kept). Child by child where the packet can
+// (fma_box_test_by_child), else ray by ray, the "children ray r hits" bytes transposed.
+template <bool kFma>
+KOKKOS_FORCEINLINE_FUNCTION PacketBoxHits packet_box_tests(const WideNode& nd, const PacketRays& p,
+                                                           int rays) {
+#if RTMINI_FMA_BOX_TEST
+  if (kFma) {
+    const int n = __builtin_popcount(rays);
+    if (p.one_octant && n >= kMinRaysByChild) return fma_box_test_by_child<true>(nd, p, rays);
+    if (!p.one_octant && n >= kMinMixedRaysByChild)
+      return fma_box_test_by_child<false>(nd, p, rays);
+  }
+#endif
+  std::uint64_t per_ray = 0;
+  PacketBoxHits out;
+  alignas(32) Real tn[kWidth];  // (entry distances: unused here)
+  for (int m = rays; m != 0; m &= m - 1) {
+    const int r = lowest_bit(m);
+    const int h = box_test<kFma>(nd, p.box[r], p.rays[r].tmin, p.tmax[r], tn);
+    per_ray |= std::uint64_t(h) << (8 * r);
+    out.children |= h;
+  }
+  out.per_child = transpose_bytes(per_ray);
+  return out;
 }
 
 // Leaf children a node's box tests found, and the rays that hit each.
@@ -902,26 +1021,14 @@ struct PendingLeaves {
 // the packet until its first blocker, and the walk stops when no ray is left.
 template <class BvhT, bool kFma, bool kSharedOrigin>
 inline void occlude_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* hits, bool* found) {
-  constexpr int kPacketStack = (kWidth - 1) * kStackSize;
-  PacketEntry stack[kPacketStack];
-  int sp = 0;
+  PacketStack stack;
   PacketEntry at{0u, live};
   PendingLeaves pending;
   while (true) {
-    // Each ray's box test of the next node: byte r of `per_ray` = the children ray r hits.
+    // The next node's box tests: byte k of `per_child` = the rays that hit child k.
     at.rays &= live;
-    std::uint64_t per_ray = 0;
-    int any_child = 0;
-    if (at.rays != 0) {
-      const WideNode& nd = bvh.wide(at.node);
-      alignas(32) Real tn[kWidth];  // (entry distances: unused by any hit)
-      for (int m = at.rays; m != 0; m &= m - 1) {
-        const int r = lowest_bit(m);
-        const int h = box_test<kFma>(nd, p.box[r], p.rays[r].tmin, p.tmax[r], tn);
-        per_ray |= std::uint64_t(h) << (8 * r);
-        any_child |= h;
-      }
-    }
+    PacketBoxHits box;
+    if (at.rays != 0) box = packet_box_tests<kFma>(bvh.wide(at.node), p, at.rays);
     // The previous node's leaves, fetched while this node's boxes were tested.
     for (int j = 0; j < pending.count; ++j) {
       const int rays = pending.rays[j] & live;
@@ -930,16 +1037,16 @@ inline void occlude_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* h
       if (live == 0) return;
     }
     pending.count = 0;
-    if (any_child == 0) {
-      if (sp == 0) return;
-      at = stack[--sp];
+    if (box.children == 0) {
+      if (stack.empty()) return;
+      at = stack.pop();
       continue;
     }
     const WideNode& nd = bvh.wide(at.node);
-    const std::uint64_t per_child = transpose_bytes(per_ray);
+    const std::uint64_t per_child = box.per_child;
     const int leaves = leaf_lanes(nd);
     int inner = 0;
-    for (int m = any_child; m != 0; m &= m - 1) {
+    for (int m = box.children; m != 0; m &= m - 1) {
       const int k = lowest_bit(m);
       const int rays = byte_of(per_child, k) & live;
       if (rays == 0) continue;
@@ -954,7 +1061,7 @@ inline void occlude_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* h
       pending.rays[pending.count++] = rays;
     }
     if (inner == 0) {  // the pending leaves are tested after the next entry's box tests
-      at = sp > 0 ? stack[--sp] : PacketEntry{0u, 0};
+      at = stack.empty() ? PacketEntry{0u, 0} : stack.pop();
       continue;
     }
     // Lane order, as the single-ray any hit; the next node is fetched with the pending leaves.
@@ -964,10 +1071,32 @@ inline void occlude_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* h
     for (inner &= inner - 1; inner != 0; inner &= inner - 1) {
       const int k = lowest_bit(inner);
       prefetch_node(bvh.wide(nd.child[k]));
-      stack[sp++] = {nd.child[k], byte_of(per_child, k) & live};
+      stack.push({nd.child[k], byte_of(per_child, k) & live});
     }
   }
 }
+
+#if RTMINI_FMA_BOX_TEST
+// PacketRays::lanes and one_octant from rays [0, n)'s WideRays (lanes from n on: ray 0's, whose
+// tests are masked out).
+inline void fill_packet_lanes(PacketRays& p, int n) {
+  p.one_octant = true;
+  for (int r = 0; r < kPacketSize; ++r) {
+    const WideRay& b = p.box[r < n ? r : 0];
+    for (int axis = 0; axis < 3; ++axis) {
+      p.lanes.inv[axis][r] = b.inv[axis];
+      p.lanes.org_inv[axis][r] = b.org_inv[axis];
+    }
+    p.lanes.tmin[r] = p.rays[r < n ? r : 0].tmin;
+    p.lanes.slack[r] = b.slack;
+    const bool negative[3] = {b.neg_x, b.neg_y, b.neg_z};
+    for (int axis = 0; axis < 3; ++axis)
+      p.lanes.negative[axis][r] = negative[axis] ? Real(-0.0) : Real(0);
+    p.one_octant = p.one_octant && b.neg_x == p.box[0].neg_x && b.neg_y == p.box[0].neg_y &&
+                   b.neg_z == p.box[0].neg_z;
+  }
+}
+#endif
 
 // True when rays [0, n) have the same origin, bit for bit.
 inline bool shares_origin(const Ray* rays, int n) {
@@ -1001,8 +1130,10 @@ inline void traverse_packet(const BvhT& bvh, const Ray* rays, int n, Hit* hits, 
     hits[r] = Hit();
     hits[r].t = rays[r].tmax;
     found[r] = false;
-    p.box[r] = WideRay(rays[r]);
-    p.wr[r] = WatertightRay(rays[r].org, rays[r].dir);
+    // Built in place: a temporary copied in went through the stack, a store-forwarding stall
+    // per ray (~1/6 of the packet traversal's time on the dragon's shadow rays).
+    ::new (&p.box[r]) WideRay(rays[r]);
+    ::new (&p.wr[r]) WatertightRay(rays[r].org, rays[r].dir);
     p.tmax[r] = rays[r].tmax;
     // An empty segment hits nothing (nor does the single-ray traversal find anything there).
     if (rays[r].tmin <= rays[r].tmax) live |= 1 << r;
@@ -1012,6 +1143,9 @@ inline void traverse_packet(const BvhT& bvh, const Ray* rays, int n, Hit* hits, 
   }
   for (int r = n; r < kPacketSize; ++r) p.tmax[r] = Real(0);
   if (live == 0 || bvh.num_prims == 0) return;
+#if RTMINI_FMA_BOX_TEST
+  if constexpr (kAnyHit) fill_packet_lanes(p, n);  // (only the any-hit walk tests by child)
+#endif
   const bool shared = shares_origin(rays, n);
 #if RTMINI_FMA_BOX_TEST
   if (fma) return traverse_packet_by<BvhT, kAnyHit, true>(bvh, p, live, hits, found, shared);

@@ -63,6 +63,24 @@ KOKKOS_INLINE_FUNCTION Treelet form_treelet(const Nodes& nodes, int root, int ni
   return t;
 }
 
+// The box and triangle count of the treelet leaves in subset `s` (bit k: leaf k).
+struct SubsetBound {
+  Aabb box;
+  int count = 0;
+};
+
+template <class Nodes>
+KOKKOS_INLINE_FUNCTION SubsetBound subset_bound(const Nodes& nodes, const Treelet& t,
+                                                std::uint32_t s) {
+  SubsetBound b;
+  for (int k = 0; k < t.leaves; ++k)
+    if (s >> k & 1u) {
+      b.box.expand(nodes.box(t.leaf[k]));
+      b.count += nodes.count(t.leaf[k]);
+    }
+  return b;
+}
+
 // The least-cost topology of every subset of a treelet's leaves: for each subset, its signed
 // cost (subtree_cost's convention: negative when one leaf is cheaper) and the part of the best
 // split holding its lowest leaf.
@@ -80,13 +98,7 @@ KOKKOS_INLINE_FUNCTION void plan_treelet(const Nodes& nodes, const Treelet& t, T
       plan.part[s] = static_cast<std::uint8_t>(s);
       continue;
     }
-    Aabb box;
-    int count = 0;
-    for (int k = 0; k < t.leaves; ++k)
-      if (s >> k & 1u) {
-        box.expand(nodes.box(t.leaf[k]));
-        count += nodes.count(t.leaf[k]);
-      }
+    const SubsetBound sb = subset_bound(nodes, t, s);
     // Each split once: the part with the lowest leaf plus any proper subset of the rest. Every
     // proper subset is numerically smaller than s, so its plan is already there.
     const std::uint32_t low = s & (~s + 1u), rest = s ^ low;
@@ -101,8 +113,8 @@ KOKKOS_INLINE_FUNCTION void plan_treelet(const Nodes& nodes, const Treelet& t, T
       }
     }
     plan.part[s] = static_cast<std::uint8_t>(best_part);
-    plan.cost[s] =
-        subtree_cost(box.surface_area(), count, plan.cost[best_part], plan.cost[s ^ best_part]);
+    plan.cost[s] = subtree_cost(sb.box.surface_area(), sb.count, plan.cost[best_part],
+                                plan.cost[s ^ best_part]);
   }
 }
 
@@ -121,13 +133,7 @@ KOKKOS_INLINE_FUNCTION void rebuild_treelet(const Nodes& nodes, const Treelet& t
     const int id = t.inner[slot];
     const std::uint32_t s = set_of[slot];
     const std::uint32_t sides[2] = {plan.part[s], s ^ plan.part[s]};
-    Aabb box;
-    int count = 0;
-    for (int k = 0; k < t.leaves; ++k)
-      if (s >> k & 1u) {
-        box.expand(nodes.box(t.leaf[k]));
-        count += nodes.count(t.leaf[k]);
-      }
+    const SubsetBound sb = subset_bound(nodes, t, s);
     for (int side = 0; side < 2; ++side) {
       int child;
       if (detail::single_bit(sides[side])) {
@@ -140,8 +146,8 @@ KOKKOS_INLINE_FUNCTION void rebuild_treelet(const Nodes& nodes, const Treelet& t
       nodes.kids(id, side) = child;
       nodes.parent(child) = id;
     }
-    nodes.box(id) = box;
-    nodes.count(id) = count;
+    nodes.box(id) = sb.box;
+    nodes.count(id) = sb.count;
     nodes.cost(id) = plan.cost[s];
   }
 }
