@@ -16,7 +16,8 @@
 # kernel one run of 3 timed launches (the bench reports the best); the kernels of one mesh and
 # build back to back. PASSES=2 runs the list a second time in reverse order (ABC..., ...CBA), so
 # drift over the run falls on every kernel alike; anyhit_summary.py keeps a kernel's best run.
-# 56 runs of ~3 s each on the H200 per pass (~3 min).
+# 84 runs of ~3 s each on the H200 per pass of every kernel (~4 min); 28 for the seven kernels of
+# fetch_device.sh.
 # ncu phase (if ncu is on PATH): one run per kernel on dragon AO SAH, `--repeats 1` so the
 # profiled launch is the timed one, `--launch-count 1` on the trace kernel only (~10 s each,
 # ~2.5 min). With the CUDA build and unit.core.cuda in the same 10-minute call, run `bench` there
@@ -37,9 +38,10 @@ t0=$(date +%s)
   nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null
   "$BENCH" --help 2>/dev/null | grep -A2 -- '--gpu-trace' | head -3
 } > "$OUT/provenance.txt"
-KERNELS="default stored short8 default_lb stored_lb shared8 shared16 compact compact_lb
+# KERNELS (default: every kernel) picks a subset, e.g. KERNELS="default stored fetch".
+KERNELS=${KERNELS:-"default stored short8 default_lb stored_lb shared8 shared16 compact compact_lb
   compact_shared16 speculative speculative_shared16 speculative_compact wide wide_lb wide_shared
-  short16"
+  short16 fetch fetch8 speculative_fetch fetch_late"}
 REVERSED=$(echo $KERNELS | tr ' ' '\n' | tac | tr '\n' ' ')
 
 if [ "$phase" != ncu ]; then

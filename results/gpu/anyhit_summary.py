@@ -32,10 +32,11 @@ def bench(path):
         print(f"# {mesh} AO {quality}: Grays/s (best of the runs), x default, hash")
         for kernel, rs in kernels.items():
             best = max(r for r, _ in rs)
+            worst = min(r for r, _ in rs)
             hashes = {h for _, h in rs}
             same = "same" if hashes == {ref} else "DIFFERS " + ",".join(sorted(hashes))
             print(f"{mesh:16s} {quality:5s} {kernel:20s} {best / 1e3:6.3f} {best / base:6.3f}x "
-                  f"{rs[0][1]} {same} ({len(rs)} runs)")
+                  f"{rs[0][1]} {same} ({len(rs)} runs, worst {worst / 1e3:.3f})")
         print()
 
 
