@@ -38,7 +38,8 @@ t0=$(date +%s)
   nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null
   "$BENCH" --help 2>/dev/null | grep -A2 -- '--gpu-trace' | head -3
 } > "$OUT/provenance.txt"
-# KERNELS (default: every kernel) picks a subset, e.g. KERNELS="default stored fetch".
+# KERNELS (default: every kernel) picks a subset, e.g. KERNELS="default stored fetch";
+# RUN_LIMIT (default 60) is the seconds one bench run may take (twice that under ncu).
 KERNELS=${KERNELS:-"default stored short8 default_lb stored_lb shared8 shared16 compact compact_lb
   compact_shared16 speculative speculative_shared16 speculative_compact wide wide_lb wide_shared
   short16 fetch fetch8 speculative_fetch fetch_late"}
@@ -53,7 +54,7 @@ if [ "$phase" != ncu ]; then
       [ "${PASSES:-1}" = 2 ] && order="$KERNELS $REVERSED"
       for k in $order; do
         echo "== $m $q $k" >> "$L"
-        timeout 60 "$BENCH" inputs/meshes/$m.obj --workload ao --quality $q --gpu-trace $k \
+        timeout ${RUN_LIMIT:-60} "$BENCH" inputs/meshes/$m.obj --workload ao --quality $q --gpu-trace $k \
           >> "$L" 2>&1
         echo "rc=$?" >> "$L"
       done
@@ -73,7 +74,7 @@ if [ "$phase" != bench ]; then
   M=$M,sm__warps_active.avg.pct_of_peak_sustained_active,smsp__thread_inst_executed_per_inst_executed.ratio
   M=$M,gpu__time_duration.sum,l1tex__throughput.avg.pct_of_peak_sustained_active
   for k in $KERNELS; do
-    timeout 120 ncu --clock-control none --metrics $M --csv --kernel-name-base demangled \
+    timeout $((2 * ${RUN_LIMIT:-60})) ncu --clock-control none --metrics $M --csv --kernel-name-base demangled \
       --kernel-name regex:AnyHitEachRay --launch-count 1 \
       "$BENCH" inputs/meshes/dragon.obj --workload ao --quality sah --gpu-trace $k --repeats 1 \
       > "$OUT/ncu_$k.csv" 2>&1
