@@ -355,6 +355,8 @@ void trace_any(bvh::AnyHitKernel kernel, const bvh::Bvh<Mem>& accel,
                                                             counters);
     case K::kFetchLate:
       return bvh::any_hit_all_fetched<K::kFetchLate>(Exec(), accel, n, ray_at, store, counters);
+    case K::kFetchBlock:
+      return bvh::any_hit_all_fetched<K::kFetchBlock>(Exec(), accel, n, ray_at, store, counters);
   }
 }
 
@@ -817,7 +819,7 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
     std::printf("any-hit kernel %s, ray order %s\n", bvh::to_string(kernel), o.ray_order.c_str());
   std::printf("traced %s\n", packets ? "in packets of 8 consecutive rays" : "ray by ray");
   const Kokkos::View<unsigned*, Mem> fetch_counters = any && bvh::fetches_rays(kernel)
-                                                          ? bvh::ray_fetch_counters(Exec())
+                                                          ? bvh::ray_fetch_counters(Exec(), kernel)
                                                           : Kokkos::View<unsigned*, Mem>();
   std::vector<Ray> host_rays;
   if (peer.active()) {

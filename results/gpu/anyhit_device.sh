@@ -16,7 +16,7 @@
 # kernel one run of 3 timed launches (the bench reports the best); the kernels of one mesh and
 # build back to back. PASSES=2 runs the list a second time in reverse order (ABC..., ...CBA), so
 # drift over the run falls on every kernel alike; anyhit_summary.py keeps a kernel's best run.
-# 84 runs of ~3 s each on the H200 per pass of every kernel (~4 min); 28 for the seven kernels of
+# 88 runs of ~3 s each on the H200 per pass of every kernel (~4.5 min); 32 for the eight kernels of
 # fetch_device.sh.
 # ncu phase (if ncu is on PATH): one run per kernel on dragon AO SAH, `--repeats 1` so the
 # profiled launch is the timed one, `--launch-count 1` on the trace kernel only (~10 s each,
@@ -42,7 +42,7 @@ t0=$(date +%s)
 # RUN_LIMIT (default 60) is the seconds one bench run may take (twice that under ncu).
 KERNELS=${KERNELS:-"default stored short8 default_lb stored_lb shared8 shared16 compact compact_lb
   compact_shared16 speculative speculative_shared16 speculative_compact wide wide_lb wide_shared
-  short16 fetch fetch8 speculative_fetch fetch_late"}
+  short16 fetch fetch8 speculative_fetch fetch_late fetch_block"}
 REVERSED=$(echo $KERNELS | tr ' ' '\n' | tac | tr '\n' ' ')
 
 if [ "$phase" != ncu ]; then
@@ -54,8 +54,8 @@ if [ "$phase" != ncu ]; then
       [ "${PASSES:-1}" = 2 ] && order="$KERNELS $REVERSED"
       for k in $order; do
         echo "== $m $q $k" >> "$L"
-        timeout ${RUN_LIMIT:-60} "$BENCH" inputs/meshes/$m.obj --workload ao --quality $q --gpu-trace $k \
-          >> "$L" 2>&1
+        timeout ${RUN_LIMIT:-60} "$BENCH" inputs/meshes/$m.obj --workload ao --quality $q \
+          --gpu-trace $k >> "$L" 2>&1
         echo "rc=$?" >> "$L"
       done
       echo "$m $q done $(($(date +%s) - t0)) s"
@@ -74,8 +74,8 @@ if [ "$phase" != bench ]; then
   M=$M,sm__warps_active.avg.pct_of_peak_sustained_active,smsp__thread_inst_executed_per_inst_executed.ratio
   M=$M,gpu__time_duration.sum,l1tex__throughput.avg.pct_of_peak_sustained_active
   for k in $KERNELS; do
-    timeout $((2 * ${RUN_LIMIT:-60})) ncu --clock-control none --metrics $M --csv --kernel-name-base demangled \
-      --kernel-name regex:AnyHitEachRay --launch-count 1 \
+    timeout $((2 * ${RUN_LIMIT:-60})) ncu --clock-control none --metrics $M --csv \
+      --kernel-name-base demangled --kernel-name regex:AnyHitEachRay --launch-count 1 \
       "$BENCH" inputs/meshes/dragon.obj --workload ao --quality sah --gpu-trace $k --repeats 1 \
       > "$OUT/ncu_$k.csv" 2>&1
     echo "ncu $k rc=$? $(($(date +%s) - t0)) s"

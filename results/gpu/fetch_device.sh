@@ -1,16 +1,17 @@
 #!/usr/bin/env bash
 # One device call for issue 21's dynamic ray fetch (branch gpu7): CUDA build of rtmini-bvh-bench,
 # then results/gpu/anyhit_device.sh on the kernels with dynamic ray fetch (fetch, fetch8,
-# speculative_fetch, fetch_late) beside the one-ray-per-thread kernels they build on (stored,
-# speculative) and today's default, AO on dragon and bunny, SAH and LBVH, two passes (forward,
-# then reversed; the best and worst run of each kept), then ncu of each on dragon AO SAH.
+# speculative_fetch, fetch_late, fetch_block) beside the one-ray-per-thread kernels they build
+# on (stored, speculative) and today's default, AO on dragon and bunny, SAH and LBVH, two passes
+# (forward, then reversed; the best and worst run of each kept), then ncu of each on dragon AO
+# SAH.
 #
 # Usage, from the root of a checkout of the branch on the device machine, with Kokkos CUDA
 # installed (KOKKOS_CUDA, default /opt/kokkos-cuda; the coordinator's .carry/dev_env.sh, if
 # present, defines deps_flags and PATH):
 #   bash results/gpu/fetch_device.sh [measure|unit]
-#     measure (default): build the bench into build-cuda, bench and ncu (about 7 min: build
-#                        ~3 min, 56 bench runs of ~3 s, 7 ncu runs of ~10 s)
+#     measure (default): build the bench into build-cuda, bench and ncu (about 7.5 min: build
+#                        ~2-3 min, 64 bench runs of ~3 s, 8 ncu runs of ~10 s)
 #     unit:              build and run unit.core.cuda (the AnyHitKernels* oracle tests of every
 #                        kernel against brute force, the fetch drivers' coverage test)
 # Outputs under $OUT (default /tmp/fetch_out): provenance.txt, cfg.log, build.log, and
@@ -44,7 +45,7 @@ fi
 # A smoke run of each kernel on the small Cornell box first: one that fails or does not finish
 # in 20 s (a hang) is left out of the measured list, so it cannot eat the call's time.
 kernels=""
-for k in default stored speculative fetch fetch8 speculative_fetch fetch_late; do
+for k in default stored speculative fetch fetch8 speculative_fetch fetch_late fetch_block; do
   if timeout 20 "$B/bench/rtmini-bvh-bench" inputs/meshes/CornellBox-Original.obj --workload ao \
     --quality lbvh --gpu-trace $k --repeats 1 > "$OUT/smoke_$k.txt" 2>&1; then
     kernels="$kernels $k"

@@ -9,7 +9,7 @@ for quality in sah lbvh; do
   ref=""
   for kernel in default wide stored short8 short16 default_lb stored_lb compact_lb wide_lb \
     shared8 shared16 wide_shared compact compact_shared16 speculative speculative_shared16 \
-    speculative_compact fetch fetch8 speculative_fetch fetch_late; do
+    speculative_compact fetch fetch8 speculative_fetch fetch_late fetch_block; do
     orders=ray  # the coherent order through one kernel of each kind (it only renumbers threads)
     case $kernel in default | wide | short8 | shared16 | compact | speculative | fetch) orders="ray coherent" ;; esac
     for order in $orders; do

@@ -138,8 +138,8 @@ void expect_all_kernels_match(const Accel& accel, const Kokkos::View<Ray*, TestM
                               Kernel::kShort16, Kernel::kDefaultBounded, Kernel::kStoredBounded,
                               Kernel::kShared8, Kernel::kShared16, Kernel::kSpeculative,
                               Kernel::kSpeculativeShared16, Kernel::kFetch, Kernel::kFetch8,
-                              Kernel::kSpeculativeFetch, Kernel::kFetchLate>(accel, rays, ref,
-                                                                             what);
+                              Kernel::kSpeculativeFetch, Kernel::kFetchLate, Kernel::kFetchBlock>(
+      accel, rays, ref, what);
   // kWide's kernels with the compressed wide copy (built on devices already; on the host only
   // when asked).
   auto wide = accel;
@@ -288,6 +288,7 @@ TEST(AnyHitKernels, FetchHandsOutEveryRayOnce) {
     expect_fetch_covers<Kernel::kFetch8>(accel, rays, ref, g.n, g.threads, g.slices);
     expect_fetch_covers<Kernel::kSpeculativeFetch>(accel, rays, ref, g.n, g.threads, g.slices);
     expect_fetch_covers<Kernel::kFetchLate>(accel, rays, ref, g.n, g.threads, g.slices);
+    expect_fetch_covers<Kernel::kFetchBlock>(accel, rays, ref, g.n, g.threads, g.slices);
   }
 }
 

@@ -42,6 +42,9 @@
 //    replacement branch shared by more lanes), kSpeculativeFetch between rounds of the
 //    while-while loop, each lane speculating up to its second leaf (no vote: NeverAllVote). All
 //    three load the next ray's data a ray ahead; kFetchLate is kFetch loading it when needed.
+//    kFetchBlock is kFetch with one slice per block instead of per SM's worth of warps dealt
+//    round the slices: a block's warps, on one SM, trace neighbouring rays (as one ray per
+//    thread does: AO rays of one point are consecutive), so their nodes share that SM's L1.
 //
 // Every binary variant answers exactly what brute force answers (same watertight test,
 // tests/unit/core); those on BvhNode visit the same nodes as detail::traverse (near child first,
@@ -75,7 +78,8 @@ enum class AnyHitKernel {
   kFetch,
   kFetch8,
   kSpeculativeFetch,
-  kFetchLate
+  kFetchLate,
+  kFetchBlock
 };
 
 inline const char* to_string(AnyHitKernel k) {
@@ -122,6 +126,8 @@ inline const char* to_string(AnyHitKernel k) {
       return "speculative_fetch";
     case AnyHitKernel::kFetchLate:
       return "fetch_late";
+    case AnyHitKernel::kFetchBlock:
+      return "fetch_block";
   }
   return "?";
 }
@@ -146,7 +152,8 @@ inline constexpr AnyHitKernel kAnyHitKernels[] = {AnyHitKernel::kDefault,
                                                   AnyHitKernel::kFetch,
                                                   AnyHitKernel::kFetch8,
                                                   AnyHitKernel::kSpeculativeFetch,
-                                                  AnyHitKernel::kFetchLate};
+                                                  AnyHitKernel::kFetchLate,
+                                                  AnyHitKernel::kFetchBlock};
 
 // False when `name` is none of the kernels' names.
 inline bool parse_any_hit_kernel(const std::string& name, AnyHitKernel& out) {
@@ -207,7 +214,8 @@ constexpr bool speculates(AnyHitKernel k) {
 // tracing ray i on thread i.
 constexpr bool fetches_rays(AnyHitKernel k) {
   return k == AnyHitKernel::kFetch || k == AnyHitKernel::kFetch8 ||
-         k == AnyHitKernel::kSpeculativeFetch || k == AnyHitKernel::kFetchLate;
+         k == AnyHitKernel::kSpeculativeFetch || k == AnyHitKernel::kFetchLate ||
+         k == AnyHitKernel::kFetchBlock;
 }
 
 // Whether a fetching kernel loads its next ray's data while tracing the current one (8 more
@@ -219,6 +227,17 @@ constexpr bool prefetches_ray(AnyHitKernel k) {
 // Node visits between two chances to replace an ended ray (kFetch, kFetch8; the speculative
 // kernel replaces between rounds).
 constexpr int fetch_steps(AnyHitKernel k) { return k == AnyHitKernel::kFetch8 ? 8 : 1; }
+
+// Threads per slice of the rays in a fetching kernel's grid, and how many consecutive threads
+// share a home slice: kFetchBlock one slice per block (256 threads, its home); the others one
+// per 1,024 threads (one SM's resident fetching threads, ray_fetch_threads), each counter seeing
+// one SM's worth of atomics, with warps dealt round the slices.
+constexpr std::int64_t fetch_slice_threads(AnyHitKernel k) {
+  return k == AnyHitKernel::kFetchBlock ? 256 : 1024;
+}
+constexpr std::int64_t fetch_home_group(AnyHitKernel k) {
+  return k == AnyHitKernel::kFetchBlock ? 256 : 32;
+}
 
 // Whether a kernel is today's traversal (any_hit of traverse.hpp), whatever its launch.
 constexpr bool traces_default(AnyHitKernel k) {
@@ -240,6 +259,7 @@ constexpr unsigned launch_min_blocks(AnyHitKernel k) {
     case AnyHitKernel::kFetch8:
     case AnyHitKernel::kSpeculativeFetch:
     case AnyHitKernel::kFetchLate:
+    case AnyHitKernel::kFetchBlock:
       return 4;
     default:
       return 0;
@@ -691,6 +711,7 @@ struct RaySlices {
   std::int64_t n = 0;
   int count = 1;
   unsigned per = 0;
+  std::int64_t group = 32;  // consecutive threads sharing a home slice (RayClaim)
 
   void cut(std::int64_t rays, int slices) {
     n = rays;
@@ -719,19 +740,16 @@ struct RaySlices {
   KOKKOS_INLINE_FUNCTION int after(int s) const { return s + 1 == count ? 0 : s + 1; }
 };
 
-// Slices per grid: one per 1,024 threads (one SM's resident fetching threads, below), so each
-// counter sees one SM's worth of atomics; at most 1,024, whose sweep at the end costs each
-// thread that many looks at most.
-inline constexpr std::int64_t kThreadsPerSlice = 1024;
+// At most 1,024 slices: the sweep at the end costs a thread that many looks at most.
 inline constexpr int kMostSlices = 1024;
 
 // Thread slots per SM as space.concurrency() counts them on CUDA (2,048 on the H100 and H200).
 inline constexpr std::int64_t kThreadSlotsPerSm = 2048;
 
 // One thread's claim on the next ray: a position `ticket` in `slice`, taken one ray ahead so the
-// atomic's latency passes while the current ray is traced. A thread starts in its warp's home
-// slice (warps dealt round the slices, so every slice has owners among whichever blocks are
-// resident) and moves on to the next slice whenever its slice is exhausted.
+// atomic's latency passes while the current ray is traced. A thread starts in its group's home
+// slice (s.group consecutive threads share one: warps dealt round the slices, or whole blocks)
+// and moves on to the next slice whenever its slice is exhausted.
 struct RayClaim {
   int slice = 0;
   int unseen = 0;  // slices not yet seen exhausted, the current one included
@@ -739,7 +757,7 @@ struct RayClaim {
 
   template <class Slices>
   KOKKOS_INLINE_FUNCTION RayClaim(const Slices& s, std::int64_t thread)
-      : slice(int((thread / 32) % s.count)), unseen(s.count), ticket(s.take(slice)) {}
+      : slice(int((thread / s.group) % s.count)), unseen(s.count), ticket(s.take(slice)) {}
 
   // The claimed ray, the next one claimed; -1 once every slice is exhausted.
   template <class Slices>
@@ -855,19 +873,21 @@ std::int64_t ray_fetch_threads(const ExecSpace& space) {
   static_assert(launch_min_blocks(AnyHitKernel::kFetch) == 4 &&
                     launch_min_blocks(AnyHitKernel::kFetch8) == 4 &&
                     launch_min_blocks(AnyHitKernel::kSpeculativeFetch) == 4 &&
-                    launch_min_blocks(AnyHitKernel::kFetchLate) == 4,
+                    launch_min_blocks(AnyHitKernel::kFetchLate) == 4 &&
+                    launch_min_blocks(AnyHitKernel::kFetchBlock) == 4 &&
+                    fetch_slice_threads(AnyHitKernel::kFetchBlock) == kBoundedBlockThreads,
                 "the grid assumes the fetching kernels' launch bounds");
   return std::max<std::int64_t>(kResident, slots / detail::kThreadSlotsPerSm * kResident);
 }
 
-// The counters of the fetching kernels for a grid of `threads` (0: ray_fetch_threads); a caller
+// The counters of fetching kernel k for a grid of `threads` (0: ray_fetch_threads); a caller
 // that keeps them across calls (the bench's timed passes) allocates nothing per call.
 template <class ExecSpace>
 Kokkos::View<unsigned*, typename ExecSpace::memory_space> ray_fetch_counters(
-    const ExecSpace& space, std::int64_t threads = 0) {
+    const ExecSpace& space, AnyHitKernel k, std::int64_t threads = 0) {
   if (threads <= 0) threads = ray_fetch_threads(space);
   const std::int64_t slices =
-      std::clamp<std::int64_t>(threads / detail::kThreadsPerSlice, 1, detail::kMostSlices);
+      std::clamp<std::int64_t>(threads / fetch_slice_threads(k), 1, detail::kMostSlices);
   using Slices = detail::RaySlices<typename ExecSpace::memory_space>;
   return Kokkos::View<unsigned*, typename ExecSpace::memory_space>(
       "rtmini::bvh::ray_fetch_counters", std::size_t(slices + 1) * Slices::kStride);
@@ -894,6 +914,7 @@ void any_hit_all_fetched(const ExecSpace& space, const BvhT& bvh, std::int64_t n
   Slices slices;
   slices.words = counters;
   slices.cut(n, std::max(1, int(counters.extent(0) / Slices::kStride) - 1));
+  slices.group = fetch_home_group(K);
   Kokkos::deep_copy(space, counters, 0u);
   Kokkos::parallel_for(
       kLabel,
@@ -910,7 +931,7 @@ void any_hit_all(const ExecSpace& space, const BvhT& bvh, std::int64_t n, const 
                  const Store& store) {
   constexpr const char* kLabel = "rtmini::bvh::any_hit_all";
   if constexpr (fetches_rays(K)) {
-    any_hit_all_fetched<K>(space, bvh, n, ray_of, store, ray_fetch_counters(space));
+    any_hit_all_fetched<K>(space, bvh, n, ray_of, store, ray_fetch_counters(space, K));
   } else if constexpr (shared_stack_entries(K) > 0) {
     using Functor = detail::AnyHitEachRayInTeam<K, ExecSpace, BvhT, RayOf, Store>;
     const Functor f{bvh, ray_of, store, n};
