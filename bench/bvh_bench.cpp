@@ -302,11 +302,10 @@ void add_compact_nodes(bvh::Bvh<Mem>& accel) {
               accel.compact.extent(0), seconds_since(t0) * 1e3);
 }
 
-// The timed any-hit pass with the kernel chosen on the command line (--gpu-trace); the kernels
-// with dynamic ray fetch share `counters` (allocated once, before the timed passes).
+// The timed any-hit pass with the kernel chosen on the command line (--gpu-trace).
 void trace_any(bvh::AnyHitKernel kernel, const bvh::Bvh<Mem>& accel,
                const Kokkos::View<Ray*, Mem>& rays, const Kokkos::View<int*, Mem>& result,
-               const RayOrder& order, const Kokkos::View<unsigned*, Mem>& counters) {
+               const RayOrder& order) {
   const std::int64_t n = static_cast<std::int64_t>(rays.extent(0));
   const RayAt ray_at{rays, order};
   const StoreBlocked store{result, order};
@@ -346,17 +345,6 @@ void trace_any(bvh::AnyHitKernel kernel, const bvh::Bvh<Mem>& accel,
       return bvh::any_hit_all<K::kSpeculativeShared16>(Exec(), accel, n, ray_at, store);
     case K::kSpeculativeCompact:
       return bvh::any_hit_all<K::kSpeculativeCompact>(Exec(), accel, n, ray_at, store);
-    case K::kFetch:
-      return bvh::any_hit_all_fetched<K::kFetch>(Exec(), accel, n, ray_at, store, counters);
-    case K::kFetch8:
-      return bvh::any_hit_all_fetched<K::kFetch8>(Exec(), accel, n, ray_at, store, counters);
-    case K::kSpeculativeFetch:
-      return bvh::any_hit_all_fetched<K::kSpeculativeFetch>(Exec(), accel, n, ray_at, store,
-                                                            counters);
-    case K::kFetchLate:
-      return bvh::any_hit_all_fetched<K::kFetchLate>(Exec(), accel, n, ray_at, store, counters);
-    case K::kFetchBlock:
-      return bvh::any_hit_all_fetched<K::kFetchBlock>(Exec(), accel, n, ray_at, store, counters);
   }
 }
 
@@ -818,9 +806,6 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
   if (any)
     std::printf("any-hit kernel %s, ray order %s\n", bvh::to_string(kernel), o.ray_order.c_str());
   std::printf("traced %s\n", packets ? "in packets of 8 consecutive rays" : "ray by ray");
-  const Kokkos::View<unsigned*, Mem> fetch_counters = any && bvh::fetches_rays(kernel)
-                                                          ? bvh::ray_fetch_counters(Exec(), kernel)
-                                                          : Kokkos::View<unsigned*, Mem>();
   std::vector<Ray> host_rays;
   if (peer.active()) {
     auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rays);
@@ -836,7 +821,7 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
     if (packets) {
       trace_packets(accel, rays, result, any);
     } else if (any) {
-      trace_any(kernel, accel, rays, result, order, fetch_counters);
+      trace_any(kernel, accel, rays, result, order);
     } else {
       Kokkos::parallel_for(
           "rtmini::bench::trace_closest", Kokkos::RangePolicy<Exec>(0, nr),

@@ -16,8 +16,7 @@
 # kernel one run of 3 timed launches (the bench reports the best); the kernels of one mesh and
 # build back to back. PASSES=2 runs the list a second time in reverse order (ABC..., ...CBA), so
 # drift over the run falls on every kernel alike; anyhit_summary.py keeps a kernel's best run.
-# 88 runs of ~3 s each on the H200 per pass of every kernel (~4.5 min); 32 for the eight kernels of
-# fetch_device.sh.
+# 68 runs of ~3 s each on the H200 per pass of every kernel (~3.5 min).
 # ncu phase (if ncu is on PATH): one run per kernel on dragon AO SAH, `--repeats 1` so the
 # profiled launch is the timed one, `--launch-count 1` on the trace kernel only (~10 s each,
 # ~2.5 min). With the CUDA build and unit.core.cuda in the same 10-minute call, run `bench` there
@@ -38,11 +37,11 @@ t0=$(date +%s)
   nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null
   "$BENCH" --help 2>/dev/null | grep -A2 -- '--gpu-trace' | head -3
 } > "$OUT/provenance.txt"
-# KERNELS (default: every kernel) picks a subset, e.g. KERNELS="default stored fetch";
+# KERNELS (default: every kernel) picks a subset, e.g. KERNELS="default stored speculative";
 # RUN_LIMIT (default 60) is the seconds one bench run may take (twice that under ncu).
 KERNELS=${KERNELS:-"default stored short8 default_lb stored_lb shared8 shared16 compact compact_lb
   compact_shared16 speculative speculative_shared16 speculative_compact wide wide_lb wide_shared
-  short16 fetch fetch8 speculative_fetch fetch_late fetch_block"}
+  short16"}
 REVERSED=$(echo $KERNELS | tr ' ' '\n' | tac | tr '\n' ' ')
 
 if [ "$phase" != ncu ]; then

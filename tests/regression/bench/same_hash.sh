@@ -9,9 +9,9 @@ for quality in sah lbvh; do
   ref=""
   for kernel in default wide stored short8 short16 default_lb stored_lb compact_lb wide_lb \
     shared8 shared16 wide_shared compact compact_shared16 speculative speculative_shared16 \
-    speculative_compact fetch fetch8 speculative_fetch fetch_late fetch_block; do
+    speculative_compact; do
     orders=ray  # the coherent order through one kernel of each kind (it only renumbers threads)
-    case $kernel in default | wide | short8 | shared16 | compact | speculative | fetch) orders="ray coherent" ;; esac
+    case $kernel in default | wide | short8 | shared16 | compact | speculative) orders="ray coherent" ;; esac
     for order in $orders; do
       line=$("$bench" "$mesh" --workload ao --quality $quality --samples-per-face 2 --rays 8 \
         --repeats 1 --threads 2 --gpu-trace $kernel --ray-order $order | grep '^FOM')
@@ -23,7 +23,7 @@ for quality in sah lbvh; do
   done
 done
 # The shadow workload (any hit, camera rays' hits toward a light) through one variant too.
-for kernel in default short8 shared16 compact speculative fetch speculative_fetch; do
+for kernel in default short8 shared16 compact speculative; do
   line=$("$bench" "$mesh" --workload shadow --width 48 --height 48 --repeats 1 --threads 2 \
     --gpu-trace $kernel | grep '^FOM')
   echo "shadow $kernel: ${line##* }"

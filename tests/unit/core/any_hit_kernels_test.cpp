@@ -137,9 +137,7 @@ void expect_all_kernels_match(const Accel& accel, const Kokkos::View<Ray*, TestM
   expect_every_kernel_matches<Kernel::kDefault, Kernel::kWide, Kernel::kStored, Kernel::kShort8,
                               Kernel::kShort16, Kernel::kDefaultBounded, Kernel::kStoredBounded,
                               Kernel::kShared8, Kernel::kShared16, Kernel::kSpeculative,
-                              Kernel::kSpeculativeShared16, Kernel::kFetch, Kernel::kFetch8,
-                              Kernel::kSpeculativeFetch, Kernel::kFetchLate, Kernel::kFetchBlock>(
-      accel, rays, ref, what);
+                              Kernel::kSpeculativeShared16>(accel, rays, ref, what);
   // kWide's kernels with the compressed wide copy (built on devices already; on the host only
   // when asked).
   auto wide = accel;
@@ -186,9 +184,8 @@ TEST(AnyHitKernels, DragonMatchesBinaryTraversal) {
     const std::vector<int> ref = any_hits<Kernel::kDefault>(binary, rays);
     expect_all_kernels_match(binary, rays, ref, std::string("dragon ") + bvh::to_string(q));
     const auto base = work<Kernel::kDefault>(binary, rays);
-    for (const auto& w :
-         {work<Kernel::kStored>(binary, rays), work<Kernel::kShort8>(binary, rays),
-          work<Kernel::kShort16>(binary, rays), work<Kernel::kFetch>(binary, rays)}) {
+    for (const auto& w : {work<Kernel::kStored>(binary, rays), work<Kernel::kShort8>(binary, rays),
+                          work<Kernel::kShort16>(binary, rays)}) {
       EXPECT_EQ(w.first, base.first) << "node visits, " << bvh::to_string(q);
       EXPECT_EQ(w.second, base.second) << "triangle tests, " << bvh::to_string(q);
     }
@@ -230,85 +227,6 @@ TEST(AnyHitKernels, SpeculationKeepsBruteForceAnswers) {
     }
     EXPECT_EQ(mismatches, 0) << bvh::to_string(q);
     EXPECT_GT(blocked, int(ref.size()) / 20) << "too few blocked rays to mean much";
-  }
-}
-
-// Dynamic ray fetch hands every ray out exactly once and answers as brute force, whatever the
-// grid: fewer threads than slices, more threads than rays, slices of one ray or none, a grid of
-// one thread that drains its own slice and steals all the others (host threads run their
-// iterations one after another, so later threads mostly find the slices exhausted).
-struct CountedStore {
-  Kokkos::View<int*, TestMemSpace> out, times;
-  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t i, bool blocked) const {
-    out(i) = blocked ? 1 : 0;
-    Kokkos::atomic_fetch_add(&times(i), 1);
-  }
-};
-
-template <Kernel K>
-void expect_fetch_covers(const bvh::Bvh<TestMemSpace>& accel,
-                         const Kokkos::View<Ray*, TestMemSpace>& rays, const std::vector<int>& ref,
-                         std::int64_t n, std::int64_t threads, int slices) {
-  const std::string what = std::string(bvh::to_string(K)) + " n " + std::to_string(n) +
-                           " threads " + std::to_string(threads) + " slices " +
-                           std::to_string(slices);
-  Kokkos::View<int*, TestMemSpace> out("out", n), times("times", n);
-  Kokkos::deep_copy(out, -1);
-  Kokkos::View<unsigned*, TestMemSpace> counters(
-      "counters", std::size_t(slices + 1) * bvh::detail::RaySlices<TestMemSpace>::kStride);
-  for (int call = 0; call < 2; ++call)  // the second call on used counters: reset by the driver
-    bvh::any_hit_all_fetched<K>(TestExecSpace(), accel, n, RayAt{rays}, CountedStore{out, times},
-                                counters, threads);
-  std::vector<int> got, count;
-  compat::download(out, got);
-  compat::download(times, count);
-  int wrong = 0, not_twice = 0;
-  for (std::int64_t i = 0; i < n; ++i) {
-    wrong += got[i] != ref[i] ? 1 : 0;
-    not_twice += count[i] != 2 ? 1 : 0;
-  }
-  EXPECT_EQ(wrong, 0) << what;
-  EXPECT_EQ(not_twice, 0) << what << ": rays not traced once per call";
-}
-
-TEST(AnyHitKernels, FetchHandsOutEveryRayOnce) {
-  auto tris = mesh_triangles("teapot.obj");
-  const auto accel =
-      bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, bvh::BuildQuality::kSah);
-  const auto rays = ao_like_rays(tris, 5000, 47);
-  const std::vector<int> ref =
-      any_hits<Kernel::kDefault>(bvh::BruteForce<TestMemSpace>{tris}, rays);
-  const struct {
-    std::int64_t n, threads;
-    int slices;
-  } grids[] = {{5000, 1, 1}, {5000, 1, 7}, {5000, 3, 2}, {5000, 100, 3}, {4999, 64, 64},
-               {3, 40, 8},   {1, 5, 2},    {0, 4, 3},    {5000, 700, 1}};
-  for (const auto& g : grids) {
-    expect_fetch_covers<Kernel::kFetch>(accel, rays, ref, g.n, g.threads, g.slices);
-    expect_fetch_covers<Kernel::kFetch8>(accel, rays, ref, g.n, g.threads, g.slices);
-    expect_fetch_covers<Kernel::kSpeculativeFetch>(accel, rays, ref, g.n, g.threads, g.slices);
-    expect_fetch_covers<Kernel::kFetchLate>(accel, rays, ref, g.n, g.threads, g.slices);
-    expect_fetch_covers<Kernel::kFetchBlock>(accel, rays, ref, g.n, g.threads, g.slices);
-  }
-}
-
-// The slices partition the rays: each non-empty one begins where the previous one ended, none
-// is longer than a fair share rounded up, and together they hold every ray.
-TEST(AnyHitKernels, RaySlicesPartitionTheRays) {
-  for (std::int64_t n : {0, 1, 7, 1000, 19200000}) {
-    for (int count : {1, 3, 64, 1024}) {
-      bvh::detail::RaySlices<Kokkos::HostSpace> s;
-      s.cut(n, count);
-      std::int64_t next = 0;
-      for (int k = 0; k < count; ++k) {
-        if (s.size(k) > 0) {
-          EXPECT_EQ(s.begin(k), next) << n << " rays, slice " << k << " of " << count;
-        }
-        EXPECT_LE(s.size(k), n / count + 1);
-        next += s.size(k);
-      }
-      EXPECT_EQ(next, n) << n << " rays in " << count << " slices";
-    }
   }
 }
 

@@ -30,21 +30,6 @@
 //  - kSpeculative / kSpeculativeShared16 / kSpeculativeCompact: Aila & Laine's while-while loop
 //    with postponed leaves and speculative node fetches (SpeculativeAnyHitRay) over BvhNode with a
 //    local stack, with kShared16's ring, or over the 32-byte nodes.
-//  - kFetch / kFetch8 / kSpeculativeFetch: dynamic ray fetch (AnyHitEachRayFetched): a fixed grid
-//    of threads, each taking its next ray from a counter with one atomic when its ray ends, so a
-//    lane whose ray ended early traces another instead of idling until its warp's longest ray
-//    ends (ncu: 10-11.5 of 32 lanes active in every one-ray-per-thread kernel). Counters per
-//    slice of the rays (RaySlices), stealing from the other slices once the own one is empty.
-//    No warp vote, ballot or shuffle anywhere, and every lane's work is bounded by the counters:
-//    a lane that leaves cannot hang its warp (persistent kernels removed on 2026-11-24 did not
-//    finish on the H200; their cause was not found). kFetch replaces a ray as soon as it
-//    ends (kStored's traversal, one node per loop turn), kFetch8 only every 8 nodes (the
-//    replacement branch shared by more lanes), kSpeculativeFetch between rounds of the
-//    while-while loop, each lane speculating up to its second leaf (no vote: NeverAllVote). All
-//    three load the next ray's data a ray ahead; kFetchLate is kFetch loading it when needed.
-//    kFetchBlock is kFetch with one slice per block instead of per SM's worth of warps dealt
-//    round the slices: a block's warps, on one SM, trace neighbouring rays (as one ray per
-//    thread does: AO rays of one point are consecutive), so their nodes share that SM's L1.
 //
 // Every binary variant answers exactly what brute force answers (same watertight test,
 // tests/unit/core); those on BvhNode visit the same nodes as detail::traverse (near child first,
@@ -74,12 +59,7 @@ enum class AnyHitKernel {
   kCompactShared16,
   kSpeculative,
   kSpeculativeShared16,
-  kSpeculativeCompact,
-  kFetch,
-  kFetch8,
-  kSpeculativeFetch,
-  kFetchLate,
-  kFetchBlock
+  kSpeculativeCompact
 };
 
 inline const char* to_string(AnyHitKernel k) {
@@ -118,16 +98,6 @@ inline const char* to_string(AnyHitKernel k) {
       return "speculative_shared16";
     case AnyHitKernel::kSpeculativeCompact:
       return "speculative_compact";
-    case AnyHitKernel::kFetch:
-      return "fetch";
-    case AnyHitKernel::kFetch8:
-      return "fetch8";
-    case AnyHitKernel::kSpeculativeFetch:
-      return "speculative_fetch";
-    case AnyHitKernel::kFetchLate:
-      return "fetch_late";
-    case AnyHitKernel::kFetchBlock:
-      return "fetch_block";
   }
   return "?";
 }
@@ -148,12 +118,7 @@ inline constexpr AnyHitKernel kAnyHitKernels[] = {AnyHitKernel::kDefault,
                                                   AnyHitKernel::kCompactShared16,
                                                   AnyHitKernel::kSpeculative,
                                                   AnyHitKernel::kSpeculativeShared16,
-                                                  AnyHitKernel::kSpeculativeCompact,
-                                                  AnyHitKernel::kFetch,
-                                                  AnyHitKernel::kFetch8,
-                                                  AnyHitKernel::kSpeculativeFetch,
-                                                  AnyHitKernel::kFetchLate,
-                                                  AnyHitKernel::kFetchBlock};
+                                                  AnyHitKernel::kSpeculativeCompact};
 
 // False when `name` is none of the kernels' names.
 inline bool parse_any_hit_kernel(const std::string& name, AnyHitKernel& out) {
@@ -207,36 +172,7 @@ constexpr bool traces_compact_nodes(AnyHitKernel k) {
 // Whether a kernel postpones leaves and fetches nodes speculatively (SpeculativeAnyHitRay).
 constexpr bool speculates(AnyHitKernel k) {
   return k == AnyHitKernel::kSpeculative || k == AnyHitKernel::kSpeculativeShared16 ||
-         k == AnyHitKernel::kSpeculativeCompact || k == AnyHitKernel::kSpeculativeFetch;
-}
-
-// Whether a kernel's threads take their rays from counters (AnyHitEachRayFetched) instead of
-// tracing ray i on thread i.
-constexpr bool fetches_rays(AnyHitKernel k) {
-  return k == AnyHitKernel::kFetch || k == AnyHitKernel::kFetch8 ||
-         k == AnyHitKernel::kSpeculativeFetch || k == AnyHitKernel::kFetchLate ||
-         k == AnyHitKernel::kFetchBlock;
-}
-
-// Whether a fetching kernel loads its next ray's data while tracing the current one (8 more
-// registers; without, a lane whose ray ended waits for that load, and its warp with it).
-constexpr bool prefetches_ray(AnyHitKernel k) {
-  return fetches_rays(k) && k != AnyHitKernel::kFetchLate;
-}
-
-// Node visits between two chances to replace an ended ray (kFetch, kFetch8; the speculative
-// kernel replaces between rounds).
-constexpr int fetch_steps(AnyHitKernel k) { return k == AnyHitKernel::kFetch8 ? 8 : 1; }
-
-// Threads per slice of the rays in a fetching kernel's grid, and how many consecutive threads
-// share a home slice: kFetchBlock one slice per block (256 threads, its home); the others one
-// per 1,024 threads (one SM's resident fetching threads, ray_fetch_threads), each counter seeing
-// one SM's worth of atomics, with warps dealt round the slices.
-constexpr std::int64_t fetch_slice_threads(AnyHitKernel k) {
-  return k == AnyHitKernel::kFetchBlock ? 256 : 1024;
-}
-constexpr std::int64_t fetch_home_group(AnyHitKernel k) {
-  return k == AnyHitKernel::kFetchBlock ? 256 : 32;
+         k == AnyHitKernel::kSpeculativeCompact;
 }
 
 // Whether a kernel is today's traversal (any_hit of traverse.hpp), whatever its launch.
@@ -255,11 +191,6 @@ constexpr unsigned launch_min_blocks(AnyHitKernel k) {
     case AnyHitKernel::kCompactBounded:
       return 6;
     case AnyHitKernel::kWideBounded:
-    case AnyHitKernel::kFetch:
-    case AnyHitKernel::kFetch8:
-    case AnyHitKernel::kSpeculativeFetch:
-    case AnyHitKernel::kFetchLate:
-    case AnyHitKernel::kFetchBlock:
       return 4;
     default:
       return 0;
@@ -499,18 +430,10 @@ struct NeverAllVote {
   KOKKOS_FORCEINLINE_FUNCTION static bool all(bool) { return false; }
 };
 
-// The fetching kernel does without the vote: no warp collective in its loop (a lane there
-// speculates up to its second leaf).
-template <AnyHitKernel K>
-using SpeculationVote = std::conditional_t<fetches_rays(K), NeverAllVote, WarpVote>;
-
 template <class Stack, bool kCompact, class Vote = WarpVote>
 struct SpeculativeAnyHitRay : BinaryAnyHitRay<Stack, kCompact> {
   static constexpr std::uint32_t kDone = 0x7fffffffu;  // no node left: an inner index past any tree
   static constexpr std::uint32_t kNoLeaf = 0u;         // no pending leaf: the root, never a leaf
-
-  std::uint32_t ref = 0;         // the node (or leaf) to take next, or kDone
-  std::uint32_t leaf = kNoLeaf;  // the postponed leaf
 
   using BinaryAnyHitRay<Stack, kCompact>::BinaryAnyHitRay;
 
@@ -537,40 +460,31 @@ struct SpeculativeAnyHitRay : BinaryAnyHitRay<Stack, kCompact> {
     return pop_or_done(deep);
   }
 
-  // One round of the while-while loop: inner nodes until the warp agrees (or this lane holds a
-  // second leaf, or none is left), then the pending leaves. kGoing: nodes are left.
-  template <class BvhT, bool kStats>
-  KOKKOS_INLINE_FUNCTION AnyHitStep round(const BvhT& bvh, std::uint32_t* deep,
-                                          TraversalStats* stats) {
-    while (ref != kDone && !is_leaf(ref)) {
-      ref = visit<BvhT, kStats>(bvh, ref, deep, stats);
-      if (is_leaf(ref) && leaf == kNoLeaf) {
-        leaf = ref;
-        ref = pop_or_done(deep);
-      }
-      if (Vote::all(leaf != kNoLeaf)) break;
-    }
-    // The pending leaf, then `ref` while it is one (kDone is not).
-    while (leaf != kNoLeaf || is_leaf(ref)) {
-      std::uint32_t l = leaf;
-      if (leaf != kNoLeaf) {
-        leaf = kNoLeaf;
-      } else {
-        l = ref;
-        ref = pop_or_done(deep);
-      }
-      if (this->template leaf_blocks<BvhT, kStats>(bvh, l, stats)) return AnyHitStep::kBlocked;
-    }
-    return ref == kDone ? AnyHitStep::kClear : AnyHitStep::kGoing;
-  }
-
   template <class BvhT, bool kStats>
   KOKKOS_INLINE_FUNCTION bool blocked(const BvhT& bvh, std::uint32_t* deep, TraversalStats* stats) {
-    AnyHitStep s;
-    do {
-      s = round<BvhT, kStats>(bvh, deep, stats);
-    } while (s == AnyHitStep::kGoing);
-    return s == AnyHitStep::kBlocked;
+    std::uint32_t ref = 0, leaf = kNoLeaf;
+    while (true) {
+      while (ref != kDone && !is_leaf(ref)) {
+        ref = visit<BvhT, kStats>(bvh, ref, deep, stats);
+        if (is_leaf(ref) && leaf == kNoLeaf) {
+          leaf = ref;
+          ref = pop_or_done(deep);
+        }
+        if (Vote::all(leaf != kNoLeaf)) break;
+      }
+      // The pending leaf, then `ref` while it is one (kDone is not).
+      while (leaf != kNoLeaf || is_leaf(ref)) {
+        std::uint32_t l = leaf;
+        if (leaf != kNoLeaf) {
+          leaf = kNoLeaf;
+        } else {
+          l = ref;
+          ref = pop_or_done(deep);
+        }
+        if (this->template leaf_blocks<BvhT, kStats>(bvh, l, stats)) return true;
+      }
+      if (ref == kDone) return false;
+    }
   }
 };
 
@@ -626,8 +540,7 @@ KOKKOS_INLINE_FUNCTION bool kernel_any_hit(const BvhT& bvh, const Ray& ray, cons
     }
     return default_any_hit<kStats>(bvh, ray, stats);
   } else if constexpr (speculates(K)) {
-    return any_hit_speculative<false, kStats, BvhT, Stack, SpeculationVote<K>>(bvh, ray, stack,
-                                                                               stats);
+    return any_hit_speculative<false, kStats>(bvh, ray, stack, stats);
   } else {
     return any_hit_binary<false, kStats>(bvh, ray, stack, stats);
   }
@@ -699,230 +612,7 @@ struct AnyHitEachRayInTeam {
 
 inline constexpr int kSharedStackTeam = 128;  // threads per team of the shared-memory kernels
 
-// Rays 0..n-1 cut into `count` contiguous slices of `per` rays (the last ones shorter or
-// empty; no division on the device), each with a counter of the rays handed out, alone in its
-// 128-byte line (atomics on different counters never share a line). Counters only grow, so a
-// slice seen exhausted stays exhausted; the word after the last counter is set once some thread
-// has seen every slice exhausted, so threads arriving late leave at one look.
-template <class MemorySpace>
-struct RaySlices {
-  static constexpr int kStride = 32;           // 32 four-byte words: one counter per 128-byte line
-  Kokkos::View<unsigned*, MemorySpace> words;  // (count + 1) * kStride
-  std::int64_t n = 0;
-  int count = 1;
-  unsigned per = 0;
-  std::int64_t group = 32;  // consecutive threads sharing a home slice (RayClaim)
-
-  void cut(std::int64_t rays, int slices) {
-    n = rays;
-    count = slices;
-    per = unsigned((rays + slices - 1) / slices);
-  }
-  KOKKOS_INLINE_FUNCTION std::int64_t begin(int s) const { return std::int64_t(s) * per; }
-  KOKKOS_INLINE_FUNCTION unsigned size(int s) const {
-    const std::int64_t left = n - begin(s);
-    return left <= 0 ? 0u : (left < per ? unsigned(left) : per);
-  }
-  KOKKOS_INLINE_FUNCTION unsigned* word(int s) const { return &words(std::size_t(s) * kStride); }
-  // A position in slice s (past its end once the slice is exhausted): the one atomic per ray.
-  KOKKOS_INLINE_FUNCTION unsigned take(int s) const {
-    return Kokkos::atomic_fetch_add(word(s), 1u);
-  }
-  // A plain look (no atomic): an outdated value only means one atomic more.
-  KOKKOS_INLINE_FUNCTION unsigned peek(int s) const {
-    return *static_cast<const volatile unsigned*>(word(s));
-  }
-  KOKKOS_INLINE_FUNCTION bool exhausted(int s) const { return peek(s) >= size(s); }
-  KOKKOS_INLINE_FUNCTION bool all_exhausted() const { return peek(count) != 0; }
-  KOKKOS_INLINE_FUNCTION void mark_all_exhausted() const {
-    *static_cast<volatile unsigned*>(word(count)) = 1u;
-  }
-  KOKKOS_INLINE_FUNCTION int after(int s) const { return s + 1 == count ? 0 : s + 1; }
-};
-
-// At most 1,024 slices: the sweep at the end costs a thread that many looks at most.
-inline constexpr int kMostSlices = 1024;
-
-// Thread slots per SM as space.concurrency() counts them on CUDA (2,048 on the H100 and H200).
-inline constexpr std::int64_t kThreadSlotsPerSm = 2048;
-
-// One thread's claim on the next ray: a position `ticket` in `slice`, taken one ray ahead so the
-// atomic's latency passes while the current ray is traced. A thread starts in its group's home
-// slice (s.group consecutive threads share one: warps dealt round the slices, or whole blocks)
-// and moves on to the next slice whenever its slice is exhausted.
-struct RayClaim {
-  int slice = 0;
-  int unseen = 0;  // slices not yet seen exhausted, the current one included
-  unsigned ticket = 0;
-
-  template <class Slices>
-  KOKKOS_INLINE_FUNCTION RayClaim(const Slices& s, std::int64_t thread)
-      : slice(int((thread / s.group) % s.count)), unseen(s.count), ticket(s.take(slice)) {}
-
-  // The claimed ray, the next one claimed; -1 once every slice is exhausted.
-  template <class Slices>
-  KOKKOS_INLINE_FUNCTION std::int64_t redeem(const Slices& s) {
-    while (ticket >= s.size(slice)) {
-      if (--unseen == 0) {
-        s.mark_all_exhausted();
-        return -1;
-      }
-      if (s.all_exhausted()) return -1;
-      slice = s.after(slice);
-      ticket = s.exhausted(slice) ? s.size(slice) : s.take(slice);
-    }
-    const std::int64_t ray = s.begin(slice) + ticket;
-    ticket = s.take(slice);
-    return ray;
-  }
-};
-
-// One ray's traversal in a fetching kernel, advanced until it ends or may be replaced.
-template <AnyHitKernel K>
-struct FetchedTraversal {
-  using Stack = ShortStack<0>;
-  using State = BinaryAnyHitRay<Stack, false>;
-  template <class BvhT>
-  KOKKOS_FORCEINLINE_FUNCTION static AnyHitStep advance(const BvhT& bvh, State& r,
-                                                        std::uint32_t* deep) {
-    AnyHitStep s = AnyHitStep::kGoing;
-    for (int k = 0; k < fetch_steps(K) && s == AnyHitStep::kGoing; ++k)
-      s = r.template step<BvhT, false>(bvh, deep, nullptr);
-    return s;
-  }
-};
-template <>
-struct FetchedTraversal<AnyHitKernel::kSpeculativeFetch> {
-  using Stack = ShortStack<0>;
-  using State =
-      SpeculativeAnyHitRay<Stack, false, SpeculationVote<AnyHitKernel::kSpeculativeFetch>>;
-  template <class BvhT>
-  KOKKOS_FORCEINLINE_FUNCTION static AnyHitStep advance(const BvhT& bvh, State& r,
-                                                        std::uint32_t* deep) {
-    return r.template round<BvhT, false>(bvh, deep, nullptr);
-  }
-};
-
-// A thread's queue of claimed rays: the next ray's index (-1: none left) and, if kPrefetch, its
-// data, loaded when it was claimed, a ray ahead of its use.
-template <bool kPrefetch>
-struct ClaimedRays {
-  RayClaim claim;
-  std::int64_t next;
-  Ray ray;
-
-  template <class Slices, class RayOf>
-  KOKKOS_INLINE_FUNCTION ClaimedRays(const Slices& s, const RayOf& ray_of, std::int64_t thread)
-      : claim(s, thread), next(claim.redeem(s)) {
-    if (kPrefetch && next >= 0) ray = ray_of(next);
-  }
-
-  // The next ray's index into `i` and its data into `out`; false when none is left.
-  template <class Slices, class RayOf>
-  KOKKOS_INLINE_FUNCTION bool pop(const Slices& s, const RayOf& ray_of, std::int64_t& i, Ray& out) {
-    i = next;
-    if (i < 0) return false;
-    out = kPrefetch ? ray : ray_of(i);
-    next = claim.redeem(s);
-    if (kPrefetch && next >= 0) ray = ray_of(next);
-    return true;
-  }
-};
-
-// Dynamic ray fetch: thread t traces rays claimed from `slices` until none is left. One loop
-// turn advances the ray; only a lane whose ray ended stores it and starts the next one, with no
-// warp collective, so lanes leave independently.
-template <AnyHitKernel K, class BvhT, class RayOf, class Store, class Slices>
-struct AnyHitEachRayFetched {
-  using Traversal = FetchedTraversal<K>;
-  using Stack = typename Traversal::Stack;
-  using State = typename Traversal::State;
-  BvhT bvh;
-  RayOf ray_of;
-  Store store;
-  Slices slices;
-
-  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t thread) const {
-    ClaimedRays<prefetches_ray(K)> queue(slices, ray_of, thread);
-    std::int64_t current;
-    Ray ray;
-    if (!queue.pop(slices, ray_of, current, ray)) return;
-    State r(ray, Stack{});
-    std::uint32_t deep[kStackSize];
-    while (true) {
-      const AnyHitStep s = Traversal::advance(bvh, r, deep);
-      if (s == AnyHitStep::kGoing) continue;
-      store(current, s == AnyHitStep::kBlocked);
-      if (!queue.pop(slices, ray_of, current, ray)) return;
-      r = State(ray, Stack{});
-    }
-  }
-};
-
 }  // namespace detail
-
-// The fetching kernels' grid: on GPUs the threads that their launch bounds keep resident (4
-// blocks of 256 per SM: every warp runs from the start, none arrives after the rays are gone),
-// on host backends one per thread.
-template <class ExecSpace>
-std::int64_t ray_fetch_threads(const ExecSpace& space) {
-  const std::int64_t slots = space.concurrency();
-  if (Kokkos::SpaceAccessibility<Kokkos::HostSpace, typename ExecSpace::memory_space>::accessible)
-    return slots;
-  constexpr std::int64_t kResident = std::int64_t(kBoundedBlockThreads) * 4;
-  static_assert(launch_min_blocks(AnyHitKernel::kFetch) == 4 &&
-                    launch_min_blocks(AnyHitKernel::kFetch8) == 4 &&
-                    launch_min_blocks(AnyHitKernel::kSpeculativeFetch) == 4 &&
-                    launch_min_blocks(AnyHitKernel::kFetchLate) == 4 &&
-                    launch_min_blocks(AnyHitKernel::kFetchBlock) == 4 &&
-                    fetch_slice_threads(AnyHitKernel::kFetchBlock) == kBoundedBlockThreads,
-                "the grid assumes the fetching kernels' launch bounds");
-  return std::max<std::int64_t>(kResident, slots / detail::kThreadSlotsPerSm * kResident);
-}
-
-// The counters of fetching kernel k for a grid of `threads` (0: ray_fetch_threads); a caller
-// that keeps them across calls (the bench's timed passes) allocates nothing per call.
-template <class ExecSpace>
-Kokkos::View<unsigned*, typename ExecSpace::memory_space> ray_fetch_counters(
-    const ExecSpace& space, AnyHitKernel k, std::int64_t threads = 0) {
-  if (threads <= 0) threads = ray_fetch_threads(space);
-  const std::int64_t slices =
-      std::clamp<std::int64_t>(threads / fetch_slice_threads(k), 1, detail::kMostSlices);
-  using Slices = detail::RaySlices<typename ExecSpace::memory_space>;
-  return Kokkos::View<unsigned*, typename ExecSpace::memory_space>(
-      "rtmini::bvh::ray_fetch_counters", std::size_t(slices + 1) * Slices::kStride);
-}
-
-// Any hit of rays 0..n-1 by a fetching kernel K on `threads` threads (0: ray_fetch_threads)
-// sharing `counters` (ray_fetch_counters: their size sets the number of slices), reset here.
-template <AnyHitKernel K, class ExecSpace, class BvhT, class RayOf, class Store>
-void any_hit_all_fetched(const ExecSpace& space, const BvhT& bvh, std::int64_t n,
-                         const RayOf& ray_of, const Store& store,
-                         const Kokkos::View<unsigned*, typename ExecSpace::memory_space>& counters,
-                         std::int64_t threads = 0) {
-  static_assert(fetches_rays(K), "a kernel with dynamic ray fetch");
-  using Slices = detail::RaySlices<typename ExecSpace::memory_space>;
-  constexpr const char* kLabel = "rtmini::bvh::any_hit_all_fetched";
-  if (n == 0) return;
-  if (bvh.num_prims == 0) {  // nothing to traverse: every ray is clear (kStored's answer)
-    Kokkos::parallel_for(
-        kLabel, Kokkos::RangePolicy<ExecSpace>(space, 0, n),
-        detail::AnyHitEachRay<AnyHitKernel::kStored, BvhT, RayOf, Store>{bvh, ray_of, store});
-    return;
-  }
-  if (threads <= 0) threads = ray_fetch_threads(space);
-  Slices slices;
-  slices.words = counters;
-  slices.cut(n, std::max(1, int(counters.extent(0) / Slices::kStride) - 1));
-  slices.group = fetch_home_group(K);
-  Kokkos::deep_copy(space, counters, 0u);
-  Kokkos::parallel_for(
-      kLabel,
-      Kokkos::RangePolicy<ExecSpace,
-                          Kokkos::LaunchBounds<kBoundedBlockThreads, launch_min_blocks(K)>>(
-          space, 0, threads),
-      detail::AnyHitEachRayFetched<K, BvhT, RayOf, Store, Slices>{bvh, ray_of, store, slices});
-}
 
 // Any hit of rays 0..n-1 with the kernel K, one thread per ray: ray_of(i) is ray i,
 // store(i, blocked) records its answer.
@@ -930,9 +620,7 @@ template <AnyHitKernel K, class ExecSpace, class BvhT, class RayOf, class Store>
 void any_hit_all(const ExecSpace& space, const BvhT& bvh, std::int64_t n, const RayOf& ray_of,
                  const Store& store) {
   constexpr const char* kLabel = "rtmini::bvh::any_hit_all";
-  if constexpr (fetches_rays(K)) {
-    any_hit_all_fetched<K>(space, bvh, n, ray_of, store, ray_fetch_counters(space, K));
-  } else if constexpr (shared_stack_entries(K) > 0) {
+  if constexpr (shared_stack_entries(K) > 0) {
     using Functor = detail::AnyHitEachRayInTeam<K, ExecSpace, BvhT, RayOf, Store>;
     const Functor f{bvh, ray_of, store, n};
     const int most = Kokkos::TeamPolicy<ExecSpace>(space, 1, Kokkos::AUTO)

@@ -1,4 +1,8 @@
 #!/usr/bin/env bash
+# Historical copy: the device command of the fetch-kernel measurement (2026-11-24 22:04 UTC), run
+# from a trial merge of main 117e006, gpu7 da8a8ae and bake7 c2f055d through device_command.sh
+# beside it. The fetch kernels were taken out of the tree after that measurement (results/gpu/README.md);
+# check out 6524973 to run it again.
 # One device call for issue 21's dynamic ray fetch (branch gpu7): CUDA build of rtmini-bvh-bench,
 # then results/gpu/anyhit_device.sh on the kernels with dynamic ray fetch (fetch, fetch8,
 # speculative_fetch, fetch_late, fetch_block) beside the one-ray-per-thread kernels they build
