@@ -229,8 +229,8 @@ void grow_auto_budget(Splitter& splitter, std::vector<SplitReference>& refs, std
 
 }  // namespace
 
-std::vector<SplitReference> presplit_triangles(TriangleSpan tris,
-                                               const Aabb& bounds, double budget) {
+std::vector<SplitReference> presplit_triangles(TriangleSpan tris, const Aabb& bounds,
+                                               double budget) {
   const std::size_t n = tris.size();
   if (n == 0 || budget == 0 || bounds.empty()) return {};
   const bool auto_budget = is_auto_split_budget(budget);

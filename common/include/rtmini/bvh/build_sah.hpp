@@ -33,8 +33,7 @@ inline constexpr SpatialSplits kDefaultSpatialSplits = SpatialSplits::kAuto;
 
 // split_budget: extra references allowed (pre-split parts, or those added by spatial splits), as
 // a fraction of the triangle count (0: never split), or kAutoSplitBudget (presplit.hpp).
-HostBvh build_sah_host(TriangleSpan input,
-                       double split_budget = kDefaultSplitBudget,
+HostBvh build_sah_host(TriangleSpan input, double split_budget = kDefaultSplitBudget,
                        SpatialSplits spatial_splits = kDefaultSpatialSplits);
 
 // compat::upload, except that host memory is filled by a plain copy: the Kokkos fill and

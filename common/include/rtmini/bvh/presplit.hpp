@@ -74,7 +74,7 @@ struct SplitReference {
 // The references to build from: empty when splitting does not pay (build from the triangles
 // as they are), else one or more per triangle, at most (1 + budget) x the triangle count (auto:
 // see above). The same for any thread count.
-std::vector<SplitReference> presplit_triangles(TriangleSpan tris,
-                                               const Aabb& bounds, double budget);
+std::vector<SplitReference> presplit_triangles(TriangleSpan tris, const Aabb& bounds,
+                                               double budget);
 
 }  // namespace rtmini::bvh

@@ -41,7 +41,7 @@ struct WatertightRay {
 
   WatertightRay() = default;  // (arrays of rays, filled ray by ray)
   // The axes by selects and loads from a small array, not branches: on random directions (AO,
-  // diffuse bounces) a branch on the dominant axis mispredicts half the time, which made this
+  // diffuse bounces) the branches on the dominant axis mispredict often, which made this
   // ~4 % of a packet trace of the dragon's diffuse rays (perf, results/bvh/README.md). The
   // values are max_dimension(vabs(d))'s and the winding-keeping swap's, as before.
   KOKKOS_INLINE_FUNCTION WatertightRay(const Vec3& o, const Vec3& d) : org(o) {
