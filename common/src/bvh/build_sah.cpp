@@ -62,7 +62,7 @@ struct Task {
 
 // What the spatial splits need; `input` null means object splits only.
 struct SpatialContext {
-  const std::vector<Triangle>* input = nullptr;
+  const TriangleSpan* input = nullptr;
   Real min_overlap = 0;  // kSpatialAlpha times the root's surface area
   double margin = 0;     // kClipMargin times the scene's largest extent
 };
@@ -583,7 +583,7 @@ struct Fragment {
 // The leaves' triangles in leaf order, zero-area ones as points. Gathered in one loop after a
 // fragment's build rather than leaf by leaf within it: the reads are scattered over the input,
 // and a loop of nothing else, fetching ahead, keeps many of them in flight.
-void gather_leaf_triangles(const std::vector<Triangle>& input, const std::vector<int>& prim,
+void gather_leaf_triangles(TriangleSpan input, const std::vector<int>& prim,
                            std::vector<Triangle>& tris) {
   constexpr std::size_t kAhead = 16;  // triangles fetched ahead of their use
   const std::size_t n = prim.size();
@@ -598,8 +598,7 @@ void gather_leaf_triangles(const std::vector<Triangle>& input, const std::vector
 // processed next, so it lands next to its parent).
 // Its triangles are gathered and its boxes padded here too, so that this work is shared by the
 // threads that build fragments rather than left to one after them.
-void build_fragment(const SpatialContext& ctx, const std::vector<Triangle>& input, const Task& top,
-                    Fragment& f) {
+void build_fragment(const SpatialContext& ctx, TriangleSpan input, const Task& top, Fragment& f) {
   // A leaf stores each triangle once, even when several of its split parts landed here.
   auto emit_leaf = [&](const Task& t) {
     const auto first = static_cast<std::uint32_t>(f.prim.size());
@@ -664,8 +663,7 @@ std::uint32_t append_fragment(const Fragment& f, HostBvh& out) {
 // One item per triangle, or per pre-split part of a sliver when splitting pays (presplit.hpp)
 // and no spatial splits will; `root` gets the items' bounds (range_task's, from the loop that
 // makes them where that is the last: one pass fewer over the items).
-std::vector<Item> make_items(const std::vector<Triangle>& input, double split_budget, bool spatial,
-                             Task& root) {
+std::vector<Item> make_items(TriangleSpan input, double split_budget, bool spatial, Task& root) {
   const int n = static_cast<int>(input.size());
   std::vector<Item> items;
   items.reserve(n);  // each written once (a sized vector would first fill every item's box)
@@ -803,8 +801,8 @@ void run_build_threads(const Work& work) {
 // the parts split so far, so no thread waits at a barrier between the two steps (a thread that
 // finds none ready while another still splits yields). What is built does not depend on who
 // builds it or when.
-void build_parts(const SpatialContext& ctx, const std::vector<Triangle>& input,
-                 const std::vector<Task>& tops, int fragment_max, std::vector<TopPart>& parts,
+void build_parts(const SpatialContext& ctx, TriangleSpan input, const std::vector<Task>& tops,
+                 int fragment_max, std::vector<TopPart>& parts,
                  std::vector<std::vector<Fragment>>& built) {
   const std::vector<int> order = largest_first(tops);
   const int count = static_cast<int>(tops.size());
@@ -855,8 +853,8 @@ void build_parts(const SpatialContext& ctx, const std::vector<Triangle>& input,
 // The tree over all items (sets out.bounds) with padded child boxes and the leaves' triangles;
 // `root` is the range of all items with its bounds. With spatial splits, up to `budget`
 // references more than items.
-void build_tree(Items& items, Task root, const std::vector<Triangle>& input, bool spatial,
-                double budget, HostBvh& out) {
+void build_tree(Items& items, Task root, TriangleSpan input, bool spatial, double budget,
+                HostBvh& out) {
   const int n = static_cast<int>(items.size());
   root.items = &items;
   out.bounds = root.box;
@@ -922,13 +920,12 @@ void build_tree(Items& items, Task root, const std::vector<Triangle>& input, boo
 // auto is object splits (with pre-splitting where that pays): measured on the bundled meshes and
 // the sliver fan (results/bvh/slivers.md), spatial splits cost 10-60x the build time for at most
 // ~10 % fewer triangle tests, and on the fan they cut fewer tests per reference than pre-splitting.
-bool uses_spatial_splits(const std::vector<Triangle>& input, SpatialSplits s) {
+bool uses_spatial_splits(TriangleSpan input, SpatialSplits s) {
   (void)input;
   return s == SpatialSplits::kOn;
 }
 
-HostBvh build_sah_host(const std::vector<Triangle>& input, double split_budget,
-                       SpatialSplits spatial_splits) {
+HostBvh build_sah_host(TriangleSpan input, double split_budget, SpatialSplits spatial_splits) {
   HostBvh out;
   const bool spatial = uses_spatial_splits(input, spatial_splits);
   Task root{};

@@ -104,7 +104,7 @@ constexpr std::size_t kMinParallelBatch = 4096;
 
 class Splitter {
  public:
-  Splitter(const std::vector<Triangle>& tris, const Aabb& bounds) : tris_(tris), bounds_(bounds) {
+  Splitter(TriangleSpan tris, const Aabb& bounds) : tris_(tris), bounds_(bounds) {
     const Vec3 e = bounds.extent();
     const double largest = double(std::max(e.x, std::max(e.y, e.z)));
     min_extent_ = kMinPartExtent * largest;
@@ -195,7 +195,7 @@ class Splitter {
     return h;
   }
 
-  const std::vector<Triangle>& tris_;
+  TriangleSpan tris_;
   Aabb bounds_;
   double min_extent_, margin_;
   PartQueue queue_;
@@ -229,8 +229,8 @@ void grow_auto_budget(Splitter& splitter, std::vector<SplitReference>& refs, std
 
 }  // namespace
 
-std::vector<SplitReference> presplit_triangles(const std::vector<Triangle>& tris,
-                                               const Aabb& bounds, double budget) {
+std::vector<SplitReference> presplit_triangles(TriangleSpan tris, const Aabb& bounds,
+                                               double budget) {
   const std::size_t n = tris.size();
   if (n == 0 || budget == 0 || bounds.empty()) return {};
   const bool auto_budget = is_auto_split_budget(budget);

@@ -75,9 +75,10 @@ template <class MemorySpace>
 Bvh<MemorySpace> build_sah(Kokkos::View<const Triangle*, MemorySpace> tris, double split_budget,
                            SpatialSplits spatial_splits) {
   Kokkos::Profiling::pushRegion("rtmini::bvh::build_sah");
+  // (host memory: the caller's view itself, read in place)
   auto host = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), tris);
-  const std::vector<Triangle> v(host.data(), host.data() + host.extent(0));
-  const HostBvh h = build_sah_host(v, split_budget, spatial_splits);
+  const HostBvh h =
+      build_sah_host(TriangleSpan(host.data(), host.extent(0)), split_budget, spatial_splits);
   Bvh<MemorySpace> out = upload<MemorySpace>(h, BuildQuality::kSah);
   add_wide_nodes(out, h.nodes, h.tris.data(), h.prim.data());
   Kokkos::Profiling::popRegion();

@@ -27,14 +27,13 @@ struct HostBvh {
 };
 
 // Whether a build asked for `s` tries spatial splits on these triangles.
-bool uses_spatial_splits(const std::vector<Triangle>& input, SpatialSplits s);
+bool uses_spatial_splits(TriangleSpan input, SpatialSplits s);
 
 inline constexpr SpatialSplits kDefaultSpatialSplits = SpatialSplits::kAuto;
 
 // split_budget: extra references allowed (pre-split parts, or those added by spatial splits), as
 // a fraction of the triangle count (0: never split), or kAutoSplitBudget (presplit.hpp).
-HostBvh build_sah_host(const std::vector<Triangle>& input,
-                       double split_budget = kDefaultSplitBudget,
+HostBvh build_sah_host(TriangleSpan input, double split_budget = kDefaultSplitBudget,
                        SpatialSplits spatial_splits = kDefaultSpatialSplits);
 
 // compat::upload, except that host memory is filled by a plain copy: the Kokkos fill and
