@@ -160,62 +160,74 @@ MapLayout make_map_layout(const BakeSceneHost& scene, const std::vector<char>& p
   return l;
 }
 
-MapLayout make_sparse_layout(const BakeSceneHost& scene, const MapLayout& full,
-                             const std::vector<char>& read, const std::vector<int>& owner,
-                             int rank) {
-  MapLayout l;
+MapLayout make_halo_layout(const BakeSceneHost& scene, const MapLayout& remote, const char* read,
+                           const std::vector<int>& owner, int rank) {
   const std::int64_t nv = scene.vertices();
-  const auto colors = [&](std::int64_t v) { return full.offset[v + 1] - full.offset[v]; };
-  const auto sparse = [&](std::int64_t v) { return colors(v) > 1 && owner[v] != rank; };
+  std::vector<char> own(static_cast<std::size_t>(nv));
+  for (std::int64_t v = 0; v < nv; ++v) own[v] = owner[v] == rank;
+  MapLayout l = make_map_layout(scene, own);
+  const auto held = [&](std::int64_t v) { return !own[v] && remote.in_map(v); };
+  const auto sparse = [&](std::int64_t v) { return read && held(v) && scene.color_count(v) > 1; };
   // Mask words first (64 viewpoints each, per sparse vertex), then each vertex's words and kept
-  // count independently, then the offsets.
+  // count independently, then the halo offsets in receive order.
   l.mask_at.assign(static_cast<std::size_t>(nv), -1);
   std::int64_t words = 0;
   for (std::int64_t v = 0; v < nv; ++v)
     if (sparse(v)) {
       l.mask_at[v] = words;
-      words += (colors(v) + 63) / 64;
+      words += (scene.color_count(v) + 63) / 64;
     }
   l.mask.assign(static_cast<std::size_t>(words), 0);
   l.kept.assign(static_cast<std::size_t>(words), 0);
-  std::vector<std::int64_t> keep(static_cast<std::size_t>(nv));
-  host_parallel_for("rtmini::bake::sparse_layout", nv, [&](std::int64_t v) {
-    const std::int64_t n = colors(v);
+  std::vector<std::int64_t> keep(static_cast<std::size_t>(nv), 0);
+  host_parallel_for("rtmini::bake::halo_layout", nv, [&](std::int64_t v) {
+    if (!held(v)) return;
+    const std::int64_t n = scene.color_count(v);
     keep[v] = n;
     if (!sparse(v)) return;
     std::int64_t kept = 0;
     for (std::int64_t w = 0; w < (n + 63) / 64; ++w) {
       std::uint64_t bits = 0;
       for (std::int64_t j = w * 64; j < std::min(n, w * 64 + 64); ++j)
-        if (read[full.offset[v] + j]) bits |= std::uint64_t(1) << (j & 63);
+        if (read[remote.offset[v] + j]) bits |= std::uint64_t(1) << (j & 63);
       l.mask[l.mask_at[v] + w] = bits;
       l.kept[l.mask_at[v] + w] = static_cast<std::int32_t>(kept);
       kept += compat::popcount64(bits);
     }
     keep[v] = kept;
   });
-  l.offset.assign(static_cast<std::size_t>(nv) + 1, 0);
-  for (std::int64_t v = 0; v < nv; ++v) l.offset[v + 1] = l.offset[v] + keep[v];
-  l.device = upload("rtmini::bake::map_offset", l.offset);
-  l.sparse.start = l.device;
+  // Receive order: by owner rank (a counting sort of the held vertices), then by vertex.
+  const int ranks = owner.empty() ? 1 : 1 + *std::max_element(owner.begin(), owner.end());
+  std::vector<std::int64_t> rank_at(static_cast<std::size_t>(ranks) + 1, 0);
+  for (std::int64_t v = 0; v < nv; ++v)
+    if (held(v)) rank_at[owner[v] + 1] += keep[v];
+  for (std::size_t r = 1; r < rank_at.size(); ++r) rank_at[r] += rank_at[r - 1];
+  l.halo_at.assign(static_cast<std::size_t>(nv), -1);
+  for (std::int64_t v = 0; v < nv; ++v)
+    if (held(v)) {
+      l.halo_at[v] = rank_at[owner[v]];
+      rank_at[owner[v]] += keep[v];
+    }
+  l.halo_colors = rank_at.back();
+  // SparseColors: every vertex's first entry in the map-then-halo numbering.
+  std::vector<std::int64_t> start(static_cast<std::size_t>(nv), 0);
+  for (std::int64_t v = 0; v < nv; ++v)
+    start[v] = l.in_halo(v) ? l.colors() + l.halo_at[v] : l.offset[v];
+  l.sparse.start = upload("rtmini::bake::map_start", start);
   l.sparse.mask_at = upload("rtmini::bake::map_mask_at", l.mask_at);
   l.sparse.mask = compat::upload<MemSpace>("rtmini::bake::map_mask", l.mask);
   l.sparse.kept = compat::upload<MemSpace>("rtmini::bake::map_kept", l.kept);
+  l.sparse.map_colors = l.colors();
   return l;
 }
 
-std::vector<std::int64_t> remote_entries(const BakeSceneHost& scene, const MapLayout& layout,
-                                         const std::vector<int>& owner, int rank) {
+std::vector<std::int64_t> remote_entries(const BakeSceneHost& scene, const MapLayout& layout) {
   const std::int64_t nv = scene.vertices();
-  // Each remote vertex's kept entries go after those of the remote vertices before it.
-  std::vector<std::int64_t> at(static_cast<std::size_t>(nv) + 1, 0);
-  for (std::int64_t v = 0; v < nv; ++v)
-    at[v + 1] = at[v] + (owner[v] == rank ? 0 : layout.offset[v + 1] - layout.offset[v]);
-  std::vector<std::int64_t> halo(static_cast<std::size_t>(at[nv]));
+  std::vector<std::int64_t> halo(static_cast<std::size_t>(layout.halo_colors));
   host_parallel_for("rtmini::bake::remote_entries", nv, [&](std::int64_t v) {
-    if (at[v + 1] == at[v]) return;
+    if (!layout.in_halo(v)) return;
     const std::int64_t first = scene.color_offset[v];
-    std::int64_t k = at[v];
+    std::int64_t k = layout.halo_at[v];
     if (layout.dense(v)) {
       for (std::int64_t j = 0; j < scene.color_count(v); ++j) halo[k++] = first + j;
       return;
@@ -232,6 +244,7 @@ void mark_dense(MapLayout& layout) {
   layout.mask_at.assign(layout.offset.size() - 1, -1);
   layout.sparse.start = layout.device;
   layout.sparse.mask_at = upload("rtmini::bake::map_mask_at", layout.mask_at);
+  layout.sparse.map_colors = layout.colors();
 }
 
 std::vector<Vec3f> fetch_vertex_colors(const Communicator& comm, const std::vector<int>& owner,
@@ -265,28 +278,28 @@ std::vector<Vec3f> fetch_vertex_colors(const Communicator& comm, const std::vect
 
 MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
                          const MapLayout& layout, const std::vector<int>& owner,
-                         const std::vector<std::int64_t>& halo, bool changed_only)
+                         bool changed_only)
     : changed_only_(changed_only) {
   const int ranks = comm.size();
-  // Requests: the halo entries grouped by owner (ascending within each group, as `halo` is).
+  // Requests: the halo entries, which are grouped by owner already (the halo's order).
+  std::vector<std::int64_t> asked = remote_entries(scene, layout);
+  const std::size_t halo_colors = asked.size();
   std::vector<int> ask(ranks, 0);
-  const std::vector<std::int64_t> halo_vertex = vertices_of(scene, halo);
-  std::vector<int> owner_of(halo.size());
-  for (std::size_t k = 0; k < halo.size(); ++k) ++ask[owner_of[k] = owner[halo_vertex[k]]];
-  std::vector<std::int64_t> asked(halo.size());
-  {
-    std::vector<int> pos = displacements(ask);
-    for (std::size_t k = 0; k < halo.size(); ++k) asked[pos[owner_of[k]]++] = halo[k];
+  const std::vector<std::int64_t> halo_vertex = vertices_of(scene, asked);
+  for (std::size_t k = 0; k < asked.size(); ++k) {
+    const int r = owner[halo_vertex[k]];
+    if (k > 0 && r < owner[halo_vertex[k - 1]])
+      throw std::logic_error("rtmini: the halo is not in the exchange's receive order");
+    ++ask[r];
   }
   const std::vector<int> told = exchange_counts(comm, ask);
   std::vector<std::int64_t> wanted(static_cast<std::size_t>(total(told)));
   alltoallv(comm, asked, ask, wanted, told);
 
-  // What this rank sends (its own entries each asker wants) and where what it gets goes.
+  // What this rank sends (its own entries each asker wants); what it gets lands in the halo.
   send_counts_ = told;
   recv_counts_ = ask;
   const std::vector<std::int64_t> send = entries_of(scene, layout, wanted);
-  const std::vector<std::int64_t> recv = entries_of(scene, layout, asked);
   send_displs_ = displacements(send_counts_);
   recv_displs_ = displacements(recv_counts_);
   send_items_ = upload("rtmini::bake::exchange_send_items", send);
@@ -297,13 +310,12 @@ MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
   std::vector<std::int64_t> first_entry(send_displs_.begin(), send_displs_.end());
   first_entry.push_back(static_cast<std::int64_t>(send.size()));
   first_entry_ = upload("rtmini::bake::exchange_first_entry", first_entry);
-  recv_items_ = upload("rtmini::bake::exchange_recv_items", recv);
   send_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_send", send.size());
-  recv_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_recv", recv.size());
+  recv_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::halo", halo_colors);
   direct_ = mpi_takes_map_memory();
   if (!direct_) {
     host_send_.resize(send.size());
-    host_recv_.resize(recv.size());
+    host_recv_.resize(halo_colors);
   }
 }
 
@@ -311,12 +323,6 @@ std::int64_t MapExchange::run(const Communicator& comm, Kokkos::View<Vec3f*, Mem
   if (comm.size() == 1) return 0;
   const std::int64_t bytes = sent_ && changed_only_ ? run_changed(comm, map) : run_full(comm, map);
   sent_ = true;
-  // Every halo entry from the last colours received, changed or not.
-  auto recv_items = recv_items_;
-  auto recv_buf = recv_buf_;
-  Kokkos::parallel_for(
-      "rtmini::bake::exchange_scatter", Policy(0, static_cast<std::int64_t>(recv_items.extent(0))),
-      KOKKOS_LAMBDA(std::int64_t i) { map(recv_items(i)) = recv_buf(i); });
   Kokkos::fence();
   return bytes;
 }
@@ -553,9 +559,8 @@ std::vector<Vec3f> gather_global_map(const Communicator& comm, const BakeSceneHo
 
 std::vector<Vec3f> localise_map(const BakeSceneHost& scene, const MapLayout& layout,
                                 const std::vector<Vec3f>& global) {
-  std::vector<Vec3f> local(static_cast<std::size_t>(layout.colors()));
+  std::vector<Vec3f> local(static_cast<std::size_t>(layout.colors() + layout.halo_colors));
   for (std::int64_t v = 0; v < scene.vertices(); ++v) {
-    if (!layout.present(v)) continue;
     for (std::int64_t j = 0; j < scene.color_count(v); ++j)
       if (layout.keeps(v, j)) local[layout.entry(v, j)] = global[scene.color_offset[v] + j];
   }
