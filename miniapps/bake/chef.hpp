@@ -105,6 +105,11 @@ class Chef {
   bool caches_hits() const { return caches_hits_; }
   // The traced hits become the float hit cache (caches_hits only).
   void release_traced_hits();
+  // Frees every hit record (after the last iteration).
+  void release_hits() {
+    traced_ = Kokkos::View<TracedHit*, MemSpace>();
+    cache_ = Kokkos::View<CachedHit*, MemSpace>();
+  }
 
   // Colours of iteration `it` for vertices [begin, end) into next (map-offset order), from
   // prev (every colour iteration it - 1 reads). cache_offset: the batch's first slot in the

@@ -104,11 +104,6 @@ KOKKOS_INLINE_FUNCTION std::int64_t quantise(float x) {
   return static_cast<std::int64_t>(math::floor(double(x) * 65536.0 + 0.5));
 }
 
-// Copies a device map into the host map (sized to match).
-void download(Kokkos::View<const Vec3f*, MemSpace> from, std::vector<Vec3f>& to) {
-  compat::download(from, to);
-}
-
 // Order-independent hash over (vertex, viewpoint, quantised colour) of this rank's vertices;
 // `off`: where each vertex's colours sit in `map`.
 std::uint64_t map_hash(Kokkos::View<const std::int64_t*, MemSpace> off,
@@ -392,6 +387,8 @@ class BakeRun {
   void checkpoint(int it);
   bool stop_after(int it, double t0);
   std::vector<Vec3f> global_map();
+  void release_iteration_buffers();
+  void report_exchange();
   void write();
   void compare();
   void report_results();
@@ -452,7 +449,6 @@ class BakeRun {
     double seconds = 0;                // the recut and the re-planned first reads, this rank
   } recut_;
   Kokkos::View<Vec3f*, MemSpace> prev_, next_;
-  std::vector<Vec3f> map_;  // host copy of the local map (checkpoints, output)
 
   int first_ = 0;
   std::vector<IterationRecord> iter_records_;
@@ -1209,8 +1205,8 @@ void BakeRun::exchange(int it, IterationRecord& rec) {
 
 // The whole map on the root (every rank takes part): owned colours gathered in vertex order.
 std::vector<Vec3f> BakeRun::global_map() {
-  download(prev_, map_);
-  return gather_global_map(comm_, host_, layout_, map_, owner_);
+  const auto local = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), prev_);
+  return gather_global_map(comm_, host_, layout_, local.data(), owner_);
 }
 
 void BakeRun::checkpoint(int it) {
@@ -1289,6 +1285,18 @@ void BakeRun::report_stopped(int it) {
   report_.finish(comm_, c_.summary);
 }
 
+// After the last iteration only this rank's own colours (prev_) are read: the other map buffer,
+// the halo, the exchange's buffers and the hit records go before the output is written (at the
+// output they were the run's peak, with the output's own buffers on top).
+void BakeRun::release_iteration_buffers() {
+  report_exchange();
+  next_ = Kokkos::View<Vec3f*, MemSpace>();
+  layout_.sparse = SparseColors{};
+  chef_->set_map_offset(layout_.device);
+  chef_->release_hits();
+  if (exchange_) exchange_->release();
+}
+
 // Every rank writes its own vertices (collective MPI-IO), in either form.
 void BakeRun::write() {
   timer_.start("write");
@@ -1296,8 +1304,9 @@ void BakeRun::write() {
   std::vector<Vec3f> dirs(static_cast<std::size_t>(c_.stored_viewpoints()));
   for (int i = 0; i < c_.stored_viewpoints(); ++i)
     dirs[i] = Vec3f(fibonacci_point(i, c_.viewpoints));
-  download(prev_, map_);
-  BakedMap baked{&mesh_, &map_, &layout_.offset, &dirs};
+  // On a host backend the map itself, else a host copy.
+  const auto map = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), prev_);
+  BakedMap baked{&mesh_, map.data(), &layout_.offset, &dirs};
   baked.hemisphere = c_.hemisphere();
   written_ = write_baked_map(comm_, c_.output, baked, my_ranges_);
   timer_.stop();
@@ -1329,14 +1338,17 @@ void BakeRun::compare() {
   timer_.stop();
 }
 
-void BakeRun::report_results() {
+// After the first exchange only changed colours move: the fraction that did.
+void BakeRun::report_exchange() {
   if (exchange_ && comm_.size() > 1) {
-    // After the first exchange only changed colours move: the fraction that did.
     const double offered = static_cast<double>(comm_.sum(exchange_->offered_colors()));
     report_.scene["map"]["exchange_changed_fraction"] =
         offered > 0 ? static_cast<double>(comm_.sum(exchange_->changed_colors())) / offered : 1.0;
     params_["map"] = report_.scene["map"];
   }
+}
+
+void BakeRun::report_results() {
   const std::uint64_t hash = comm_.sum_wrap(
       map_hash(layout_.device, prev_, batches_, comm_.rank(), c_.stored_viewpoints()));
   const double total_rays = static_cast<double>(comm_.sum(totals_.rays));
@@ -1392,6 +1404,7 @@ int BakeRun::run() {
   restart();
   mark_rss("halo");
   if (const int code = iterate(); code != kExitOk) return code;
+  release_iteration_buffers();
   write();
   mark_rss("write");
   compare();

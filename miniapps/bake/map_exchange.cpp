@@ -531,15 +531,27 @@ std::int64_t MapExchange::run_changed(const Communicator& comm,
   return 4 * (offset + ranks - 1);
 }
 
+void MapExchange::release() {
+  send_items_ = {};
+  send_buf_ = {};
+  recv_buf_ = {};
+  std::vector<Vec3f>().swap(host_send_);
+  std::vector<Vec3f>().swap(host_recv_);
+  send_rank_ = {};
+  first_entry_ = {};
+  changed_before_ = {};
+  send_words_ = {};
+  recv_words_ = {};
+}
+
 std::vector<Vec3f> gather_global_map(const Communicator& comm, const BakeSceneHost& scene,
-                                     const MapLayout& layout, const std::vector<Vec3f>& local,
+                                     const MapLayout& layout, const Vec3f* local,
                                      const std::vector<int>& owner) {
   const std::int64_t nv = scene.vertices();
   std::vector<Vec3f> mine;
   for (std::int64_t v = 0; v < nv; ++v)
     if (owner[v] == comm.rank())
-      mine.insert(mine.end(), local.begin() + layout.offset[v],
-                  local.begin() + layout.offset[v + 1]);
+      mine.insert(mine.end(), local + layout.offset[v], local + layout.offset[v + 1]);
   if (comm.size() == 1) return mine;
   const std::vector<Vec3f> all = comm.gatherv(mine);
   if (!comm.is_root()) return {};

@@ -118,6 +118,10 @@ class MapExchange {
   std::int64_t run_full(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
   std::int64_t run_changed(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
 
+  // Frees the buffers (the halo, the colours last sent, the scratch) once no exchange follows;
+  // the counts above stay.
+  void release();
+
  private:
   static std::int64_t total(const std::vector<int>& c) {
     std::int64_t s = 0;
@@ -144,9 +148,10 @@ class MapExchange {
 };
 
 // Every rank's owned colours in the global (replicated) order, on the root only (empty
-// elsewhere): for the binary output, checkpoints and the reference comparison.
+// elsewhere): for checkpoints and the reference comparison. `local`: the rank's map (host memory,
+// layout.colors() entries).
 std::vector<Vec3f> gather_global_map(const Communicator& comm, const BakeSceneHost& scene,
-                                     const MapLayout& layout, const std::vector<Vec3f>& local,
+                                     const MapLayout& layout, const Vec3f* local,
                                      const std::vector<int>& owner);
 
 // The entries of `layout` (map, then halo) copied out of a map in the global order (a restart).
