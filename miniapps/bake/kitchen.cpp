@@ -778,7 +778,7 @@ void BakeRun::plan_map() {
 
 // The exchange of layout_'s halo, whose receive buffer the Chef's reads of the halo then see.
 void BakeRun::plan_exchange() {
-  exchange_ = std::make_unique<MapExchange>(comm_, host_, layout_, owner_, c_.changed_exchanges);
+  exchange_ = std::make_unique<MapExchange>(comm_, host_, layout_, c_.changed_exchanges);
   if (!layout_.sparse.empty()) layout_.sparse.halo = exchange_->halo();
   chef_->set_map_offset(layout_.device, layout_.sparse);
   report_map_plan();

@@ -103,38 +103,23 @@ void host_parallel_for(const char* label, std::int64_t n, const F& f) {
   Host().fence();
 }
 
-// The vertex of each global colour entry of `global`. The lists planned here are ascending (per
-// owner), so each piece of them searches once and then walks the offsets, instead of a binary
-// search over all vertices per entry.
-std::vector<std::int64_t> vertices_of(const BakeSceneHost& scene,
-                                      const std::vector<std::int64_t>& global) {
+// Global colour entries turned, in place, into `layout`'s entries of the same colours. The lists
+// planned here are ascending (per owner), so each piece of them searches its first vertex and
+// then walks the offsets, instead of a binary search over all vertices per entry.
+void to_layout_entries(const BakeSceneHost& scene, const MapLayout& layout, std::int64_t* entries,
+                       std::int64_t n) {
   constexpr std::int64_t kPiece = 4096, kWalk = 16;
   const auto& off = scene.color_offset;
-  const std::int64_t n = static_cast<std::int64_t>(global.size());
-  std::vector<std::int64_t> vertex(global.size());
   host_parallel_for(
-      "rtmini::bake::vertices_of_entries", (n + kPiece - 1) / kPiece, [&](std::int64_t piece) {
+      "rtmini::bake::exchange_entries", (n + kPiece - 1) / kPiece, [&](std::int64_t piece) {
         std::int64_t v = -1;
         for (std::int64_t k = piece * kPiece; k < std::min(n, (piece + 1) * kPiece); ++k) {
-          const std::int64_t g = global[k];
+          const std::int64_t g = entries[k];
           for (std::int64_t step = 0; v >= 0 && step < kWalk && off[v + 1] <= g; ++step) ++v;
           if (v < 0 || g < off[v] || off[v + 1] <= g) v = vertex_of_entry(scene, g);
-          vertex[k] = v;
+          entries[k] = layout.entry(v, g - off[v]);
         }
       });
-  return vertex;
-}
-
-// The local entries of global colour entries `global` (in order).
-std::vector<std::int64_t> entries_of(const BakeSceneHost& scene, const MapLayout& layout,
-                                     const std::vector<std::int64_t>& global) {
-  const std::vector<std::int64_t> vertex = vertices_of(scene, global);
-  std::vector<std::int64_t> items(global.size());
-  host_parallel_for("rtmini::bake::exchange_entries", static_cast<std::int64_t>(global.size()),
-                    [&](std::int64_t k) {
-                      items[k] = layout.entry(vertex[k], global[k] - scene.color_offset[vertex[k]]);
-                    });
-  return items;
 }
 
 }  // namespace
@@ -202,6 +187,7 @@ MapLayout make_halo_layout(const BakeSceneHost& scene, const MapLayout& remote, 
   for (std::int64_t v = 0; v < nv; ++v)
     if (held(v)) rank_at[owner[v] + 1] += keep[v];
   for (std::size_t r = 1; r < rank_at.size(); ++r) rank_at[r] += rank_at[r - 1];
+  l.halo_rank_at = rank_at;
   l.halo_at.assign(static_cast<std::size_t>(nv), -1);
   for (std::int64_t v = 0; v < nv; ++v)
     if (held(v)) {
@@ -277,45 +263,50 @@ std::vector<Vec3f> fetch_vertex_colors(const Communicator& comm, const std::vect
 }
 
 MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
-                         const MapLayout& layout, const std::vector<int>& owner,
-                         bool changed_only)
+                         const MapLayout& layout, bool changed_only)
     : changed_only_(changed_only) {
   const int ranks = comm.size();
-  // Requests: the halo entries, which are grouped by owner already (the halo's order).
-  std::vector<std::int64_t> asked = remote_entries(scene, layout);
-  const std::size_t halo_colors = asked.size();
+  // Requests: the halo entries, which are grouped by owner already (the halo's order). The
+  // lists are built in place and freed as soon as they are used: at the plan's peak they were
+  // four times the buffers the exchange keeps.
   std::vector<int> ask(ranks, 0);
-  const std::vector<std::int64_t> halo_vertex = vertices_of(scene, asked);
-  for (std::size_t k = 0; k < asked.size(); ++k) {
-    const int r = owner[halo_vertex[k]];
-    if (k > 0 && r < owner[halo_vertex[k - 1]])
-      throw std::logic_error("rtmini: the halo is not in the exchange's receive order");
-    ++ask[r];
-  }
+  for (int r = 0; r < ranks && r + 1 < static_cast<int>(layout.halo_rank_at.size()); ++r)
+    ask[r] = checked_int(layout.halo_rank_at[r + 1] - layout.halo_rank_at[r]);
   const std::vector<int> told = exchange_counts(comm, ask);
-  std::vector<std::int64_t> wanted(static_cast<std::size_t>(total(told)));
-  alltoallv(comm, asked, ask, wanted, told);
-
-  // What this rank sends (its own entries each asker wants); what it gets lands in the halo.
+  send_items_ = Kokkos::View<std::int64_t*, MemSpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::exchange_send_items"),
+      static_cast<std::size_t>(total(told)));
+  auto send = Kokkos::create_mirror_view(send_items_);  // send_items_ itself on a host backend
+  {
+    std::vector<std::int64_t> asked = remote_entries(scene, layout);
+    alltoallv(comm, asked, ask, send, told);
+  }
+  // What this rank sends: its own entries that each asker wants; what it gets lands in the halo.
+  to_layout_entries(scene, layout, send.data(), static_cast<std::int64_t>(send.extent(0)));
+  Kokkos::deep_copy(send_items_, send);
   send_counts_ = told;
   recv_counts_ = ask;
-  const std::vector<std::int64_t> send = entries_of(scene, layout, wanted);
   send_displs_ = displacements(send_counts_);
   recv_displs_ = displacements(recv_counts_);
-  send_items_ = upload("rtmini::bake::exchange_send_items", send);
-  std::vector<std::int32_t> send_rank(send.size());
-  for (int r = 0; r < ranks; ++r)
-    std::fill_n(send_rank.begin() + send_displs_[r], send_counts_[r], r);
-  send_rank_ = compat::upload<MemSpace>("rtmini::bake::exchange_send_rank", send_rank);
+  const std::size_t sent = send.extent(0), received = static_cast<std::size_t>(total(ask));
+  send = decltype(send)();
+  send_rank_ = Kokkos::View<std::int32_t*, MemSpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::exchange_send_rank"), sent);
+  {
+    auto send_rank = Kokkos::create_mirror_view(send_rank_);
+    for (int r = 0; r < ranks; ++r)
+      std::fill_n(send_rank.data() + send_displs_[r], send_counts_[r], r);
+    Kokkos::deep_copy(send_rank_, send_rank);
+  }
   std::vector<std::int64_t> first_entry(send_displs_.begin(), send_displs_.end());
-  first_entry.push_back(static_cast<std::int64_t>(send.size()));
+  first_entry.push_back(static_cast<std::int64_t>(sent));
   first_entry_ = upload("rtmini::bake::exchange_first_entry", first_entry);
-  send_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_send", send.size());
-  recv_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::halo", halo_colors);
+  send_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_send", sent);
+  recv_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::halo", received);
   direct_ = mpi_takes_map_memory();
   if (!direct_) {
-    host_send_.resize(send.size());
-    host_recv_.resize(halo_colors);
+    host_send_.resize(sent);
+    host_recv_.resize(received);
   }
 }
 

@@ -28,6 +28,7 @@ struct MapLayout {
   // exchange's receive order; its sparse vertices (SparseColors): first mask word per vertex (-1
   // dense), the mask words and the kept viewpoints before each word.
   std::vector<std::int64_t> halo_at;
+  std::vector<std::int64_t> halo_rank_at;  // first halo entry of each owner rank, and the end
   std::int64_t halo_colors = 0;
   std::vector<std::int64_t> mask_at;
   std::vector<std::uint64_t> mask;
@@ -87,11 +88,11 @@ bool mpi_takes_map_memory();
 
 class MapExchange {
  public:
-  // Plans the exchange (collective) for `layout`'s halo: remote_entries(scene, layout), the
-  // colours (global entry numbers, scene.color_offset) this rank reads but does not own, all of a
-  // vertex's or only those its lookups read; owner[v] is the rank that computes vertex v.
+  // Plans the exchange (collective) for `layout`'s halo (make_halo_layout): remote_entries(scene,
+  // layout), the colours (global entry numbers, scene.color_offset) this rank reads but does not
+  // own, all of a vertex's or only those its lookups read, asked of their owners.
   MapExchange(const Communicator& comm, const BakeSceneHost& scene, const MapLayout& layout,
-              const std::vector<int>& owner, bool changed_only);
+              bool changed_only);
 
   // The halo's colours (layout.halo_colors, in halo order), as the last run left them: what
   // SparseColors::halo reads. A restart fills it before the first run.
