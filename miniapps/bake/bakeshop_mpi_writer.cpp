@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <functional>
 
@@ -137,22 +138,29 @@ struct ColorChunk {
   std::int64_t begin, end, offset, bytes;
 };
 
-// The binary colour section is written in chunks of at most about kChunkBytes per rank and
-// round, packed from the map as they go: packed whole, it was a second copy of the rank's
-// colours at the run's peak (a quarter of the 1-rank bake's resident memory on bunny_room).
-constexpr std::int64_t kChunkBytes = std::int64_t(16) << 20;
+// The binary colour section is written in chunks of at most about 16 MiB per rank and round,
+// packed from the map as they go: packed whole, it was a second copy of the rank's colours at the
+// run's peak (a quarter of the 1-rank bake's resident memory on bunny_room). The environment's
+// RTMINI_BSB_CHUNK_BYTES sets another bound: the ctest bake.binary_output writes with tiny chunks
+// and compares the bytes.
+std::int64_t chunk_bytes() {
+  const char* e = std::getenv("RTMINI_BSB_CHUNK_BYTES");
+  const std::int64_t n = e ? std::atoll(e) : 0;
+  return n > 0 ? n : std::int64_t(16) << 20;
+}
 
 std::vector<ColorChunk> color_chunks(const BakedMap& map, const std::vector<VertexRange>& mine,
                                      const std::vector<std::int64_t>& range_offset,
                                      const std::vector<std::uint8_t>& uniform) {
   const std::int64_t n = static_cast<std::int64_t>(map.directions->size());
+  const std::int64_t most = chunk_bytes();
   std::vector<ColorChunk> chunks;
   std::size_t flag = 0;
   for (std::size_t i = 0; i < mine.size(); ++i) {
     ColorChunk c{mine[i].begin, mine[i].begin, range_offset[i], 0};
     for (std::int64_t v = mine[i].begin; v < mine[i].end; ++v) {
       const std::int64_t bytes = (uniform[flag++] ? 1 : n) * 12;
-      if (c.bytes > 0 && c.bytes + bytes > kChunkBytes) {
+      if (c.bytes > 0 && c.bytes + bytes > most) {
         chunks.push_back(c);
         c = {v, v, c.offset + c.bytes, 0};
       }
