@@ -1199,7 +1199,8 @@ void BakeRun::exchange(int it, IterationRecord& rec) {
     finish_fused_plan();
   }
   std::swap(prev_, next_);
-  rec.allgather_bytes = exchange_ && it < iterations_ ? exchange_->run(comm_, prev_) : 0;
+  rec.allgather_bytes =
+      exchange_ && it < iterations_ ? exchange_->run(comm_, prev_, next_) : 0;
   rec.allgather = timer_.now() - t0;
 }
 

@@ -289,19 +289,9 @@ MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
   send_displs_ = displacements(send_counts_);
   recv_displs_ = displacements(recv_counts_);
   const std::size_t sent = send.extent(0), received = static_cast<std::size_t>(total(ask));
-  send = decltype(send)();
-  send_rank_ = Kokkos::View<std::int32_t*, MemSpace>(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::exchange_send_rank"), sent);
-  {
-    auto send_rank = Kokkos::create_mirror_view(send_rank_);
-    for (int r = 0; r < ranks; ++r)
-      std::fill_n(send_rank.data() + send_displs_[r], send_counts_[r], r);
-    Kokkos::deep_copy(send_rank_, send_rank);
-  }
   std::vector<std::int64_t> first_entry(send_displs_.begin(), send_displs_.end());
   first_entry.push_back(static_cast<std::int64_t>(sent));
   first_entry_ = upload("rtmini::bake::exchange_first_entry", first_entry);
-  send_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_send", sent);
   recv_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::halo", received);
   direct_ = mpi_takes_map_memory();
   if (!direct_) {
@@ -310,9 +300,11 @@ MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
   }
 }
 
-std::int64_t MapExchange::run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map) {
+std::int64_t MapExchange::run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
+                              Kokkos::View<const Vec3f*, MemSpace> previous) {
   if (comm.size() == 1) return 0;
-  const std::int64_t bytes = sent_ && changed_only_ ? run_changed(comm, map) : run_full(comm, map);
+  const std::int64_t bytes =
+      sent_ && changed_only_ ? run_changed(comm, map, previous) : run_full(comm, map);
   sent_ = true;
   Kokkos::fence();
   return bytes;
@@ -320,13 +312,16 @@ std::int64_t MapExchange::run(const Communicator& comm, Kokkos::View<Vec3f*, Mem
 
 std::int64_t MapExchange::run_full(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map) {
   auto send_items = send_items_;
-  auto send_buf = send_buf_;
+  // The packed colours live only for this run (later runs send what changed, from the map).
+  Kokkos::View<Vec3f*, MemSpace> send_buf(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::exchange_send"),
+      send_items.extent(0));
   Kokkos::parallel_for(
       "rtmini::bake::exchange_pack", Policy(0, static_cast<std::int64_t>(send_items.extent(0))),
       KOKKOS_LAMBDA(std::int64_t i) { send_buf(i) = map(send_items(i)); });
   if (direct_) {
     Kokkos::fence();  // the packed colours must be in memory before MPI reads them
-    alltoallv(comm, send_buf_, send_counts_, recv_buf_, recv_counts_);
+    alltoallv(comm, send_buf, send_counts_, recv_buf_, recv_counts_);
   } else {
     // Device memory and an MPI that cannot read it: through host buffers (any MPI works).
     Kokkos::deep_copy(compat::host_view(host_send_.data(), host_send_.size()), send_buf);
@@ -374,6 +369,21 @@ KOKKOS_INLINE_FUNCTION Vec3f get_color(const Words& w, std::int64_t at) {
                compat::bit_cast<float>(w(at + 2)));
 }
 
+// The rank that send entry i goes to: the last whose first entry is at or before i (the ranks'
+// entries are consecutive, in rank order; a rank sent nothing starts where the next one does).
+KOKKOS_INLINE_FUNCTION int destination(const Kokkos::View<std::int64_t*, MemSpace>& first_entry,
+                                       int ranks, std::int64_t i) {
+  int lo = 0, hi = ranks - 1;
+  while (lo < hi) {
+    const int mid = (lo + hi + 1) / 2;
+    if (first_entry(mid) <= i)
+      lo = mid;
+    else
+      hi = mid - 1;
+  }
+  return lo;
+}
+
 // `words` if it holds n, else a new one of n (not zero-filled: every word sent is written).
 Words words_for(const Words& words, std::int64_t n, const char* label) {
   if (static_cast<std::int64_t>(words.extent(0)) >= n) return words;
@@ -384,26 +394,23 @@ Words words_for(const Words& words, std::int64_t n, const char* label) {
 }  // namespace
 
 std::int64_t MapExchange::run_changed(const Communicator& comm,
-                                      Kokkos::View<Vec3f*, MemSpace> map) {
+                                      Kokkos::View<Vec3f*, MemSpace> map,
+                                      Kokkos::View<const Vec3f*, MemSpace> previous) {
   const int ranks = comm.size();
   const std::int64_t n = static_cast<std::int64_t>(send_items_.extent(0));
   auto send_items = send_items_;
-  auto send_buf = send_buf_;
-  auto send_rank = send_rank_;
+  auto first_entry = first_entry_;
   if (static_cast<std::int64_t>(changed_before_.extent(0)) != n + 1)
     changed_before_ = Kokkos::View<std::int32_t*, MemSpace>(
         Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::exchange_changed_before"),
         static_cast<std::size_t>(n) + 1);
   auto before = changed_before_;
   // before(i + 1): whether entry i's colour changed since the last send (bit for bit: the
-  // receiver must end with the sender's bits); send_buf becomes this send. Then, scanned in
-  // place, before(i): the changed entries before entry i, in send order.
+  // receiver must end with the sender's bits), which sent the previous iteration's map. Then,
+  // scanned in place, before(i): the changed entries before entry i, in send order.
   Kokkos::parallel_for(
       "rtmini::bake::exchange_changed", Policy(0, n), KOKKOS_LAMBDA(std::int64_t i) {
-        const Vec3f c = map(send_items(i));
-        const bool changed = !same_bits(c, send_buf(i));
-        if (changed) send_buf(i) = c;
-        before(i + 1) = changed ? 1 : 0;
+        before(i + 1) = same_bits(map(send_items(i)), previous(send_items(i))) ? 0 : 1;
       });
   Kokkos::parallel_scan(
       "rtmini::bake::exchange_changed_scan", Policy(0, n + 1),
@@ -416,7 +423,6 @@ std::int64_t MapExchange::run_changed(const Communicator& comm,
   {
     Kokkos::View<std::int32_t*, MemSpace> bounds("rtmini::bake::exchange_changed_bounds",
                                                  static_cast<std::size_t>(ranks) + 1);
-    auto first_entry = first_entry_;
     Kokkos::parallel_for(
         "rtmini::bake::exchange_changed_bounds", Policy(0, ranks + 1),
         KOKKOS_LAMBDA(std::int64_t r) { bounds(r) = before(first_entry(r)); });
@@ -444,9 +450,9 @@ std::int64_t MapExchange::run_changed(const Communicator& comm,
   Kokkos::parallel_for(
       "rtmini::bake::exchange_pack_changed", Policy(0, n), KOKKOS_LAMBDA(std::int64_t i) {
         if (before(i + 1) == before(i)) return;
-        const std::int64_t* m = &message(kMessageFields * send_rank(i));
+        const std::int64_t* m = &message(kMessageFields * destination(first_entry, ranks, i));
         const std::int64_t k = before(i) - m[kFirstChanged];
-        put_color(send_words, m[kColorsAt] + 3 * k, send_buf(i));
+        put_color(send_words, m[kColorsAt] + 3 * k, map(send_items(i)));
         if (m[kIndexList])
           send_words(m[kFirstWord] + k) = static_cast<std::uint32_t>(i - m[kFirstEntry]);
       });
@@ -524,11 +530,9 @@ std::int64_t MapExchange::run_changed(const Communicator& comm,
 
 void MapExchange::release() {
   send_items_ = {};
-  send_buf_ = {};
   recv_buf_ = {};
   std::vector<Vec3f>().swap(host_send_);
   std::vector<Vec3f>().swap(host_recv_);
-  send_rank_ = {};
   first_entry_ = {};
   changed_before_ = {};
   send_words_ = {};

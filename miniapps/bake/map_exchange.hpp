@@ -99,13 +99,15 @@ class MapExchange {
   Kokkos::View<Vec3f*, MemSpace> halo() const { return recv_buf_; }
 
   // Refreshes the halo from the owners' colours in their `map` (collective); returns bytes
-  // sent. The first run sends every halo entry. With `changed_only` (bake --exchange changed, the default),
+  // sent. `previous`: the map of the iteration before, which the last run sent (the other of the
+  // two map buffers, read-only since). The first run sends every halo entry. With `changed_only` (bake --exchange changed, the default),
   // later runs send, per destination, only the entries whose colour changed (bit for bit) since the
   // last run, with a bitmask of the destination's entries or a list of their indices, whichever is
   // smaller; the receiver keeps the last colour of the others. A view-independent vertex's colour,
   // and a mirror colour whose reflected path ends on such vertices, stop changing after an
   // iteration or two, so later exchanges shrink.
-  std::int64_t run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
+  std::int64_t run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
+                   Kokkos::View<const Vec3f*, MemSpace> previous);
 
   std::int64_t send_colors() const { return total(send_counts_); }
   bool direct() const { return direct_; }  // MPI moves the map's own buffers (no host copies)
@@ -117,7 +119,8 @@ class MapExchange {
 
   // The two kinds of run() (public only because nvcc rejects device lambdas in private members).
   std::int64_t run_full(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
-  std::int64_t run_changed(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
+  std::int64_t run_changed(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
+                           Kokkos::View<const Vec3f*, MemSpace> previous);
 
   // Frees the buffers (the halo, the colours last sent, the scratch) once no exchange follows;
   // the counts above stay.
@@ -133,13 +136,13 @@ class MapExchange {
   static std::int64_t mask_words(std::int64_t entries) { return (entries + 31) / 32; }
   std::vector<int> send_counts_, send_displs_, recv_counts_, recv_displs_;  // in colours
   Kokkos::View<std::int64_t*, MemSpace> send_items_;  // map entries, in send order
-  // The colours last sent, and last received: the halo, in receive order.
-  Kokkos::View<Vec3f*, MemSpace> send_buf_, recv_buf_;
+  // The colours last received: the halo, in receive order. (What was last sent is the previous
+  // iteration's map, which the owner holds anyway: no copy of it is kept.)
+  Kokkos::View<Vec3f*, MemSpace> recv_buf_;
   std::vector<Vec3f> host_send_, host_recv_;  // only when MPI cannot take MemSpace (direct_)
   bool direct_ = false;
   bool sent_ = false;                                  // the first (full) run is done
   bool changed_only_ = false;                          // bake --exchange changed
-  Kokkos::View<std::int32_t*, MemSpace> send_rank_;    // destination of each send entry
   Kokkos::View<std::int64_t*, MemSpace> first_entry_;  // send_displs_ and the send entries
   // Changed-only runs' scratch, kept from run to run: changed entries before each send entry,
   // the messages sent and received (words).
