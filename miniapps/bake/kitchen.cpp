@@ -766,9 +766,10 @@ void BakeRun::plan_map() {
     // Several ranks: diffuse gather rays read any vertex, all its colours; a restart's traced
     // lookups, the colours they read (read_items).
     const MapLayout remote = remote_layout(own);
-    const std::vector<char> read = halo_ == Halo::kTraced ? read_items(remote) : std::vector<char>();
-    layout_ = make_halo_layout(host_, remote, read.empty() ? nullptr : read.data(), owner_,
-                               comm_.rank());
+    const std::vector<char> read =
+        halo_ == Halo::kTraced ? read_items(remote) : std::vector<char>();
+    layout_ =
+        make_halo_layout(host_, remote, read.empty() ? nullptr : read.data(), owner_, comm_.rank());
     plan_exchange();
   }
   prev_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_prev", layout_.colors());
@@ -801,8 +802,8 @@ void BakeRun::start_fused_plan(const std::vector<char>& own) {
   mark_dense(layout_);  // the readers take colour counts from the scene, not from this layout
   chef_->set_map_offset(layout_.device, layout_.sparse);
   pending_.remote = remote_layout(own);
-  pending_.flags = Kokkos::View<char*, MemSpace>("rtmini::bake::read_items",
-                                                 static_cast<std::size_t>(pending_.remote.colors()));
+  pending_.flags = Kokkos::View<char*, MemSpace>(
+      "rtmini::bake::read_items", static_cast<std::size_t>(pending_.remote.colors()));
   std::vector<std::int64_t> remote;
   for (std::int64_t v = 0; v < host_.vertices(); ++v)
     if (pending_.remote.in_map(v)) remote.push_back(v);
@@ -1100,7 +1101,7 @@ HitCacheMode BakeRun::hit_mode(int it) const {
   if (it == 0) return HitCacheMode::kOff;
   if (chef_->has_traced_hits())
     return it >= 2 && it > first_ && chef_->caches_hits() ? HitCacheMode::kUse
-                                                            : HitCacheMode::kTraced;
+                                                          : HitCacheMode::kTraced;
   const bool cache_filled = it >= 2 && it > first_;
   return cache_filled       ? HitCacheMode::kUse
          : it < iterations_ ? HitCacheMode::kFill
@@ -1199,8 +1200,7 @@ void BakeRun::exchange(int it, IterationRecord& rec) {
     finish_fused_plan();
   }
   std::swap(prev_, next_);
-  rec.allgather_bytes =
-      exchange_ && it < iterations_ ? exchange_->run(comm_, prev_, next_) : 0;
+  rec.allgather_bytes = exchange_ && it < iterations_ ? exchange_->run(comm_, prev_, next_) : 0;
   rec.allgather = timer_.now() - t0;
 }
 

@@ -393,8 +393,7 @@ Words words_for(const Words& words, std::int64_t n, const char* label) {
 
 }  // namespace
 
-std::int64_t MapExchange::run_changed(const Communicator& comm,
-                                      Kokkos::View<Vec3f*, MemSpace> map,
+std::int64_t MapExchange::run_changed(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
                                       Kokkos::View<const Vec3f*, MemSpace> previous) {
   const int ranks = comm.size();
   const std::int64_t n = static_cast<std::int64_t>(send_items_.extent(0));

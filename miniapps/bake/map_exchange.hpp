@@ -49,8 +49,7 @@ struct MapLayout {
   std::int64_t entry(std::int64_t v, std::int64_t j) const {
     if (in_map(v)) return offset[v] + j;
     const std::int64_t first = colors() + halo_at[v];
-    return dense(v) ? first + j
-                    : sparse_entry(first, mask_at[v], mask.data(), kept.data(), int(j));
+    return dense(v) ? first + j : sparse_entry(first, mask_at[v], mask.data(), kept.data(), int(j));
   }
 };
 
@@ -60,8 +59,8 @@ MapLayout make_map_layout(const BakeSceneHost& scene, const std::vector<char>& p
 
 // The layout of a rank of several: its own vertices in the map; in the halo every vertex of
 // another rank that `remote` (a layout without a halo) holds, ordered by owner rank, then by
-// vertex (the order the exchange receives them). With `read` (one flag per entry of `remote`), a view-dependent halo
-// vertex keeps only the viewpoints flagged; without, all.
+// vertex (the order the exchange receives them). With `read` (one flag per entry of `remote`), a
+// view-dependent halo vertex keeps only the viewpoints flagged; without, all.
 MapLayout make_halo_layout(const BakeSceneHost& scene, const MapLayout& remote, const char* read,
                            const std::vector<int>& owner, int rank);
 
@@ -100,12 +99,12 @@ class MapExchange {
 
   // Refreshes the halo from the owners' colours in their `map` (collective); returns bytes
   // sent. `previous`: the map of the iteration before, which the last run sent (the other of the
-  // two map buffers, read-only since). The first run sends every halo entry. With `changed_only` (bake --exchange changed, the default),
-  // later runs send, per destination, only the entries whose colour changed (bit for bit) since the
-  // last run, with a bitmask of the destination's entries or a list of their indices, whichever is
-  // smaller; the receiver keeps the last colour of the others. A view-independent vertex's colour,
-  // and a mirror colour whose reflected path ends on such vertices, stop changing after an
-  // iteration or two, so later exchanges shrink.
+  // two map buffers, read-only since). The first run sends every halo entry. With `changed_only`
+  // (bake --exchange changed, the default), later runs send, per destination, only the entries
+  // whose colour changed (bit for bit) since the last run, with a bitmask of the destination's
+  // entries or a list of their indices, whichever is smaller; the receiver keeps the last colour of
+  // the others. A view-independent vertex's colour, and a mirror colour whose reflected path ends
+  // on such vertices, stop changing after an iteration or two, so later exchanges shrink.
   std::int64_t run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
                    Kokkos::View<const Vec3f*, MemSpace> previous);
 

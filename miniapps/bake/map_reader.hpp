@@ -69,7 +69,7 @@ struct SparseColors {
   Kokkos::View<const std::int64_t*, MemSpace> mask_at;  // per vertex: first mask word, -1 dense
   Kokkos::View<const std::uint64_t*, MemSpace> mask;
   Kokkos::View<const std::int32_t*, MemSpace> kept;
-  std::int64_t map_colors = 0;               // entries from here on are in `halo`
+  std::int64_t map_colors = 0;                // entries from here on are in `halo`
   Kokkos::View<const Vec3f*, MemSpace> halo;  // MapExchange::halo()
 
   bool empty() const { return start.extent(0) == 0; }
