@@ -7,7 +7,9 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <functional>
 
 #include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/bakeshop.hpp"
@@ -35,7 +37,7 @@ struct Piece {
 
 std::string format_vertex_range(const BakedMap& map, VertexRange range) {
   const auto& off = *map.color_offset;
-  const auto& colors = *map.colors;
+  const Vec3f* colors = map.colors;
   const auto& dirs = *map.directions;
   const std::size_t n = dirs.size();
   const std::int64_t count = range.end - range.begin;
@@ -54,7 +56,7 @@ std::string format_vertex_range(const BakedMap& map, VertexRange range) {
           if (off[v + 1] - off[v] == 1)
             out += format_bakeshop_vertex_uniform(p, dirs.data(), n, colors[off[v]]);
           else
-            out += format_bakeshop_vertex(p, dirs.data(), colors.data() + off[v], n);
+            out += format_bakeshop_vertex(p, dirs.data(), colors + off[v], n);
         }
       });
   std::size_t total = 0;
@@ -100,35 +102,85 @@ std::int64_t binary_head_bytes(std::int64_t nv, std::int64_t n, bool pos32) {
   return at + align8(n * 3 * 4);
 }
 
-// This rank's vertices in binary form: uniform flags and stored colours (one for a vertex whose
-// colours are all the same bits, else all N), range by range.
+// Whether vertex v's colours are all the same bits (the binary form then stores one).
+bool uniform_colors(const BakedMap& map, std::int64_t v) {
+  const auto& off = *map.color_offset;
+  const Vec3f* c = map.colors + off[v];
+  for (std::int64_t k = 1; k < off[v + 1] - off[v]; ++k)
+    if (std::memcmp(&c[k], &c[0], sizeof(Vec3f)) != 0) return false;
+  return true;
+}
+
+// This rank's vertices in binary form: uniform flags, and the colours each range stores.
 struct BinaryPart {
   std::vector<std::uint8_t> uniform;
   std::vector<std::int64_t> stored;  // colours stored per range
-  std::string colors;
 };
 
 BinaryPart binary_part(const BakedMap& map, const std::vector<VertexRange>& mine) {
-  const auto& off = *map.color_offset;
-  const auto& colors = *map.colors;
-  const std::size_t n = map.directions->size();
+  const std::int64_t n = static_cast<std::int64_t>(map.directions->size());
   BinaryPart part;
   for (const VertexRange& r : mine) {
     std::int64_t stored = 0;
     for (std::int64_t v = r.begin; v < r.end; ++v) {
-      const Vec3f* c = colors.data() + off[v];
-      const std::size_t have = static_cast<std::size_t>(off[v + 1] - off[v]);
-      bool same = true;
-      for (std::size_t k = 1; k < have && same; ++k)
-        same = std::memcmp(&c[k], &c[0], sizeof(Vec3f)) == 0;
+      const bool same = uniform_colors(map, v);
       part.uniform.push_back(same ? 1 : 0);
-      const std::size_t count = same ? 1 : n;
-      part.colors.append(reinterpret_cast<const char*>(c), count * sizeof(Vec3f));
-      stored += static_cast<std::int64_t>(count);
+      stored += same ? 1 : n;
     }
     part.stored.push_back(stored);
   }
   return part;
+}
+
+// A piece of this rank's colour section: vertices [begin, end) of one range, at `offset` in the
+// file, `bytes` long (packed into a bounded buffer just before it is written).
+struct ColorChunk {
+  std::int64_t begin, end, offset, bytes;
+};
+
+// The binary colour section is written in chunks of at most about 16 MiB per rank and round,
+// packed from the map as they go: packed whole, it was a second copy of the rank's colours at the
+// run's peak (a quarter of the 1-rank bake's resident memory on bunny_room). The environment's
+// RTMINI_BSB_CHUNK_BYTES sets another bound: the ctest bake.binary_output writes with tiny chunks
+// and compares the bytes.
+std::int64_t chunk_bytes() {
+  const char* e = std::getenv("RTMINI_BSB_CHUNK_BYTES");
+  const std::int64_t n = e ? std::atoll(e) : 0;
+  return n > 0 ? n : std::int64_t(16) << 20;
+}
+
+std::vector<ColorChunk> color_chunks(const BakedMap& map, const std::vector<VertexRange>& mine,
+                                     const std::vector<std::int64_t>& range_offset,
+                                     const std::vector<std::uint8_t>& uniform) {
+  const std::int64_t n = static_cast<std::int64_t>(map.directions->size());
+  const std::int64_t most = chunk_bytes();
+  std::vector<ColorChunk> chunks;
+  std::size_t flag = 0;
+  for (std::size_t i = 0; i < mine.size(); ++i) {
+    ColorChunk c{mine[i].begin, mine[i].begin, range_offset[i], 0};
+    for (std::int64_t v = mine[i].begin; v < mine[i].end; ++v) {
+      const std::int64_t bytes = (uniform[flag++] ? 1 : n) * 12;
+      if (c.bytes > 0 && c.bytes + bytes > most) {
+        chunks.push_back(c);
+        c = {v, v, c.offset + c.bytes, 0};
+      }
+      c.end = v + 1;
+      c.bytes += bytes;
+    }
+    if (c.bytes > 0) chunks.push_back(c);
+  }
+  return chunks;
+}
+
+// The stored colours of a chunk's vertices into `out` (one for a uniform vertex, else all N).
+void pack_chunk(const BakedMap& map, const ColorChunk& c, std::string& out) {
+  const auto& off = *map.color_offset;
+  out.clear();
+  for (std::int64_t v = c.begin; v < c.end; ++v) {
+    const std::int64_t count = uniform_colors(map, v) ? 1 : off[v + 1] - off[v];
+    out.append(reinterpret_cast<const char*>(map.colors + off[v]),
+               static_cast<std::size_t>(count) * sizeof(Vec3f));
+  }
 }
 
 // Header (with the colour count and file size), positions, counts, flags and directions.
@@ -165,10 +217,14 @@ std::string binary_head(const BakedMap& map, const std::vector<std::uint8_t>& un
 
 namespace {
 
-// Writes every rank's pieces at their offsets into `path` (collective MPI-IO under a temporary
-// name, renamed by rank 0 once all have closed it; without MPI one sequential atomic write).
-void write_pieces(const Communicator& comm, const std::string& path,
-                  const std::vector<Piece>& pieces, std::int64_t file_bytes) {
+// Piece i of a rank's pieces; its data need stay valid only until the next call.
+using PieceSource = std::function<Piece(std::size_t)>;
+
+// Writes every rank's `count` pieces at their offsets into `path` (collective MPI-IO under a
+// temporary name, renamed by rank 0 once all have closed it; without MPI one sequential atomic
+// write).
+void write_pieces(const Communicator& comm, const std::string& path, std::size_t count,
+                  const PieceSource& piece, std::int64_t file_bytes) {
 #ifdef RTMINI_HAVE_MPI
   // Rank 0 checks the target (regular file or absent) and clears dead runs'
   // temporaries; the pid broadcast is the agreement before the collective open.
@@ -184,14 +240,14 @@ void write_pieces(const Communicator& comm, const std::string& path,
                          MPI_INFO_NULL, &fh);
   if (rc != MPI_SUCCESS) throw IoError(path + ": cannot create file (MPI_File_open failed)");
   rc = MPI_File_set_size(fh, 0);
-  const int rounds = static_cast<int>(comm.max(static_cast<double>(pieces.size())));
+  const int rounds = static_cast<int>(comm.max(static_cast<double>(count)));
   // Every rank takes part in every round even after an error (the writes are
   // collective: one rank leaving the loop early would hang the others); the
   // first error and any short count are remembered and agreed after close.
   bool counts_ok = true;
   for (int i = 0; i < rounds; ++i) {
-    const bool have = i < static_cast<int>(pieces.size());
-    const Piece p = have ? pieces[i] : Piece{0, nullptr, 0};
+    const bool have = i < static_cast<int>(count);
+    const Piece p = have ? piece(static_cast<std::size_t>(i)) : Piece{0, nullptr, 0};
     MPI_Status status;
     const int wrc = MPI_File_write_at_all(fh, static_cast<MPI_Offset>(p.offset), p.data,
                                           static_cast<int>(p.size), MPI_BYTE, &status);
@@ -226,9 +282,12 @@ void write_pieces(const Communicator& comm, const std::string& path,
         std::FILE* f = std::fopen(tmp.c_str(), "wb");
         if (!f) throw IoError(path + ": cannot create file: " + std::strerror(errno));
         bool wrote = true;
-        for (const Piece& p : pieces)
-          wrote = wrote && std::fwrite(p.data, 1, static_cast<std::size_t>(p.size), f) ==
-                               static_cast<std::size_t>(p.size);
+        for (std::size_t i = 0; i < count; ++i) {
+          const Piece p = piece(i);
+          wrote = wrote && std::fseek(f, static_cast<long>(p.offset), SEEK_SET) == 0 &&
+                  std::fwrite(p.data, 1, static_cast<std::size_t>(p.size), f) ==
+                      static_cast<std::size_t>(p.size);
+        }
         const bool closed = std::fclose(f) == 0;
         if (!wrote || !closed) throw IoError(path + ": write failed: " + std::strerror(errno));
       },
@@ -269,29 +328,38 @@ WriteStats write_baked_map_binary(const Communicator& comm, const std::string& p
   for (const auto& r : ranges)  // gathered in the order of `all`
     for (std::int64_t v = r[0]; v < r[1] && comm.is_root(); ++v) uniform[v] = flags[next_flag++];
   std::sort(ranges.begin(), ranges.end());
-  std::vector<Piece> pieces;
+  // Where each of this rank's ranges starts in the file (ranges tile the vertices in order).
+  std::vector<std::int64_t> range_offset(mine.size());
   std::int64_t at = start;
   for (const auto& r : ranges) {
-    for (std::size_t i = 0; i < mine.size(); ++i) {
-      if (mine[i].begin != r[0]) continue;
-      std::int64_t skip = 0;
-      for (std::size_t k = 0; k < i; ++k) skip += part.stored[k];
-      add_pieces(pieces, at, part.colors.data() + skip * 12, r[2] * 12);
-    }
+    for (std::size_t i = 0; i < mine.size(); ++i)
+      if (mine[i].begin == r[0]) range_offset[i] = at;
     at += r[2] * 12;
   }
   std::string head, tail;
+  std::vector<Piece> fixed;  // the root's header and tail
   if (comm.is_root()) {
     tail = format_bakeshop_binary_tail(mesh, static_cast<std::uint64_t>(at));
     head = binary_head(map, uniform, (at - start) / 12, at + static_cast<std::int64_t>(tail.size()),
                        pos32);
-    add_pieces(pieces, 0, head.data(), static_cast<std::int64_t>(head.size()));
-    add_pieces(pieces, at, tail.data(), static_cast<std::int64_t>(tail.size()));
+    add_pieces(fixed, 0, head.data(), static_cast<std::int64_t>(head.size()));
+    add_pieces(fixed, at, tail.data(), static_cast<std::int64_t>(tail.size()));
   }
+  const std::vector<ColorChunk> chunks = color_chunks(map, mine, range_offset, part.uniform);
   WriteStats stats;
-  for (const Piece& p : pieces) stats.bytes_written += p.size;
+  for (const Piece& p : fixed) stats.bytes_written += p.size;
+  for (const ColorChunk& c : chunks) stats.bytes_written += c.bytes;
   stats.file_bytes = at + static_cast<std::int64_t>(comm.max(double(tail.size())));
-  write_pieces(comm, path, pieces, stats.file_bytes);
+  std::string buffer;
+  write_pieces(
+      comm, path, fixed.size() + chunks.size(),
+      [&](std::size_t i) {
+        if (i < fixed.size()) return fixed[i];
+        const ColorChunk& c = chunks[i - fixed.size()];
+        pack_chunk(map, c, buffer);
+        return Piece{c.offset, buffer.data(), static_cast<std::int64_t>(buffer.size())};
+      },
+      stats.file_bytes);
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return stats;
 }
@@ -336,7 +404,8 @@ WriteStats write_baked_map(const Communicator& comm, const std::string& path, co
   stats.file_bytes = offset + static_cast<std::int64_t>(comm.max(double(tail.size())));
   for (const Piece& p : pieces) stats.bytes_written += p.size;
 
-  write_pieces(comm, path, pieces, stats.file_bytes);
+  write_pieces(
+      comm, path, pieces.size(), [&](std::size_t i) { return pieces[i]; }, stats.file_bytes);
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return stats;
 }

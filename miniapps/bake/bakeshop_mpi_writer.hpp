@@ -22,10 +22,11 @@ struct VertexRange {
 
 // The baked map as the writer sees it (host data). colors holds, for each vertex v this rank
 // writes, entries [color_offset[v], color_offset[v+1]): N view-dependent colours or 1
-// view-independent one (expanded to N identical lines on output).
+// view-independent one (expanded to N identical lines on output). A pointer, not a vector: on a
+// host backend it is the bake's map itself, not a copy.
 struct BakedMap {
   const Mesh* mesh = nullptr;
-  const std::vector<Vec3f>* colors = nullptr;
+  const Vec3f* colors = nullptr;
   const std::vector<std::int64_t>* color_offset = nullptr;
   const std::vector<Vec3f>* directions = nullptr;  // the N viewpoint directions
   // The directions are the N/2 of a hemisphere map, in each vertex's frame (ViewpointColors):

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 #include "map_reader.hpp"
@@ -240,13 +241,12 @@ struct MirrorIteration {
 };
 
 // The mirror rays of the view-dependent vertices of a batch, traced once (same directions,
-// order and cache slots as MirrorIteration) into the traced hits and the float cache.
+// order and cache slots as MirrorIteration) into the traced hits.
 struct TraceMirrorHits {
   Bvh accel;
   Kokkos::View<Vec3*, MemSpace> positions, normal, views;
   Kokkos::View<int*, MemSpace> order;
   Kokkos::View<std::int64_t*, MemSpace> color_offset;
-  Kokkos::View<CachedHit*, MemSpace> cache;
   Kokkos::View<TracedHit*, MemSpace> traced;
   std::int64_t vbegin, vend, item_begin, cache_offset;
   Real coordinate_bound;   // DeviceMesh::coordinate_bound, for offset_ray_origin
@@ -272,13 +272,6 @@ struct TraceMirrorHits {
       t.prim = hit.prim;
       t.u = hit.u;
       t.v = hit.v;
-      if (cache.extent(0) > 0) {
-        CachedHit h;
-        h.prim = hit.prim;
-        h.u = static_cast<float>(hit.u);
-        h.v = static_cast<float>(hit.v);
-        cache(slot) = h;
-      }
     }
     traced(slot) = t;
   }
@@ -375,12 +368,14 @@ MirrorCostEstimate estimate_mirror_costs(const BakeSceneDevice& scene, const Bak
 }
 
 Chef::Chef(const BakeSceneDevice& scene, const BakeConfig& config, std::int64_t local_items)
-    : scene_(scene), config_(config), map_offset_(scene.color_offset), local_items_(local_items) {
+    : scene_(scene),
+      config_(config),
+      map_offset_(scene.color_offset),
+      local_items_(local_items),
+      caches_hits_(config.cache_hits && config.iterations > 1) {
   const std::size_t nv = scene.normal.extent(0);
   base_ = Kokkos::View<Vec3*, MemSpace>("rtmini::bake::base", nv);
   if (config.gather_rays > 0) gather_ = Kokkos::View<Vec3*, MemSpace>("rtmini::bake::gather", nv);
-  if (config.cache_hits && config.iterations > 1)
-    cache_ = Kokkos::View<CachedHit*, MemSpace>("rtmini::bake::hit_cache", local_items);
   order_ = coherent_order(config.viewpoints, config.stored_viewpoints());
   if (config.lookup == Lookup::kKdTree) {
     kdtree_ = build_fibonacci_kdtree<MemSpace>(config.viewpoints);
@@ -428,7 +423,6 @@ ReadCount Chef::trace_mirror_hits(std::int64_t begin, std::int64_t end, std::int
                     scene_.viewpoints,
                     order_,
                     scene_.color_offset,
-                    cache_,
                     traced_,
                     begin,
                     end,
@@ -528,25 +522,30 @@ Kokkos::View<TracedHit*, MemSpace> Chef::take_traced_hits() {
 void Chef::adopt_traced_hits(Kokkos::View<TracedHit*, MemSpace> hits) {
   local_items_ = static_cast<std::int64_t>(hits.extent(0));
   traced_ = hits;
-  if (cache_.extent(0) == 0) return;
-  // The float cache holds the same hits as the trace filled it with (the old one goes first:
-  // on a large map each is hundreds of MB).
-  cache_ = Kokkos::View<CachedHit*, MemSpace>();
-  cache_ = Kokkos::View<CachedHit*, MemSpace>(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::hit_cache"), local_items_);
-  auto cache = cache_;
-  auto traced = traced_;
-  Kokkos::parallel_for(
-      "rtmini::bake::fill_hit_cache",
-      Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(0, local_items_),
-      KOKKOS_LAMBDA(std::int64_t i) {
-        const TracedHit t = traced(i);
-        CachedHit h;
-        h.prim = t.prim;
-        h.u = static_cast<float>(t.u);
-        h.v = static_cast<float>(t.v);
-        cache(i) = h;
-      });
+}
+
+void Chef::release_traced_hits() {
+  if (!caches_hits_) return;  // the traced hits serve every iteration
+  if constexpr (std::is_same<CachedHit, TracedHit>::value) {
+    cache_ = traced_;
+  } else {
+    cache_ = Kokkos::View<CachedHit*, MemSpace>(
+        Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::hit_cache"), local_items_);
+    auto cache = cache_;
+    auto traced = traced_;
+    Kokkos::parallel_for(
+        "rtmini::bake::fill_hit_cache",
+        Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(0, local_items_),
+        KOKKOS_LAMBDA(std::int64_t i) {
+          const TracedHit t = traced(i);
+          CachedHit h;
+          h.prim = t.prim;
+          h.u = static_cast<float>(t.u);
+          h.v = static_cast<float>(t.v);
+          cache(i) = h;
+        });
+  }
+  traced_ = Kokkos::View<TracedHit*, MemSpace>();
 }
 
 namespace {
@@ -800,6 +799,8 @@ std::int64_t Chef::bake_iteration(int it, std::int64_t begin, std::int64_t end,
                                   std::int64_t cache_offset, HitCacheMode cache,
                                   Kokkos::View<const Vec3f*, MemSpace> prev,
                                   Kokkos::View<Vec3f*, MemSpace> next) {
+  if (cache == HitCacheMode::kFill && caches_hits_ && cache_.extent(0) == 0)
+    cache_ = Kokkos::View<CachedHit*, MemSpace>("rtmini::bake::hit_cache", local_items_);
   if (cache == HitCacheMode::kTraced ? traced_.extent(0) == 0
                                      : cache != HitCacheMode::kOff && cache_.extent(0) == 0)
     cache = HitCacheMode::kOff;

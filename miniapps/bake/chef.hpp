@@ -14,21 +14,23 @@
 
 namespace rtmini::bake {
 
+// A mirror hit: primitive and barycentrics.
+template <class T>
+struct HitRecord {
+  int prim = -1;
+  T u = 0, v = 0;
+};
+
 // A traced mirror ray, kept after its first trace: geometry is static, so iterations >= 2
 // only re-read the map at the same hit (a gather instead of a trace).
-struct CachedHit {
-  int prim = -1;
-  float u = 0.f, v = 0.f;
-};
+using CachedHit = HitRecord<float>;
 
 // A mirror hit at full precision, traced once before the iterations (the owner-computes map
 // needs every hit up front to know which remote colours a rank reads). The first mirror
 // iteration shades from it, exactly as from a fresh trace; later ones read the float cache, as
-// before.
-struct TracedHit {
-  int prim = -1;
-  Real u = 0, v = 0;
-};
+// before. With Real = float (the default build) it is the float cache's record itself, and the
+// cache is the traced hits (Chef::release_traced_hits), not a second copy.
+using TracedHit = HitRecord<Real>;
 
 // kTraced: shade from the traced hits (Chef::trace_mirror_hits).
 enum class HitCacheMode { kOff, kFill, kUse, kTraced };
@@ -87,7 +89,7 @@ class Chef {
   // The traced hits of all this rank's batches, in slot order, handed over (the Chef keeps none;
   // they move between ranks when the ownership changes after the trace), and their
   // replacement: `hits` become the traced hits of a rank whose batches hold hits.extent(0)
-  // colour entries, and refill the float hit cache. Both stay in MemSpace.
+  // colour entries. Both stay in MemSpace.
   Kokkos::View<TracedHit*, MemSpace> take_traced_hits();
   void adopt_traced_hits(Kokkos::View<TracedHit*, MemSpace> hits);
   // After trace_mirror_hits and set_map_offset: flags in `items` (one per entry of the map
@@ -97,8 +99,17 @@ class Chef {
                        Kokkos::View<const char*, MemSpace> owned,
                        Kokkos::View<char*, MemSpace> items) const;
   bool has_traced_hits() const { return traced_.extent(0) > 0; }
-  bool has_hit_cache() const { return cache_.extent(0) > 0; }
-  void release_traced_hits() { traced_ = Kokkos::View<TracedHit*, MemSpace>(); }
+  // Whether iterations after the first read their hits from the float cache (--hit-cache, and
+  // more than one iteration). The traced path fills it only when the traced hits have served
+  // their iteration (release_traced_hits): until then it would hold the same hits again.
+  bool caches_hits() const { return caches_hits_; }
+  // The traced hits become the float hit cache (caches_hits only).
+  void release_traced_hits();
+  // Frees every hit record (after the last iteration).
+  void release_hits() {
+    traced_ = Kokkos::View<TracedHit*, MemSpace>();
+    cache_ = Kokkos::View<CachedHit*, MemSpace>();
+  }
 
   // Colours of iteration `it` for vertices [begin, end) into next (map-offset order), from
   // prev (every colour iteration it - 1 reads). cache_offset: the batch's first slot in the
@@ -137,6 +148,7 @@ class Chef {
   SparseColors sparse_;
   FirstReads first_reads_;
   std::int64_t local_items_ = 0;
+  bool caches_hits_ = false;
   Kokkos::View<int*, MemSpace> order_;  // viewpoints in a direction-coherent order
   FibonacciKdTree<MemSpace> kdtree_;
   FibonacciKdTree<MemSpace> mirrored_;  // hemisphere maps, KD-tree lookup (HemisphereMap)

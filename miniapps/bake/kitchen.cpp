@@ -104,11 +104,6 @@ KOKKOS_INLINE_FUNCTION std::int64_t quantise(float x) {
   return static_cast<std::int64_t>(math::floor(double(x) * 65536.0 + 0.5));
 }
 
-// Copies a device map into the host map (sized to match).
-void download(Kokkos::View<const Vec3f*, MemSpace> from, std::vector<Vec3f>& to) {
-  compat::download(from, to);
-}
-
 // Order-independent hash over (vertex, viewpoint, quantised colour) of this rank's vertices;
 // `off`: where each vertex's colours sit in `map`.
 std::uint64_t map_hash(Kokkos::View<const std::int64_t*, MemSpace> off,
@@ -372,10 +367,12 @@ class BakeRun {
   void replan_first_reads(const std::vector<Batch>& from);
   void report_recut();
   void report_work();
-  std::vector<char> read_items() const;
-  std::vector<std::int64_t> halo_entries() const;
+  std::vector<char> read_items(const MapLayout& remote) const;
   bool fuses_halo_plan() const;
-  void start_fused_plan(const std::vector<char>& own, const std::vector<char>& present);
+  std::vector<char> owned_vertices() const;
+  MapLayout remote_layout(const std::vector<char>& own) const;
+  void plan_exchange();
+  void start_fused_plan(const std::vector<char>& own);
   void finish_fused_plan();
   void report_map_plan();
   void bake_base();
@@ -390,6 +387,8 @@ class BakeRun {
   void checkpoint(int it);
   bool stop_after(int it, double t0);
   std::vector<Vec3f> global_map();
+  void release_iteration_buffers();
+  void report_exchange();
   void write();
   void compare();
   void report_results();
@@ -419,13 +418,17 @@ class BakeRun {
 
   std::unique_ptr<BakeSceneDevice> scene_;
   double scene_rss_bytes_ = 0;  // peak RSS once the scene and its BVH are up, before any map
+  // This rank's peak RSS after each step of the run (mark_rss), in order: which step sets the
+  // peak, which is what the memory bound per rank has to chase.
+  std::vector<std::pair<std::string, double>> rss_marks_;
+  void mark_rss(const std::string& step) { rss_marks_.emplace_back(step, peak_rss_bytes()); }
   std::unique_ptr<Chef> chef_;
   MapLayout layout_;
   std::unique_ptr<MapExchange> exchange_;
   // The fused halo plan between plan_map and the end of iteration 1 (fuses_halo_plan).
   struct PendingHalo {
     bool active = false;
-    MapLayout dense;  // every present vertex with all its viewpoints: where the flags sit
+    MapLayout remote;  // the remote vertices read, each with all its viewpoints: the flags' layout
     Kokkos::View<char*, MemSpace> flags;
   } pending_;
   Kokkos::View<char*, MemSpace> owned_;  // per vertex, with the traced halo
@@ -446,7 +449,6 @@ class BakeRun {
     double seconds = 0;                // the recut and the re-planned first reads, this rank
   } recut_;
   Kokkos::View<Vec3f*, MemSpace> prev_, next_;
-  std::vector<Vec3f> map_;  // host copy of the local map (checkpoints, output)
 
   int first_ = 0;
   std::vector<IterationRecord> iter_records_;
@@ -733,32 +735,54 @@ void BakeRun::count_reads() {
   compat::download(read, read_);
 }
 
+// This rank's own vertices, one flag per vertex.
+std::vector<char> BakeRun::owned_vertices() const {
+  std::vector<char> own(static_cast<std::size_t>(host_.vertices()), 0);
+  for (const VertexRange& r : my_ranges_) std::fill(own.begin() + r.begin, own.begin() + r.end, 1);
+  return own;
+}
+
+// The layout of the remote vertices this rank reads, each with all its colours (where read flags
+// sit until the halo keeps only the colours read): those the traced hits read, or with
+// diffuse gather rays every other rank's vertex.
+MapLayout BakeRun::remote_layout(const std::vector<char>& own) const {
+  std::vector<char> remote(own.size());
+  for (std::size_t v = 0; v < own.size(); ++v)
+    remote[v] = !own[v] && (halo_ == Halo::kAll || (halo_ == Halo::kTraced && read_[v]));
+  return make_map_layout(host_, remote);
+}
+
 // Phase "halo" (bake time): the vertices this rank holds, their layout and the exchange that
 // keeps the remote ones fresh.
 void BakeRun::plan_map() {
   timer_.start("halo");
-  std::vector<char> present(static_cast<std::size_t>(host_.vertices()), halo_ == Halo::kAll);
-  for (const VertexRange& r : my_ranges_)
-    std::fill(present.begin() + r.begin, present.begin() + r.end, 1);
-  const std::vector<char> own = present;
-  if (halo_ == Halo::kTraced)
-    for (std::size_t v = 0; v < present.size(); ++v) present[v] = present[v] || read_[v];
+  const std::vector<char> own = owned_vertices();
   if (fuses_halo_plan()) {
-    start_fused_plan(own, present);
+    start_fused_plan(own);
+  } else if (comm_.size() == 1 || halo_ == Halo::kOwned) {
+    layout_ = make_map_layout(host_, halo_ == Halo::kAll ? std::vector<char>(own.size(), 1) : own);
+    plan_exchange();
   } else {
-    layout_ = make_map_layout(host_, present);
-    chef_->set_map_offset(layout_.device);
-    if (halo_ == Halo::kTraced) {
-      layout_ = make_sparse_layout(host_, layout_, read_items(), owner_, comm_.rank());
-      chef_->set_map_offset(layout_.device, layout_.sparse);
-    }
-    exchange_ = std::make_unique<MapExchange>(comm_, host_, layout_, owner_, halo_entries(),
-                                              c_.changed_exchanges);
-    report_map_plan();
+    // Several ranks: diffuse gather rays read any vertex, all its colours; a restart's traced
+    // lookups, the colours they read (read_items).
+    const MapLayout remote = remote_layout(own);
+    const std::vector<char> read =
+        halo_ == Halo::kTraced ? read_items(remote) : std::vector<char>();
+    layout_ =
+        make_halo_layout(host_, remote, read.empty() ? nullptr : read.data(), owner_, comm_.rank());
+    plan_exchange();
   }
   prev_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_prev", layout_.colors());
   next_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_next", layout_.colors());
   timer_.stop();
+}
+
+// The exchange of layout_'s halo, whose receive buffer the Chef's reads of the halo then see.
+void BakeRun::plan_exchange() {
+  exchange_ = std::make_unique<MapExchange>(comm_, host_, layout_, c_.changed_exchanges);
+  if (!layout_.sparse.empty()) layout_.sparse.halo = exchange_->halo();
+  chef_->set_map_offset(layout_.device, layout_.sparse);
+  report_map_plan();
 }
 
 // Which colours of remote vertices a rank reads is known only once its lookups have run at the
@@ -773,16 +797,16 @@ bool BakeRun::fuses_halo_plan() const {
 
 // Until iteration 1 has run, this rank's map holds its own vertices only; the remote vertices'
 // base colours come from their owners (one colour per vertex).
-void BakeRun::start_fused_plan(const std::vector<char>& own, const std::vector<char>& present) {
+void BakeRun::start_fused_plan(const std::vector<char>& own) {
   layout_ = make_map_layout(host_, own);
   mark_dense(layout_);  // the readers take colour counts from the scene, not from this layout
   chef_->set_map_offset(layout_.device, layout_.sparse);
-  pending_.dense = make_map_layout(host_, present);
-  pending_.flags = Kokkos::View<char*, MemSpace>("rtmini::bake::read_items",
-                                                 static_cast<std::size_t>(pending_.dense.colors()));
+  pending_.remote = remote_layout(own);
+  pending_.flags = Kokkos::View<char*, MemSpace>(
+      "rtmini::bake::read_items", static_cast<std::size_t>(pending_.remote.colors()));
   std::vector<std::int64_t> remote;
   for (std::int64_t v = 0; v < host_.vertices(); ++v)
-    if (present[v] && !own[v]) remote.push_back(v);
+    if (pending_.remote.in_map(v)) remote.push_back(v);
   std::vector<Vec3> base;
   compat::download(chef_->base(), base);
   // Vec3f(base): the bits iteration 0 stores for every viewpoint of the vertex.
@@ -795,34 +819,23 @@ void BakeRun::start_fused_plan(const std::vector<char>& own, const std::vector<c
   FirstReads first;
   first.owned = owned_;
   first.base = compat::upload<MemSpace>("rtmini::bake::remote_base", remote_base);
-  first.at = pending_.dense.device;
+  first.at = pending_.remote.device;
   first.flags = pending_.flags;
   chef_->set_first_reads(first);
   pending_.active = true;
 }
 
-// After the fused first iteration: the sparse layout from what it read, the exchange plan, and
-// this rank's colours of that iteration moved into the new layout (its own vertices are dense
-// in both, and each batch's are contiguous, so a batch moves in one copy).
+// After the fused first iteration: the halo from what it read and the exchange plan. The map
+// keeps its layout (this rank's vertices, dense), so iteration 1's colours stay where they are.
 void BakeRun::finish_fused_plan() {
   chef_->set_first_reads(FirstReads{});
-  std::vector<char> read;
-  compat::download(pending_.flags, read);
-  MapLayout sparse = make_sparse_layout(host_, pending_.dense, read, owner_, comm_.rank());
-  Kokkos::View<Vec3f*, MemSpace> next("rtmini::bake::map_next", sparse.colors());
-  for (const VertexRange& r : my_ranges_) {
-    using Span = std::pair<std::int64_t, std::int64_t>;
-    Kokkos::deep_copy(Kokkos::subview(next, Span(sparse.offset[r.begin], sparse.offset[r.end])),
-                      Kokkos::subview(next_, Span(layout_.offset[r.begin], layout_.offset[r.end])));
-  }
-  layout_ = std::move(sparse);
-  chef_->set_map_offset(layout_.device, layout_.sparse);
-  next_ = next;
-  prev_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_prev", layout_.colors());
+  const auto read = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pending_.flags);
+  layout_ = make_halo_layout(host_, pending_.remote, read.data(), owner_, comm_.rank());
   pending_ = PendingHalo{};
-  exchange_ = std::make_unique<MapExchange>(comm_, host_, layout_, owner_, halo_entries(),
-                                            c_.changed_exchanges);
-  report_map_plan();
+  // A measured recut changed this rank's share (next_ moved with it); prev_ follows.
+  if (static_cast<std::int64_t>(prev_.extent(0)) != layout_.colors())
+    prev_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_prev", layout_.colors());
+  plan_exchange();
 }
 
 // The measured recut's threshold: the slowest rank's first mirror iteration over the mean.
@@ -878,7 +891,7 @@ void BakeRun::recut_by_measured_time(double my_time) {
   if (max_over_mean(recut_.measured) >= kRecutMinImbalance)
     assign_batches(make_batches(host_, p, Balance::kCost, c_.batch_size, scaled));
   if (same_batches(batches_, from)) {  // nothing to move
-    if (chef_->has_hit_cache()) chef_->release_traced_hits();
+    if (chef_->caches_hits()) chef_->release_traced_hits();
     recut_.cost_after = counted;
     recut_.scaled_after = recut_.measured;
     recut_.seconds = timer_.now() - t0;
@@ -902,7 +915,7 @@ void BakeRun::recut_by_measured_time(double my_time) {
     totals_.rays += chef_->bake_base(piece.begin, piece.end);
   replan_first_reads(from);
   // The traced hits served their iteration (trace() kept them for this move).
-  if (chef_->has_hit_cache()) chef_->release_traced_hits();
+  if (chef_->caches_hits()) chef_->release_traced_hits();
   pieces_ = trace_pieces(progress_line_->enabled());
   recut_.seconds = timer_.now() - t0;
   report_work();
@@ -916,24 +929,19 @@ void BakeRun::recut_by_measured_time(double my_time) {
 // given-away vertices set stay where the vertex is still read (a few halo colours more, and no
 // lookups repeated for the vertices kept).
 void BakeRun::replan_first_reads(const std::vector<Batch>& from) {
-  const std::int64_t nv = host_.vertices();
   const Kokkos::View<const char*, MemSpace> owned_before = owned_;
   count_reads();  // owned_, read_ and reads_ of the new ownership
-  std::vector<char> present = read_, own(static_cast<std::size_t>(nv), 0);
-  for (const VertexRange& r : my_ranges_) {
-    std::fill(present.begin() + r.begin, present.begin() + r.end, 1);
-    std::fill(own.begin() + r.begin, own.begin() + r.end, 1);
-  }
-  MapLayout dense = make_map_layout(host_, present);
+  const std::vector<char> own = owned_vertices();
+  MapLayout remote = remote_layout(own);
   const Kokkos::View<char*, MemSpace> flags =
-      moved_read_flags(pending_.dense.device, pending_.flags, dense.device, dense.colors());
+      moved_read_flags(pending_.remote.device, pending_.flags, remote.device, remote.colors());
   const Kokkos::View<char*, MemSpace> not_given = not_given_away(owned_before, owned_);
-  chef_->set_map_offset(dense.device);
+  chef_->set_map_offset(remote.device);
   for (const TracePiece& piece : pieces_owned_before(from, true))
     chef_->mark_read_items(piece.begin, piece.end, piece.cache_offset, not_given, flags);
   for (const TracePiece& piece : pieces_owned_before(from, false))
     chef_->mark_read_items(piece.begin, piece.end, piece.cache_offset, owned_, flags);
-  pending_.dense = std::move(dense);
+  pending_.remote = std::move(remote);
   pending_.flags = flags;
   layout_ = make_map_layout(host_, own);
   mark_dense(layout_);
@@ -1018,8 +1026,10 @@ void BakeRun::report_work() {
 
 // The map's size and traffic per rank, into the summary and on stdout.
 void BakeRun::report_map_plan() {
-  const double local = static_cast<double>(layout_.colors());
+  // The colours a rank holds: its map (double-buffered) and its halo (held once).
+  const double local = static_cast<double>(layout_.colors() + layout_.halo_colors);
   const double max_local = comm_.max(local), sum_local = comm_.sum(local);
+  const double max_halo = comm_.max(static_cast<double>(layout_.halo_colors));
   const double reads = static_cast<double>(comm_.sum(reads_.reads));
   const double remote = static_cast<double>(comm_.sum(reads_.remote_reads));
   const double bytes = static_cast<double>(comm_.sum(exchange_->send_colors())) * sizeof(Vec3f);
@@ -1028,6 +1038,7 @@ void BakeRun::report_map_plan() {
                                                            : "traced"},
                           {"local_colors_max", max_local},
                           {"local_colors_mean", sum_local / comm_.size()},
+                          {"halo_colors_max", max_halo},
                           {"mirror_reads", reads},
                           {"remote_read_fraction", reads > 0 ? remote / reads : 0.0},
                           {"exchange_bytes_per_iteration", bytes},
@@ -1037,27 +1048,23 @@ void BakeRun::report_map_plan() {
   params_["map"] = report_.scene["map"];
   if (root_)
     std::printf(
-        "  map per rank: %.0f colours max (%.1f %% of the whole map), %.3g %% of mirror "
-        "reads remote, %s exchanged per iteration\n",
-        max_local, 100.0 * max_local / std::max<double>(1.0, double(host_.colors())),
+        "  map per rank: %.0f colours max (%.1f %% of the whole map; halo %.0f max), %.3g %% of "
+        "mirror reads remote, %s exchanged per iteration\n",
+        max_local, 100.0 * max_local / std::max<double>(1.0, double(host_.colors())), max_halo,
         reads > 0 ? 100.0 * remote / reads : 0.0, human_bytes(bytes).c_str());
 }
 
-// One flag per entry of the (dense) layout: the remote colours this rank's traced lookups read.
-std::vector<char> BakeRun::read_items() const {
-  Kokkos::View<char*, MemSpace> items("rtmini::bake::read_items", layout_.colors());
+// One flag per entry of `remote` (remote_layout): the remote colours this rank's traced lookups
+// read.
+std::vector<char> BakeRun::read_items(const MapLayout& remote) const {
+  Kokkos::View<char*, MemSpace> items("rtmini::bake::read_items", remote.colors());
+  chef_->set_map_offset(remote.device);
   for (std::size_t k = 0; k < my_ranges_.size(); ++k)
     chef_->mark_read_items(my_ranges_[k].begin, my_ranges_[k].end, my_cache_offset_[k], owned_,
                            items);
   std::vector<char> read;
   compat::download(items, read);
   return read;
-}
-
-// The colours (global entry numbers, ascending) this rank reads from other ranks: every colour of
-// a present remote vertex, or with the traced (sparse) halo only those the lookups read.
-std::vector<std::int64_t> BakeRun::halo_entries() const {
-  return remote_entries(host_, layout_, owner_, comm_.rank());
 }
 
 // Base colours of this rank's vertices (needed by every iteration, also after a restart).
@@ -1076,10 +1083,13 @@ void BakeRun::bake_base() {
 // Resumes from the checkpoint: its global map, cut to this rank's layout.
 void BakeRun::restart() {
   if (c_.restart.empty()) return;
-  map_ = localise_map(host_, layout_, restart_cp_.colors);
+  std::vector<Vec3f> local = localise_map(host_, layout_, restart_cp_.colors);
   std::vector<Vec3f>().swap(restart_cp_.colors);
   first_ = restart_cp_.iteration + 1;
-  Kokkos::deep_copy(prev_, compat::host_view(map_.data(), map_.size()));
+  const std::size_t map = static_cast<std::size_t>(layout_.colors());
+  Kokkos::deep_copy(prev_, compat::host_view(local.data(), map));
+  if (exchange_ && layout_.halo_colors > 0)
+    Kokkos::deep_copy(exchange_->halo(), compat::host_view(local.data() + map, local.size() - map));
   if (root_)
     std::printf("  restart: iteration %d of %s done, resuming at %d\n", restart_cp_.iteration,
                 c_.restart.c_str(), first_);
@@ -1090,8 +1100,8 @@ void BakeRun::restart() {
 HitCacheMode BakeRun::hit_mode(int it) const {
   if (it == 0) return HitCacheMode::kOff;
   if (chef_->has_traced_hits())
-    return it >= 2 && it > first_ && chef_->has_hit_cache() ? HitCacheMode::kUse
-                                                            : HitCacheMode::kTraced;
+    return it >= 2 && it > first_ && chef_->caches_hits() ? HitCacheMode::kUse
+                                                          : HitCacheMode::kTraced;
   const bool cache_filled = it >= 2 && it > first_;
   return cache_filled       ? HitCacheMode::kUse
          : it < iterations_ ? HitCacheMode::kFill
@@ -1160,7 +1170,7 @@ std::int64_t BakeRun::trace(int it, Kokkos::View<Vec3f*, MemSpace> out) {
   }
   // The traced hits have served their one iteration once the float cache takes over.
   // (A measured recut moves them first: recut_by_measured_time releases them.)
-  if (mode == HitCacheMode::kTraced && chef_->has_hit_cache() && it < iterations_ &&
+  if (mode == HitCacheMode::kTraced && chef_->caches_hits() && it < iterations_ &&
       !recuts_by_measured_time())
     chef_->release_traced_hits();
   return rays;
@@ -1190,14 +1200,14 @@ void BakeRun::exchange(int it, IterationRecord& rec) {
     finish_fused_plan();
   }
   std::swap(prev_, next_);
-  rec.allgather_bytes = exchange_ && it < iterations_ ? exchange_->run(comm_, prev_) : 0;
+  rec.allgather_bytes = exchange_ && it < iterations_ ? exchange_->run(comm_, prev_, next_) : 0;
   rec.allgather = timer_.now() - t0;
 }
 
 // The whole map on the root (every rank takes part): owned colours gathered in vertex order.
 std::vector<Vec3f> BakeRun::global_map() {
-  download(prev_, map_);
-  return gather_global_map(comm_, host_, layout_, map_, owner_);
+  const auto local = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), prev_);
+  return gather_global_map(comm_, host_, layout_, local.data(), owner_);
 }
 
 void BakeRun::checkpoint(int it) {
@@ -1251,6 +1261,7 @@ int BakeRun::iterate() {
     const double t2 = timer_.now();
     checkpoint(it);
     rec.write = timer_.now() - t2;
+    mark_rss("iteration " + std::to_string(it));
     iter_records_.push_back(rec);
     if (progress && root_)
       std::fprintf(stderr, "bake: iteration %d/%d done (%.3f s trace, %.3f s exchange)\n", it,
@@ -1275,6 +1286,18 @@ void BakeRun::report_stopped(int it) {
   report_.finish(comm_, c_.summary);
 }
 
+// After the last iteration only this rank's own colours (prev_) are read: the other map buffer,
+// the halo, the exchange's buffers and the hit records go before the output is written (at the
+// output they were the run's peak, with the output's own buffers on top).
+void BakeRun::release_iteration_buffers() {
+  report_exchange();
+  next_ = Kokkos::View<Vec3f*, MemSpace>();
+  layout_.sparse = SparseColors{};
+  chef_->set_map_offset(layout_.device);
+  chef_->release_hits();
+  if (exchange_) exchange_->release();
+}
+
 // Every rank writes its own vertices (collective MPI-IO), in either form.
 void BakeRun::write() {
   timer_.start("write");
@@ -1282,8 +1305,9 @@ void BakeRun::write() {
   std::vector<Vec3f> dirs(static_cast<std::size_t>(c_.stored_viewpoints()));
   for (int i = 0; i < c_.stored_viewpoints(); ++i)
     dirs[i] = Vec3f(fibonacci_point(i, c_.viewpoints));
-  download(prev_, map_);
-  BakedMap baked{&mesh_, &map_, &layout_.offset, &dirs};
+  // On a host backend the map itself, else a host copy.
+  const auto map = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), prev_);
+  BakedMap baked{&mesh_, map.data(), &layout_.offset, &dirs};
   baked.hemisphere = c_.hemisphere();
   written_ = write_baked_map(comm_, c_.output, baked, my_ranges_);
   timer_.stop();
@@ -1315,14 +1339,17 @@ void BakeRun::compare() {
   timer_.stop();
 }
 
-void BakeRun::report_results() {
+// After the first exchange only changed colours move: the fraction that did.
+void BakeRun::report_exchange() {
   if (exchange_ && comm_.size() > 1) {
-    // After the first exchange only changed colours move: the fraction that did.
     const double offered = static_cast<double>(comm_.sum(exchange_->offered_colors()));
     report_.scene["map"]["exchange_changed_fraction"] =
         offered > 0 ? static_cast<double>(comm_.sum(exchange_->changed_colors())) / offered : 1.0;
     params_["map"] = report_.scene["map"];
   }
+}
+
+void BakeRun::report_results() {
   const std::uint64_t hash = comm_.sum_wrap(
       map_hash(layout_.device, prev_, batches_, comm_.rank(), c_.stored_viewpoints()));
   const double total_rays = static_cast<double>(comm_.sum(totals_.rays));
@@ -1343,6 +1370,9 @@ void BakeRun::report_results() {
   // of the peak that does not fall with the ranks.
   report_.scene["scene_rss_bytes_per_rank"] =
       comm_.allgatherv(std::vector<double>{scene_rss_bytes_});
+  for (const auto& [step, bytes] : rss_marks_)
+    report_.scene["peak_rss_after_bytes_per_rank"][step] =
+        comm_.allgatherv(std::vector<double>{bytes});
   if (!c_.timings.empty())
     write_timings_file(comm_, c_, timer_,
                        {"read", "setup", "base", "map", "halo", "iterate", "write"}, iter_records_,
@@ -1366,13 +1396,18 @@ int BakeRun::run() {
   check_memory();
   setup();
   timer_.stop();
+  mark_rss("setup");
   trace_map();
+  mark_rss("map");
   report_work();
   bake_base();
   plan_map();
   restart();
+  mark_rss("halo");
   if (const int code = iterate(); code != kExitOk) return code;
+  release_iteration_buffers();
   write();
+  mark_rss("write");
   compare();
   report_results();
   return kExitOk;

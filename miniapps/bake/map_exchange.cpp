@@ -103,38 +103,23 @@ void host_parallel_for(const char* label, std::int64_t n, const F& f) {
   Host().fence();
 }
 
-// The vertex of each global colour entry of `global`. The lists planned here are ascending (per
-// owner), so each piece of them searches once and then walks the offsets, instead of a binary
-// search over all vertices per entry.
-std::vector<std::int64_t> vertices_of(const BakeSceneHost& scene,
-                                      const std::vector<std::int64_t>& global) {
+// Global colour entries turned, in place, into `layout`'s entries of the same colours. The lists
+// planned here are ascending (per owner), so each piece of them searches its first vertex and
+// then walks the offsets, instead of a binary search over all vertices per entry.
+void to_layout_entries(const BakeSceneHost& scene, const MapLayout& layout, std::int64_t* entries,
+                       std::int64_t n) {
   constexpr std::int64_t kPiece = 4096, kWalk = 16;
   const auto& off = scene.color_offset;
-  const std::int64_t n = static_cast<std::int64_t>(global.size());
-  std::vector<std::int64_t> vertex(global.size());
   host_parallel_for(
-      "rtmini::bake::vertices_of_entries", (n + kPiece - 1) / kPiece, [&](std::int64_t piece) {
+      "rtmini::bake::exchange_entries", (n + kPiece - 1) / kPiece, [&](std::int64_t piece) {
         std::int64_t v = -1;
         for (std::int64_t k = piece * kPiece; k < std::min(n, (piece + 1) * kPiece); ++k) {
-          const std::int64_t g = global[k];
+          const std::int64_t g = entries[k];
           for (std::int64_t step = 0; v >= 0 && step < kWalk && off[v + 1] <= g; ++step) ++v;
           if (v < 0 || g < off[v] || off[v + 1] <= g) v = vertex_of_entry(scene, g);
-          vertex[k] = v;
+          entries[k] = layout.entry(v, g - off[v]);
         }
       });
-  return vertex;
-}
-
-// The local entries of global colour entries `global` (in order).
-std::vector<std::int64_t> entries_of(const BakeSceneHost& scene, const MapLayout& layout,
-                                     const std::vector<std::int64_t>& global) {
-  const std::vector<std::int64_t> vertex = vertices_of(scene, global);
-  std::vector<std::int64_t> items(global.size());
-  host_parallel_for("rtmini::bake::exchange_entries", static_cast<std::int64_t>(global.size()),
-                    [&](std::int64_t k) {
-                      items[k] = layout.entry(vertex[k], global[k] - scene.color_offset[vertex[k]]);
-                    });
-  return items;
 }
 
 }  // namespace
@@ -160,62 +145,75 @@ MapLayout make_map_layout(const BakeSceneHost& scene, const std::vector<char>& p
   return l;
 }
 
-MapLayout make_sparse_layout(const BakeSceneHost& scene, const MapLayout& full,
-                             const std::vector<char>& read, const std::vector<int>& owner,
-                             int rank) {
-  MapLayout l;
+MapLayout make_halo_layout(const BakeSceneHost& scene, const MapLayout& remote, const char* read,
+                           const std::vector<int>& owner, int rank) {
   const std::int64_t nv = scene.vertices();
-  const auto colors = [&](std::int64_t v) { return full.offset[v + 1] - full.offset[v]; };
-  const auto sparse = [&](std::int64_t v) { return colors(v) > 1 && owner[v] != rank; };
+  std::vector<char> own(static_cast<std::size_t>(nv));
+  for (std::int64_t v = 0; v < nv; ++v) own[v] = owner[v] == rank;
+  MapLayout l = make_map_layout(scene, own);
+  const auto held = [&](std::int64_t v) { return !own[v] && remote.in_map(v); };
+  const auto sparse = [&](std::int64_t v) { return read && held(v) && scene.color_count(v) > 1; };
   // Mask words first (64 viewpoints each, per sparse vertex), then each vertex's words and kept
-  // count independently, then the offsets.
+  // count independently, then the halo offsets in receive order.
   l.mask_at.assign(static_cast<std::size_t>(nv), -1);
   std::int64_t words = 0;
   for (std::int64_t v = 0; v < nv; ++v)
     if (sparse(v)) {
       l.mask_at[v] = words;
-      words += (colors(v) + 63) / 64;
+      words += (scene.color_count(v) + 63) / 64;
     }
   l.mask.assign(static_cast<std::size_t>(words), 0);
   l.kept.assign(static_cast<std::size_t>(words), 0);
-  std::vector<std::int64_t> keep(static_cast<std::size_t>(nv));
-  host_parallel_for("rtmini::bake::sparse_layout", nv, [&](std::int64_t v) {
-    const std::int64_t n = colors(v);
+  std::vector<std::int64_t> keep(static_cast<std::size_t>(nv), 0);
+  host_parallel_for("rtmini::bake::halo_layout", nv, [&](std::int64_t v) {
+    if (!held(v)) return;
+    const std::int64_t n = scene.color_count(v);
     keep[v] = n;
     if (!sparse(v)) return;
     std::int64_t kept = 0;
     for (std::int64_t w = 0; w < (n + 63) / 64; ++w) {
       std::uint64_t bits = 0;
       for (std::int64_t j = w * 64; j < std::min(n, w * 64 + 64); ++j)
-        if (read[full.offset[v] + j]) bits |= std::uint64_t(1) << (j & 63);
+        if (read[remote.offset[v] + j]) bits |= std::uint64_t(1) << (j & 63);
       l.mask[l.mask_at[v] + w] = bits;
       l.kept[l.mask_at[v] + w] = static_cast<std::int32_t>(kept);
       kept += compat::popcount64(bits);
     }
     keep[v] = kept;
   });
-  l.offset.assign(static_cast<std::size_t>(nv) + 1, 0);
-  for (std::int64_t v = 0; v < nv; ++v) l.offset[v + 1] = l.offset[v] + keep[v];
-  l.device = upload("rtmini::bake::map_offset", l.offset);
-  l.sparse.start = l.device;
+  // Receive order: by owner rank (a counting sort of the held vertices), then by vertex.
+  const int ranks = owner.empty() ? 1 : 1 + *std::max_element(owner.begin(), owner.end());
+  std::vector<std::int64_t> rank_at(static_cast<std::size_t>(ranks) + 1, 0);
+  for (std::int64_t v = 0; v < nv; ++v)
+    if (held(v)) rank_at[owner[v] + 1] += keep[v];
+  for (std::size_t r = 1; r < rank_at.size(); ++r) rank_at[r] += rank_at[r - 1];
+  l.halo_rank_at = rank_at;
+  l.halo_at.assign(static_cast<std::size_t>(nv), -1);
+  for (std::int64_t v = 0; v < nv; ++v)
+    if (held(v)) {
+      l.halo_at[v] = rank_at[owner[v]];
+      rank_at[owner[v]] += keep[v];
+    }
+  l.halo_colors = rank_at.back();
+  // SparseColors: every vertex's first entry in the map-then-halo numbering.
+  std::vector<std::int64_t> start(static_cast<std::size_t>(nv), 0);
+  for (std::int64_t v = 0; v < nv; ++v)
+    start[v] = l.in_halo(v) ? l.colors() + l.halo_at[v] : l.offset[v];
+  l.sparse.start = upload("rtmini::bake::map_start", start);
   l.sparse.mask_at = upload("rtmini::bake::map_mask_at", l.mask_at);
   l.sparse.mask = compat::upload<MemSpace>("rtmini::bake::map_mask", l.mask);
   l.sparse.kept = compat::upload<MemSpace>("rtmini::bake::map_kept", l.kept);
+  l.sparse.map_colors = l.colors();
   return l;
 }
 
-std::vector<std::int64_t> remote_entries(const BakeSceneHost& scene, const MapLayout& layout,
-                                         const std::vector<int>& owner, int rank) {
+std::vector<std::int64_t> remote_entries(const BakeSceneHost& scene, const MapLayout& layout) {
   const std::int64_t nv = scene.vertices();
-  // Each remote vertex's kept entries go after those of the remote vertices before it.
-  std::vector<std::int64_t> at(static_cast<std::size_t>(nv) + 1, 0);
-  for (std::int64_t v = 0; v < nv; ++v)
-    at[v + 1] = at[v] + (owner[v] == rank ? 0 : layout.offset[v + 1] - layout.offset[v]);
-  std::vector<std::int64_t> halo(static_cast<std::size_t>(at[nv]));
+  std::vector<std::int64_t> halo(static_cast<std::size_t>(layout.halo_colors));
   host_parallel_for("rtmini::bake::remote_entries", nv, [&](std::int64_t v) {
-    if (at[v + 1] == at[v]) return;
+    if (!layout.in_halo(v)) return;
     const std::int64_t first = scene.color_offset[v];
-    std::int64_t k = at[v];
+    std::int64_t k = layout.halo_at[v];
     if (layout.dense(v)) {
       for (std::int64_t j = 0; j < scene.color_count(v); ++j) halo[k++] = first + j;
       return;
@@ -232,6 +230,7 @@ void mark_dense(MapLayout& layout) {
   layout.mask_at.assign(layout.offset.size() - 1, -1);
   layout.sparse.start = layout.device;
   layout.sparse.mask_at = upload("rtmini::bake::map_mask_at", layout.mask_at);
+  layout.sparse.map_colors = layout.colors();
 }
 
 std::vector<Vec3f> fetch_vertex_colors(const Communicator& comm, const std::vector<int>& owner,
@@ -264,72 +263,65 @@ std::vector<Vec3f> fetch_vertex_colors(const Communicator& comm, const std::vect
 }
 
 MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
-                         const MapLayout& layout, const std::vector<int>& owner,
-                         const std::vector<std::int64_t>& halo, bool changed_only)
+                         const MapLayout& layout, bool changed_only)
     : changed_only_(changed_only) {
   const int ranks = comm.size();
-  // Requests: the halo entries grouped by owner (ascending within each group, as `halo` is).
+  // Requests: the halo entries, which are grouped by owner already (the halo's order). The
+  // lists are built in place and freed as soon as they are used: at the plan's peak they were
+  // four times the buffers the exchange keeps.
   std::vector<int> ask(ranks, 0);
-  const std::vector<std::int64_t> halo_vertex = vertices_of(scene, halo);
-  std::vector<int> owner_of(halo.size());
-  for (std::size_t k = 0; k < halo.size(); ++k) ++ask[owner_of[k] = owner[halo_vertex[k]]];
-  std::vector<std::int64_t> asked(halo.size());
-  {
-    std::vector<int> pos = displacements(ask);
-    for (std::size_t k = 0; k < halo.size(); ++k) asked[pos[owner_of[k]]++] = halo[k];
-  }
+  for (int r = 0; r < ranks && r + 1 < static_cast<int>(layout.halo_rank_at.size()); ++r)
+    ask[r] = checked_int(layout.halo_rank_at[r + 1] - layout.halo_rank_at[r]);
   const std::vector<int> told = exchange_counts(comm, ask);
-  std::vector<std::int64_t> wanted(static_cast<std::size_t>(total(told)));
-  alltoallv(comm, asked, ask, wanted, told);
-
-  // What this rank sends (its own entries each asker wants) and where what it gets goes.
+  send_items_ = Kokkos::View<std::int64_t*, MemSpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::exchange_send_items"),
+      static_cast<std::size_t>(total(told)));
+  auto send = Kokkos::create_mirror_view(send_items_);  // send_items_ itself on a host backend
+  {
+    std::vector<std::int64_t> asked = remote_entries(scene, layout);
+    alltoallv(comm, asked, ask, send, told);
+  }
+  // What this rank sends: its own entries that each asker wants; what it gets lands in the halo.
+  to_layout_entries(scene, layout, send.data(), static_cast<std::int64_t>(send.extent(0)));
+  Kokkos::deep_copy(send_items_, send);
   send_counts_ = told;
   recv_counts_ = ask;
-  const std::vector<std::int64_t> send = entries_of(scene, layout, wanted);
-  const std::vector<std::int64_t> recv = entries_of(scene, layout, asked);
   send_displs_ = displacements(send_counts_);
   recv_displs_ = displacements(recv_counts_);
-  send_items_ = upload("rtmini::bake::exchange_send_items", send);
-  std::vector<std::int32_t> send_rank(send.size());
-  for (int r = 0; r < ranks; ++r)
-    std::fill_n(send_rank.begin() + send_displs_[r], send_counts_[r], r);
-  send_rank_ = compat::upload<MemSpace>("rtmini::bake::exchange_send_rank", send_rank);
+  const std::size_t sent = send.extent(0), received = static_cast<std::size_t>(total(ask));
   std::vector<std::int64_t> first_entry(send_displs_.begin(), send_displs_.end());
-  first_entry.push_back(static_cast<std::int64_t>(send.size()));
+  first_entry.push_back(static_cast<std::int64_t>(sent));
   first_entry_ = upload("rtmini::bake::exchange_first_entry", first_entry);
-  recv_items_ = upload("rtmini::bake::exchange_recv_items", recv);
-  send_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_send", send.size());
-  recv_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::exchange_recv", recv.size());
+  recv_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::halo", received);
   direct_ = mpi_takes_map_memory();
   if (!direct_) {
-    host_send_.resize(send.size());
-    host_recv_.resize(recv.size());
+    host_send_.resize(sent);
+    host_recv_.resize(received);
   }
 }
 
-std::int64_t MapExchange::run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map) {
+std::int64_t MapExchange::run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
+                              Kokkos::View<const Vec3f*, MemSpace> previous) {
   if (comm.size() == 1) return 0;
-  const std::int64_t bytes = sent_ && changed_only_ ? run_changed(comm, map) : run_full(comm, map);
+  const std::int64_t bytes =
+      sent_ && changed_only_ ? run_changed(comm, map, previous) : run_full(comm, map);
   sent_ = true;
-  // Every halo entry from the last colours received, changed or not.
-  auto recv_items = recv_items_;
-  auto recv_buf = recv_buf_;
-  Kokkos::parallel_for(
-      "rtmini::bake::exchange_scatter", Policy(0, static_cast<std::int64_t>(recv_items.extent(0))),
-      KOKKOS_LAMBDA(std::int64_t i) { map(recv_items(i)) = recv_buf(i); });
   Kokkos::fence();
   return bytes;
 }
 
 std::int64_t MapExchange::run_full(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map) {
   auto send_items = send_items_;
-  auto send_buf = send_buf_;
+  // The packed colours live only for this run (later runs send what changed, from the map).
+  Kokkos::View<Vec3f*, MemSpace> send_buf(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::exchange_send"),
+      send_items.extent(0));
   Kokkos::parallel_for(
       "rtmini::bake::exchange_pack", Policy(0, static_cast<std::int64_t>(send_items.extent(0))),
       KOKKOS_LAMBDA(std::int64_t i) { send_buf(i) = map(send_items(i)); });
   if (direct_) {
     Kokkos::fence();  // the packed colours must be in memory before MPI reads them
-    alltoallv(comm, send_buf_, send_counts_, recv_buf_, recv_counts_);
+    alltoallv(comm, send_buf, send_counts_, recv_buf_, recv_counts_);
   } else {
     // Device memory and an MPI that cannot read it: through host buffers (any MPI works).
     Kokkos::deep_copy(compat::host_view(host_send_.data(), host_send_.size()), send_buf);
@@ -377,6 +369,21 @@ KOKKOS_INLINE_FUNCTION Vec3f get_color(const Words& w, std::int64_t at) {
                compat::bit_cast<float>(w(at + 2)));
 }
 
+// The rank that send entry i goes to: the last whose first entry is at or before i (the ranks'
+// entries are consecutive, in rank order; a rank sent nothing starts where the next one does).
+KOKKOS_INLINE_FUNCTION int destination(const Kokkos::View<std::int64_t*, MemSpace>& first_entry,
+                                       int ranks, std::int64_t i) {
+  int lo = 0, hi = ranks - 1;
+  while (lo < hi) {
+    const int mid = (lo + hi + 1) / 2;
+    if (first_entry(mid) <= i)
+      lo = mid;
+    else
+      hi = mid - 1;
+  }
+  return lo;
+}
+
 // `words` if it holds n, else a new one of n (not zero-filled: every word sent is written).
 Words words_for(const Words& words, std::int64_t n, const char* label) {
   if (static_cast<std::int64_t>(words.extent(0)) >= n) return words;
@@ -386,27 +393,23 @@ Words words_for(const Words& words, std::int64_t n, const char* label) {
 
 }  // namespace
 
-std::int64_t MapExchange::run_changed(const Communicator& comm,
-                                      Kokkos::View<Vec3f*, MemSpace> map) {
+std::int64_t MapExchange::run_changed(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
+                                      Kokkos::View<const Vec3f*, MemSpace> previous) {
   const int ranks = comm.size();
   const std::int64_t n = static_cast<std::int64_t>(send_items_.extent(0));
   auto send_items = send_items_;
-  auto send_buf = send_buf_;
-  auto send_rank = send_rank_;
+  auto first_entry = first_entry_;
   if (static_cast<std::int64_t>(changed_before_.extent(0)) != n + 1)
     changed_before_ = Kokkos::View<std::int32_t*, MemSpace>(
         Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::exchange_changed_before"),
         static_cast<std::size_t>(n) + 1);
   auto before = changed_before_;
   // before(i + 1): whether entry i's colour changed since the last send (bit for bit: the
-  // receiver must end with the sender's bits); send_buf becomes this send. Then, scanned in
-  // place, before(i): the changed entries before entry i, in send order.
+  // receiver must end with the sender's bits), which sent the previous iteration's map. Then,
+  // scanned in place, before(i): the changed entries before entry i, in send order.
   Kokkos::parallel_for(
       "rtmini::bake::exchange_changed", Policy(0, n), KOKKOS_LAMBDA(std::int64_t i) {
-        const Vec3f c = map(send_items(i));
-        const bool changed = !same_bits(c, send_buf(i));
-        if (changed) send_buf(i) = c;
-        before(i + 1) = changed ? 1 : 0;
+        before(i + 1) = same_bits(map(send_items(i)), previous(send_items(i))) ? 0 : 1;
       });
   Kokkos::parallel_scan(
       "rtmini::bake::exchange_changed_scan", Policy(0, n + 1),
@@ -419,7 +422,6 @@ std::int64_t MapExchange::run_changed(const Communicator& comm,
   {
     Kokkos::View<std::int32_t*, MemSpace> bounds("rtmini::bake::exchange_changed_bounds",
                                                  static_cast<std::size_t>(ranks) + 1);
-    auto first_entry = first_entry_;
     Kokkos::parallel_for(
         "rtmini::bake::exchange_changed_bounds", Policy(0, ranks + 1),
         KOKKOS_LAMBDA(std::int64_t r) { bounds(r) = before(first_entry(r)); });
@@ -447,9 +449,9 @@ std::int64_t MapExchange::run_changed(const Communicator& comm,
   Kokkos::parallel_for(
       "rtmini::bake::exchange_pack_changed", Policy(0, n), KOKKOS_LAMBDA(std::int64_t i) {
         if (before(i + 1) == before(i)) return;
-        const std::int64_t* m = &message(kMessageFields * send_rank(i));
+        const std::int64_t* m = &message(kMessageFields * destination(first_entry, ranks, i));
         const std::int64_t k = before(i) - m[kFirstChanged];
-        put_color(send_words, m[kColorsAt] + 3 * k, send_buf(i));
+        put_color(send_words, m[kColorsAt] + 3 * k, map(send_items(i)));
         if (m[kIndexList])
           send_words(m[kFirstWord] + k) = static_cast<std::uint32_t>(i - m[kFirstEntry]);
       });
@@ -525,15 +527,25 @@ std::int64_t MapExchange::run_changed(const Communicator& comm,
   return 4 * (offset + ranks - 1);
 }
 
+void MapExchange::release() {
+  send_items_ = {};
+  recv_buf_ = {};
+  std::vector<Vec3f>().swap(host_send_);
+  std::vector<Vec3f>().swap(host_recv_);
+  first_entry_ = {};
+  changed_before_ = {};
+  send_words_ = {};
+  recv_words_ = {};
+}
+
 std::vector<Vec3f> gather_global_map(const Communicator& comm, const BakeSceneHost& scene,
-                                     const MapLayout& layout, const std::vector<Vec3f>& local,
+                                     const MapLayout& layout, const Vec3f* local,
                                      const std::vector<int>& owner) {
   const std::int64_t nv = scene.vertices();
   std::vector<Vec3f> mine;
   for (std::int64_t v = 0; v < nv; ++v)
     if (owner[v] == comm.rank())
-      mine.insert(mine.end(), local.begin() + layout.offset[v],
-                  local.begin() + layout.offset[v + 1]);
+      mine.insert(mine.end(), local + layout.offset[v], local + layout.offset[v + 1]);
   if (comm.size() == 1) return mine;
   const std::vector<Vec3f> all = comm.gatherv(mine);
   if (!comm.is_root()) return {};
@@ -553,9 +565,8 @@ std::vector<Vec3f> gather_global_map(const Communicator& comm, const BakeSceneHo
 
 std::vector<Vec3f> localise_map(const BakeSceneHost& scene, const MapLayout& layout,
                                 const std::vector<Vec3f>& global) {
-  std::vector<Vec3f> local(static_cast<std::size_t>(layout.colors()));
+  std::vector<Vec3f> local(static_cast<std::size_t>(layout.colors() + layout.halo_colors));
   for (std::int64_t v = 0; v < scene.vertices(); ++v) {
-    if (!layout.present(v)) continue;
     for (std::int64_t j = 0; j < scene.color_count(v); ++j)
       if (layout.keeps(v, j)) local[layout.entry(v, j)] = global[scene.color_offset[v] + j];
   }

@@ -1,13 +1,14 @@
 #pragma once
 // The distributed colour map (owner computes): each rank stores the colours of the vertices it
-// owns plus the remote vertices its rays read (its halo), in one local array laid out in vertex
-// order. A vertex that is absent holds no entry, so the local offsets keep every present
-// vertex's colour count and the kernels index the local map exactly as they indexed the
-// replicated one. The halo is fixed (mirror hits are geometry only), so the exchange that
-// refreshes it after each iteration is planned once and replayed: every owner packs the colours
-// each reader asked for (only the viewpoints its lookups read), one MPI_Alltoallv moves them,
-// every reader scatters them into place. A remote vertex keeps only the viewpoints this rank's
-// lookups read (SparseColors, map_reader.hpp), so a rank's map is what it owns plus what it reads.
+// owns (its map, in vertex order, double-buffered: an iteration reads one and writes the other)
+// plus those of the remote vertices its rays read (its halo, held once, apart from the map). The
+// halo is fixed (mirror hits are geometry only), so the exchange that refreshes it after each
+// iteration is planned once and replayed: every owner packs the colours each reader asked for
+// (only the viewpoints its lookups read), one MPI_Alltoallv moves them, and they land in the
+// reader's halo as they arrive: the halo is laid out in the order the exchange receives it (by
+// owner rank, then by entry), so the receive buffer is the halo itself. A remote vertex keeps
+// only the viewpoints this rank's lookups read (SparseColors, map_reader.hpp), so a rank holds
+// what it owns (twice) plus what it reads (once).
 #include <cstdint>
 #include <type_traits>
 #include <vector>
@@ -19,46 +20,57 @@
 
 namespace rtmini::bake {
 
-// Where each vertex's colours sit in this rank's map.
+// Where each vertex's colours sit in this rank's map and halo. Entries are numbered map first
+// (0 .. colors()), then halo (colors() .. colors() + halo_colors), as SparseColors reads them.
 struct MapLayout {
-  std::vector<std::int64_t> offset;  // vertices + 1; an absent vertex spans no entry
-  // Sparse vertices (SparseColors): first mask word per vertex (-1 dense), the mask words and
-  // the kept viewpoints before each word. Empty: every present vertex keeps all its colours.
+  std::vector<std::int64_t> offset;  // vertices + 1, the map's entries; others span none
+  // The halo: first halo entry per vertex (-1: not in the halo; empty: no halo), in the
+  // exchange's receive order; its sparse vertices (SparseColors): first mask word per vertex (-1
+  // dense), the mask words and the kept viewpoints before each word.
+  std::vector<std::int64_t> halo_at;
+  std::vector<std::int64_t> halo_rank_at;  // first halo entry of each owner rank, and the end
+  std::int64_t halo_colors = 0;
   std::vector<std::int64_t> mask_at;
   std::vector<std::uint64_t> mask;
   std::vector<std::int32_t> kept;
   Kokkos::View<std::int64_t*, MemSpace> device;  // offset
-  SparseColors sparse;                           // device copies; empty when every vertex is dense
+  SparseColors sparse;  // device copies (without the halo's colours); empty: no halo, all dense
 
   std::int64_t colors() const { return offset.back(); }
-  bool present(std::int64_t v) const { return offset[v + 1] > offset[v]; }
+  bool in_map(std::int64_t v) const { return offset[v + 1] > offset[v]; }
+  bool in_halo(std::int64_t v) const { return !halo_at.empty() && halo_at[v] >= 0; }
   bool dense(std::int64_t v) const { return mask_at.empty() || mask_at[v] < 0; }
   // Whether vertex v keeps its viewpoint j, and where (only for kept ones).
   bool keeps(std::int64_t v, std::int64_t j) const {
-    return dense(v) ? present(v) : ((mask[mask_at[v] + (j >> 6)] >> (j & 63)) & 1) != 0;
+    if (in_map(v)) return true;
+    if (!in_halo(v)) return false;
+    return dense(v) || ((mask[mask_at[v] + (j >> 6)] >> (j & 63)) & 1) != 0;
   }
   std::int64_t entry(std::int64_t v, std::int64_t j) const {
-    return dense(v) ? offset[v] + j
-                    : sparse_entry(offset[v], mask_at[v], mask.data(), kept.data(), int(j));
+    if (in_map(v)) return offset[v] + j;
+    const std::int64_t first = colors() + halo_at[v];
+    return dense(v) ? first + j : sparse_entry(first, mask_at[v], mask.data(), kept.data(), int(j));
   }
 };
 
-// The layout holding the vertices flagged in `present` (each with its full colour count).
+// The layout holding the vertices flagged in `present` in its map (each with its full colour
+// count), without a halo.
 MapLayout make_map_layout(const BakeSceneHost& scene, const std::vector<char>& present);
 
-// The layout of `full` in which every view-dependent vertex that `rank` does not own keeps only
-// the viewpoints flagged in `read` (one flag per entry of `full`).
-MapLayout make_sparse_layout(const BakeSceneHost& scene, const MapLayout& full,
-                             const std::vector<char>& read, const std::vector<int>& owner,
-                             int rank);
+// The layout of a rank of several: its own vertices in the map; in the halo every vertex of
+// another rank that `remote` (a layout without a halo) holds, ordered by owner rank, then by
+// vertex (the order the exchange receives them). With `read` (one flag per entry of `remote`), a
+// view-dependent halo vertex keeps only the viewpoints flagged; without, all.
+MapLayout make_halo_layout(const BakeSceneHost& scene, const MapLayout& remote, const char* read,
+                           const std::vector<int>& owner, int rank);
 
-// The colours (global entry numbers, ascending) that `rank` holds of vertices it does not own:
-// all of a dense vertex's, the kept viewpoints of a sparse one.
-std::vector<std::int64_t> remote_entries(const BakeSceneHost& scene, const MapLayout& layout,
-                                         const std::vector<int>& owner, int rank);
+// The colours (global entry numbers) that `rank` holds in its halo, in halo order: all of a
+// dense vertex's, the kept viewpoints of a sparse one.
+std::vector<std::int64_t> remote_entries(const BakeSceneHost& scene, const MapLayout& layout);
 
-// Marks every vertex of `layout` dense in its SparseColors, for readers that take the colour
-// counts from the scene rather than from the layout (a layout that leaves remote vertices out).
+// Marks every vertex of `layout` dense in its SparseColors (no halo), for readers that take the
+// colour counts from the scene rather than from the layout (a layout that leaves remote
+// vertices out).
 void mark_dense(MapLayout& layout);
 
 // One colour per vertex from the vertices' owners (collective): `wanted` lists vertex ids,
@@ -75,21 +87,26 @@ bool mpi_takes_map_memory();
 
 class MapExchange {
  public:
-  // Plans the exchange (collective): `halo` lists, ascending, the colours (global entry
-  // numbers, scene.color_offset) this rank reads but does not own: all of a vertex's, or only
-  // those its lookups read; owner[v] is the rank that computes vertex v.
+  // Plans the exchange (collective) for `layout`'s halo (make_halo_layout): remote_entries(scene,
+  // layout), the colours (global entry numbers, scene.color_offset) this rank reads but does not
+  // own, all of a vertex's or only those its lookups read, asked of their owners.
   MapExchange(const Communicator& comm, const BakeSceneHost& scene, const MapLayout& layout,
-              const std::vector<int>& owner, const std::vector<std::int64_t>& halo,
               bool changed_only);
 
-  // Refreshes the halo entries of `map` from their owners (collective); returns bytes sent. The
-  // first run sends every halo entry. With `changed_only` (bake --exchange changed, the default),
-  // later runs send, per destination, only the entries whose colour changed (bit for bit) since the
-  // last run, with a bitmask of the destination's entries or a list of their indices, whichever is
-  // smaller; the receiver keeps the last colour of the others. A view-independent vertex's colour,
-  // and a mirror colour whose reflected path ends on such vertices, stop changing after an
-  // iteration or two, so later exchanges shrink.
-  std::int64_t run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
+  // The halo's colours (layout.halo_colors, in halo order), as the last run left them: what
+  // SparseColors::halo reads. A restart fills it before the first run.
+  Kokkos::View<Vec3f*, MemSpace> halo() const { return recv_buf_; }
+
+  // Refreshes the halo from the owners' colours in their `map` (collective); returns bytes
+  // sent. `previous`: the map of the iteration before, which the last run sent (the other of the
+  // two map buffers, read-only since). The first run sends every halo entry. With `changed_only`
+  // (bake --exchange changed, the default), later runs send, per destination, only the entries
+  // whose colour changed (bit for bit) since the last run, with a bitmask of the destination's
+  // entries or a list of their indices, whichever is smaller; the receiver keeps the last colour of
+  // the others. A view-independent vertex's colour, and a mirror colour whose reflected path ends
+  // on such vertices, stop changing after an iteration or two, so later exchanges shrink.
+  std::int64_t run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
+                   Kokkos::View<const Vec3f*, MemSpace> previous);
 
   std::int64_t send_colors() const { return total(send_counts_); }
   bool direct() const { return direct_; }  // MPI moves the map's own buffers (no host copies)
@@ -101,7 +118,12 @@ class MapExchange {
 
   // The two kinds of run() (public only because nvcc rejects device lambdas in private members).
   std::int64_t run_full(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
-  std::int64_t run_changed(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
+  std::int64_t run_changed(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
+                           Kokkos::View<const Vec3f*, MemSpace> previous);
+
+  // Frees the buffers (the halo, the colours last sent, the scratch) once no exchange follows;
+  // the counts above stay.
+  void release();
 
  private:
   static std::int64_t total(const std::vector<int>& c) {
@@ -112,15 +134,14 @@ class MapExchange {
   // The words a changed-only message to or from a rank holds: as a bitmask or an index list.
   static std::int64_t mask_words(std::int64_t entries) { return (entries + 31) / 32; }
   std::vector<int> send_counts_, send_displs_, recv_counts_, recv_displs_;  // in colours
-  Kokkos::View<std::int64_t*, MemSpace> send_items_, recv_items_;           // local entries
-  // The colours last sent and last received (the receiver's copy of the halo: the map's two
-  // buffers swap every iteration, so neither holds the last received colours).
-  Kokkos::View<Vec3f*, MemSpace> send_buf_, recv_buf_;
+  Kokkos::View<std::int64_t*, MemSpace> send_items_;  // map entries, in send order
+  // The colours last received: the halo, in receive order. (What was last sent is the previous
+  // iteration's map, which the owner holds anyway: no copy of it is kept.)
+  Kokkos::View<Vec3f*, MemSpace> recv_buf_;
   std::vector<Vec3f> host_send_, host_recv_;  // only when MPI cannot take MemSpace (direct_)
   bool direct_ = false;
   bool sent_ = false;                                  // the first (full) run is done
   bool changed_only_ = false;                          // bake --exchange changed
-  Kokkos::View<std::int32_t*, MemSpace> send_rank_;    // destination of each send entry
   Kokkos::View<std::int64_t*, MemSpace> first_entry_;  // send_displs_ and the send entries
   // Changed-only runs' scratch, kept from run to run: changed entries before each send entry,
   // the messages sent and received (words).
@@ -130,12 +151,13 @@ class MapExchange {
 };
 
 // Every rank's owned colours in the global (replicated) order, on the root only (empty
-// elsewhere): for the binary output, checkpoints and the reference comparison.
+// elsewhere): for checkpoints and the reference comparison. `local`: the rank's map (host memory,
+// layout.colors() entries).
 std::vector<Vec3f> gather_global_map(const Communicator& comm, const BakeSceneHost& scene,
-                                     const MapLayout& layout, const std::vector<Vec3f>& local,
+                                     const MapLayout& layout, const Vec3f* local,
                                      const std::vector<int>& owner);
 
-// The entries of `layout` copied out of a map in the global order (a restart).
+// The entries of `layout` (map, then halo) copied out of a map in the global order (a restart).
 std::vector<Vec3f> localise_map(const BakeSceneHost& scene, const MapLayout& layout,
                                 const std::vector<Vec3f>& global);
 

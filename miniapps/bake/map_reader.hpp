@@ -54,22 +54,28 @@ struct HemisphereMap {
   }
 };
 
-// Where a rank keeps the colours of the vertices it reads but does not own, when it keeps only
-// the viewpoints its lookups read (MapLayout, map_exchange.hpp): at 16 ranks a rank's mirror
-// lookups read about 1 in 12 of a remote vertex's N colours, and storing all N made every rank's
-// map 5x larger than what it reads, so the gathers missed the cache. A sparse vertex v keeps the
-// viewpoints whose bits are set in its mask words mask[mask_at(v) ...], in viewpoint order from
-// start(v); kept(w) counts the kept viewpoints before word w. Empty views: every vertex dense.
+// Where a rank keeps the colours of the vertices it reads but does not own (MapLayout,
+// map_exchange.hpp). Entries below map_colors are the rank's map (`prev`, double-buffered);
+// those from map_colors on are its halo, held once, apart from the map, in the exchange's
+// receive buffer (`halo`): the halo is read during an iteration and written only between
+// iterations, so it needs no second buffer (stored with the map, it was held twice, plus the
+// exchange's copy). A remote view-dependent vertex keeps only the viewpoints its lookups read:
+// at 16 ranks a rank's mirror lookups read about 1 in 12 of a remote vertex's N colours. Such a
+// sparse vertex v keeps the viewpoints whose bits are set in its mask words mask[mask_at(v) ...],
+// in viewpoint order from start(v); kept(w) counts the kept viewpoints before word w. Empty
+// views: every vertex dense, in `prev` at the map's own offsets.
 struct SparseColors {
-  Kokkos::View<const std::int64_t*, MemSpace> start;    // per vertex + 1: first local entry
+  Kokkos::View<const std::int64_t*, MemSpace> start;    // per vertex: first entry
   Kokkos::View<const std::int64_t*, MemSpace> mask_at;  // per vertex: first mask word, -1 dense
   Kokkos::View<const std::uint64_t*, MemSpace> mask;
   Kokkos::View<const std::int32_t*, MemSpace> kept;
+  std::int64_t map_colors = 0;                // entries from here on are in `halo`
+  Kokkos::View<const Vec3f*, MemSpace> halo;  // MapExchange::halo()
 
   bool empty() const { return start.extent(0) == 0; }
 };
 
-// The local entry of viewpoint j among the kept ones (bit j of the vertex's mask words).
+// The entry of viewpoint j among the kept ones (bit j of the vertex's mask words).
 KOKKOS_INLINE_FUNCTION std::int64_t sparse_entry(std::int64_t first, std::int64_t word_at,
                                                  const std::uint64_t* mask,
                                                  const std::int32_t* kept, int j) {
@@ -112,12 +118,14 @@ struct MapReader {
   FirstReads first_reads;    // remote vertices of the fused first iteration (empty: none)
   HemisphereMap hemisphere;  // off: every view-dependent vertex has the N shared viewpoints
 
-  // The entry of vertex vert's viewpoint j in prev (first = color_offset(vert)).
-  KOKKOS_INLINE_FUNCTION std::int64_t entry(int vert, std::int64_t first, int j) const {
-    if (sparse.start.extent(0) == 0) return first + j;
+  // Vertex vert's colour at viewpoint j in the previous map (first = color_offset(vert)): in
+  // prev, or with a halo, in prev or the halo.
+  KOKKOS_INLINE_FUNCTION Vec3 color(int vert, std::int64_t first, int j) const {
+    if (sparse.start.extent(0) == 0) return Vec3(prev(first + j));
     const std::int64_t at = sparse.mask_at(vert), local = sparse.start(vert);
-    if (at < 0) return local + j;
-    return sparse_entry(local, at, sparse.mask.data(), sparse.kept.data(), j);
+    const std::int64_t e =
+        at < 0 ? local + j : sparse_entry(local, at, sparse.mask.data(), sparse.kept.data(), j);
+    return Vec3(e < sparse.map_colors ? prev(e) : sparse.halo(e - sparse.map_colors));
   }
 
   // without_emission: the diffuse gather already has the lights through its shadow rays, so
@@ -134,7 +142,7 @@ struct MapReader {
       const std::int64_t first = color_offset(vert);
       const bool remote = first_reads.remote(vert);
       if (color_offset(vert + 1) - first == 1) {
-        sum += (remote ? first_reads.read(vert, 0) : Vec3(prev(entry(vert, first, 0)))) * w[k];
+        sum += (remote ? first_reads.read(vert, 0) : color(vert, first, 0)) * w[k];
         continue;
       }
       if (hemisphere.on()) {  // each vertex has its own frame
@@ -145,8 +153,7 @@ struct MapReader {
       }
       Vec3 c(Real(0));
       for (int j = 0; j < nb.count; ++j)
-        c += (remote ? first_reads.read(vert, nb.index[j])
-                     : Vec3(prev(entry(vert, first, nb.index[j])))) *
+        c += (remote ? first_reads.read(vert, nb.index[j]) : color(vert, first, nb.index[j])) *
              nb.weight[j];
       sum += c * w[k];
     }

@@ -232,6 +232,36 @@ def scaling_table(out):
               f"{r[0]['bytes'] / 1e6:.2f} | {' '.join(sorted(set(x['hash'] for x in r)))} |")
 
 
+def memory_steps(out, prefix):
+    """Per run, the rank with the highest peak RSS: its peak after each step of the run (summary
+    scene.peak_rss_after_bytes_per_rank, newer summaries), the step that set it, and the halo."""
+    found = []
+    for path in sorted(glob.glob(os.path.join(out, prefix + "_*.json"))):
+        s = json.load(open(path))
+        steps = s["scene"].get("peak_rss_after_bytes_per_rank")
+        if not steps:
+            continue
+        rss = s["scene"]["peak_rss_bytes_per_rank"]
+        r = rss.index(max(rss))
+        order = ["setup", "map", "halo"] + sorted(
+            (k for k in steps if k.startswith("iteration")), key=lambda k: int(k.split()[1])) + ["write"]
+        after = [(k, steps[k][r] / 2**30) for k in order if k in steps]
+        first = next(k for k, v in after if v >= max(rss) / 2**30 - 1e-9)
+        found.append((os.path.basename(path)[:-5], s["ranks"], s["threads"], r, after, first,
+                      s["scene"].get("map", {}).get("halo_colors_max", 0)))
+    if not found:
+        return
+    found.sort(key=lambda f: (f[1] * f[2], f[1], f[0]))
+    print("\n### Peak RSS after each step, rank with the highest peak (GiB)\n")
+    names = [k for k, _ in found[0][4]]
+    print("| run | rank | " + " | ".join(names) + " | peak set by | halo colours max |")
+    print("|---|---|" + "---|" * len(names) + "---|---|")
+    for name, _, _, r, after, first, halo in found:
+        values = dict(after)
+        print(f"| {name} | {r} | " + " | ".join(f"{values[k]:.3f}" if k in values else "-" for k in names)
+              + f" | {first} | {halo:.0f} |")
+
+
 out = sys.argv[1]
 table("Strong scaling (bunny_room, N=300, K=4)", rows(out, "strong"), False)
 spatial = rows(out, "spatial")
@@ -263,3 +293,4 @@ busy_table(out, weakrooms, [], "busyrooms", "the 1-room scene")
 exchange_table(out)
 table("1M vertices, N=1000, K=2", rows(out, "big"), True)
 scaling_table(out)
+memory_steps(out, "scaling")
