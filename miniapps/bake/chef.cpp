@@ -524,27 +524,35 @@ void Chef::adopt_traced_hits(Kokkos::View<TracedHit*, MemSpace> hits) {
   traced_ = hits;
 }
 
+// The float hit cache made from the traced hits: the same view when the traced hits are float
+// already, a narrowed copy otherwise (RTMINI_DOUBLE). Overloads rather than `if constexpr`, which
+// discards the branch not taken only inside a template.
+Kokkos::View<CachedHit*, MemSpace> hits_as_cache(Kokkos::View<CachedHit*, MemSpace> traced) {
+  return traced;
+}
+
+template <class Traced>
+Kokkos::View<CachedHit*, MemSpace> hits_as_cache(Kokkos::View<Traced*, MemSpace> traced) {
+  Kokkos::View<CachedHit*, MemSpace> cache(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::hit_cache"), traced.extent(0));
+  Kokkos::parallel_for(
+      "rtmini::bake::fill_hit_cache",
+      Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(
+          0, static_cast<std::int64_t>(traced.extent(0))),
+      KOKKOS_LAMBDA(std::int64_t i) {
+        const Traced t = traced(i);
+        CachedHit h;
+        h.prim = t.prim;
+        h.u = static_cast<float>(t.u);
+        h.v = static_cast<float>(t.v);
+        cache(i) = h;
+      });
+  return cache;
+}
+
 void Chef::release_traced_hits() {
   if (!caches_hits_) return;  // the traced hits serve every iteration
-  if constexpr (std::is_same<CachedHit, TracedHit>::value) {
-    cache_ = traced_;
-  } else {
-    cache_ = Kokkos::View<CachedHit*, MemSpace>(
-        Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::hit_cache"), local_items_);
-    auto cache = cache_;
-    auto traced = traced_;
-    Kokkos::parallel_for(
-        "rtmini::bake::fill_hit_cache",
-        Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(0, local_items_),
-        KOKKOS_LAMBDA(std::int64_t i) {
-          const TracedHit t = traced(i);
-          CachedHit h;
-          h.prim = t.prim;
-          h.u = static_cast<float>(t.u);
-          h.v = static_cast<float>(t.v);
-          cache(i) = h;
-        });
-  }
+  cache_ = hits_as_cache(traced_);
   traced_ = Kokkos::View<TracedHit*, MemSpace>();
 }
 
