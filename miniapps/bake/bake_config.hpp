@@ -32,6 +32,11 @@ struct BakeConfig {
   Lookup lookup = Lookup::kKdTree;
   Balance balance = Balance::kCost;
   std::int64_t batch_size = 0;  // 0 = vertices / ranks, rounded up
+  // --max-colors: the most colours a batch (a rank, at the default batch size) may own, over the
+  // mean; the cost cuts balance time within that (make_batches). A rank's memory grows with its
+  // own colours: a cut by time alone gave bunny_room's largest rank 1.69x the mean colours at 16
+  // ranks, beyond the 1.2 / P memory bound (results/bake/distributed.md). 0: no cap.
+  double color_cap = 1.1;
   std::int64_t max_memory = 0;  // --max-memory (report/memory_check.hpp): 0 = the machine's
   double time_limit_minutes = 0;
   Vec3f background{0.f, 0.f, 0.f};

@@ -138,22 +138,28 @@ struct ColorChunk {
   std::int64_t begin, end, offset, bytes;
 };
 
-// The binary colour section is written in chunks of at most about 16 MiB per rank and round,
-// packed from the map as they go: packed whole, it was a second copy of the rank's colours at the
-// run's peak (a quarter of the 1-rank bake's resident memory on bunny_room). The environment's
-// RTMINI_BSB_CHUNK_BYTES sets another bound: the ctest bake.binary_output writes with tiny chunks
-// and compares the bytes.
-std::int64_t chunk_bytes() {
+// The binary colour section is written in chunks packed from the map as they go: packed whole, it
+// was a second copy of the rank's colours at the run's peak (a quarter of the 1-rank bake's
+// resident memory on bunny_room). A chunk is an eighth of the rank's own colour bytes, between
+// 1 and 16 MiB, so it stays small beside the colours at any rank count; at 16 ranks of
+// bunny_room (0.5 GiB of colours) a 16 MiB chunk held all of a rank's colours at once. The
+// environment's RTMINI_BSB_CHUNK_BYTES sets the chunk instead: the ctest bake.binary_output
+// writes with tiny chunks and compares the bytes.
+std::int64_t chunk_bytes(std::int64_t own_bytes) {
   const char* e = std::getenv("RTMINI_BSB_CHUNK_BYTES");
   const std::int64_t n = e ? std::atoll(e) : 0;
-  return n > 0 ? n : std::int64_t(16) << 20;
+  if (n > 0) return n;
+  constexpr std::int64_t kMiB = std::int64_t(1) << 20;
+  return std::clamp(own_bytes / 8, kMiB, 16 * kMiB);
 }
 
 std::vector<ColorChunk> color_chunks(const BakedMap& map, const std::vector<VertexRange>& mine,
                                      const std::vector<std::int64_t>& range_offset,
                                      const std::vector<std::uint8_t>& uniform) {
   const std::int64_t n = static_cast<std::int64_t>(map.directions->size());
-  const std::int64_t most = chunk_bytes();
+  std::int64_t own_bytes = 0;
+  for (std::size_t f = 0; f < uniform.size(); ++f) own_bytes += (uniform[f] ? 1 : n) * 12;
+  const std::int64_t most = chunk_bytes(own_bytes);
   std::vector<ColorChunk> chunks;
   std::size_t flag = 0;
   for (std::size_t i = 0; i < mine.size(); ++i) {
@@ -222,9 +228,13 @@ using PieceSource = std::function<Piece(std::size_t)>;
 
 // Writes every rank's `count` pieces at their offsets into `path` (collective MPI-IO under a
 // temporary name, renamed by rank 0 once all have closed it; without MPI one sequential atomic
-// write).
+// write). collective_buffer_bytes > 0 (the same on every rank) bounds the buffer of each rank
+// that aggregates the collective writes (the "cb_buffer_size" hint): Open MPI's OMPIO takes
+// 32 MiB by default (io_ompio_bytes_per_agg), which at 16 ranks of bunny_room was more than a
+// rank's own colours and set the run's peak.
 void write_pieces(const Communicator& comm, const std::string& path, std::size_t count,
-                  const PieceSource& piece, std::int64_t file_bytes) {
+                  const PieceSource& piece, std::int64_t file_bytes,
+                  std::int64_t collective_buffer_bytes = 0) {
 #ifdef RTMINI_HAVE_MPI
   // Rank 0 checks the target (regular file or absent) and clears dead runs'
   // temporaries; the pid broadcast is the agreement before the collective open.
@@ -235,9 +245,14 @@ void write_pieces(const Communicator& comm, const std::string& path, std::size_t
   std::vector<std::int64_t> pid{comm.is_root() ? static_cast<std::int64_t>(::getpid()) : 0};
   comm.broadcast(pid);
   const std::string tmp = path + ".tmp." + std::to_string(pid[0]);
+  MPI_Info info = MPI_INFO_NULL;
+  if (collective_buffer_bytes > 0) {
+    MPI_Info_create(&info);
+    MPI_Info_set(info, "cb_buffer_size", std::to_string(collective_buffer_bytes).c_str());
+  }
   MPI_File fh;
-  int rc = MPI_File_open(comm.native(), tmp.c_str(), MPI_MODE_CREATE | MPI_MODE_WRONLY,
-                         MPI_INFO_NULL, &fh);
+  int rc = MPI_File_open(comm.native(), tmp.c_str(), MPI_MODE_CREATE | MPI_MODE_WRONLY, info, &fh);
+  if (info != MPI_INFO_NULL) MPI_Info_free(&info);
   if (rc != MPI_SUCCESS) throw IoError(path + ": cannot create file (MPI_File_open failed)");
   rc = MPI_File_set_size(fh, 0);
   const int rounds = static_cast<int>(comm.max(static_cast<double>(count)));
@@ -276,6 +291,7 @@ void write_pieces(const Communicator& comm, const std::string& path, std::size_t
   if (comm.max(problem.empty() ? 0.0 : 1.0) > 0.5)
     throw IoError(problem.empty() ? path + ": collective write failed on rank 0" : problem);
 #else
+  (void)collective_buffer_bytes;  // one process writes alone
   write_file_atomic(
       path,
       [&](const std::string& tmp) {
@@ -350,6 +366,10 @@ WriteStats write_baked_map_binary(const Communicator& comm, const std::string& p
   for (const Piece& p : fixed) stats.bytes_written += p.size;
   for (const ColorChunk& c : chunks) stats.bytes_written += c.bytes;
   stats.file_bytes = at + static_cast<std::int64_t>(comm.max(double(tail.size())));
+  // The aggregators' buffers no larger than the largest rank's chunk.
+  std::int64_t largest_chunk = 0;
+  for (const ColorChunk& c : chunks) largest_chunk = std::max(largest_chunk, c.bytes);
+  largest_chunk = static_cast<std::int64_t>(comm.max(static_cast<double>(largest_chunk)));
   std::string buffer;
   write_pieces(
       comm, path, fixed.size() + chunks.size(),
@@ -359,7 +379,7 @@ WriteStats write_baked_map_binary(const Communicator& comm, const std::string& p
         pack_chunk(map, c, buffer);
         return Piece{c.offset, buffer.data(), static_cast<std::int64_t>(buffer.size())};
       },
-      stats.file_bytes);
+      stats.file_bytes, largest_chunk);
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return stats;
 }

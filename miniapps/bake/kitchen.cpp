@@ -240,8 +240,31 @@ std::vector<double> mirror_trace_cost(const BakeSceneHost& scene, const std::vec
   return cost;
 }
 
+namespace {
+
+// The end of the batch that starts at `begin`, `left` batches before the last vertex included:
+// where the running cost passes `target`, but no further than `cap` colours from `begin` (0: no
+// cap) and no nearer than leaves the later batches at most `cap` colours each. A batch holds at
+// least one vertex, so a cap below one vertex's colours is exceeded by that vertex.
+std::int64_t batch_end(const std::vector<double>& before, const std::vector<std::int64_t>& colors,
+                       std::int64_t begin, std::int64_t left, double target, double cap) {
+  const std::int64_t nv = static_cast<std::int64_t>(before.size()) - 1;
+  std::int64_t end = begin + 1;
+  while (end < nv && before[end] < target) ++end;
+  if (cap <= 0) return end;
+  const auto colors_in = [&](std::int64_t e) { return double(colors[e] - colors[begin]); };
+  while (end > begin + 1 && colors_in(end) > cap) --end;
+  // The rest must fit: at most `left` more batches of `cap` colours.
+  const auto colors_after = [&](std::int64_t e) { return double(colors[nv] - colors[e]); };
+  while (end < nv && colors_after(end) > cap * double(left)) ++end;
+  return end;
+}
+
+}  // namespace
+
 std::vector<Batch> make_batches(const BakeSceneHost& scene, int ranks, Balance balance,
-                                std::int64_t batch_size, const std::vector<double>& vertex_cost) {
+                                std::int64_t batch_size, const std::vector<double>& vertex_cost,
+                                double color_cap) {
   const std::int64_t nv = scene.vertices();
   std::vector<Batch> out;
   if (nv == 0) return out;
@@ -252,19 +275,24 @@ std::vector<Batch> make_batches(const BakeSceneHost& scene, int ranks, Balance b
       out.push_back({b * size, std::min(nv, (b + 1) * size), static_cast<int>(b % ranks)});
     return out;
   }
-  // Cost balance: cut where the running cost passes the next multiple of total / count.
+  // Cost balance: cut where the running cost passes the next multiple of total / count. Under a
+  // colour cap a batch may close early; then the cost left is shared equally by the batches
+  // left (each target is the cost so far plus that share).
   std::vector<double> before(static_cast<std::size_t>(nv) + 1, 0.0);  // cost of vertices < v
   for (std::int64_t v = 0; v < nv; ++v)
     before[v + 1] =
         before[v] + (vertex_cost.empty() ? double(scene.color_count(v)) : vertex_cost[v]);
   const double total = before[nv];
+  const double cap =
+      color_cap > 0 ? color_cap * double(scene.colors()) / static_cast<double>(count) : 0.0;
   std::int64_t begin = 0;
   for (std::int64_t b = 0; b < count && begin < nv; ++b) {
     std::int64_t end = nv;
     if (b + 1 < count) {
-      const double target = total * static_cast<double>(b + 1) / static_cast<double>(count);
-      end = begin + 1;
-      while (end < nv && before[end] < target) ++end;
+      const double target =
+          cap > 0 ? before[begin] + (total - before[begin]) / static_cast<double>(count - b)
+                  : total * static_cast<double>(b + 1) / static_cast<double>(count);
+      end = batch_end(before, scene.color_offset, begin, count - b - 1, target, cap);
     }
     out.push_back({begin, end, static_cast<int>(b % ranks)});
     begin = end;
@@ -479,9 +507,10 @@ void BakeRun::plan() {
   needs_iterations_ = host_.reflective_vertices > 0 || c_.gather_rays > 0;
   // The traced reference is one pass (it follows the K mirror bounces itself).
   iterations_ = needs_iterations_ && !c_.trace_reference ? c_.iterations : 0;
-  assign_batches(c_.balance == Balance::kSpatial
-                     ? make_spatial_batches(host_, mesh_.positions, comm_.size(), c_.batch_size)
-                     : make_batches(host_, comm_.size(), c_.balance, c_.batch_size));
+  assign_batches(
+      c_.balance == Balance::kSpatial
+          ? make_spatial_batches(host_, mesh_.positions, comm_.size(), c_.batch_size)
+          : make_batches(host_, comm_.size(), c_.balance, c_.batch_size, {}, c_.color_cap));
   if (comm_.size() == 1 || (c_.gather_rays > 0 && iterations_ > 0))
     halo_ = Halo::kAll;
   else if (iterations_ == 0)
@@ -532,7 +561,8 @@ void BakeRun::balance_by_pilot() {
   } else {
     cost = mirror_trace_cost(host_, comm_.allgatherv(mine.nodes));
   }
-  assign_batches(make_batches(host_, comm_.size(), Balance::kCost, c_.batch_size, cost));
+  assign_batches(
+      make_batches(host_, comm_.size(), Balance::kCost, c_.batch_size, cost, c_.color_cap));
 }
 
 // The mirror trace and the iterations weigh vertices differently (BVH nodes against viewpoint
@@ -557,7 +587,8 @@ void BakeRun::rebalance_by_traced_cost() {
         for (std::int64_t v = b.begin; v < b.end; ++v) hits[v] = all[at++];
   const std::vector<Batch> from = batches_;
   iteration_cost_ = lookup_hit_cost(host_, hits);
-  assign_batches(make_batches(host_, comm_.size(), Balance::kCost, c_.batch_size, iteration_cost_));
+  assign_batches(make_batches(host_, comm_.size(), Balance::kCost, c_.batch_size, iteration_cost_,
+                              c_.color_cap));
   moved_hits_ = move_traced_hits(from);
 }
 
@@ -610,6 +641,7 @@ nlohmann::json BakeRun::parameters() const {
           {"lookup", to_string(c_.lookup)},
           {"balance", to_string(c_.balance)},
           {"batch_size", c_.batch_size},
+          {"max_colors", c_.color_cap},
           {"batches", batches_.size()},
           {"bvh", bvh::to_string(c_.bvh)},
           {"background", {c_.background.x, c_.background.y, c_.background.z}},
@@ -889,7 +921,7 @@ void BakeRun::recut_by_measured_time(double my_time) {
   const std::vector<Batch> from = batches_;
   recut_.cost_before = counted;
   if (max_over_mean(recut_.measured) >= kRecutMinImbalance)
-    assign_batches(make_batches(host_, p, Balance::kCost, c_.batch_size, scaled));
+    assign_batches(make_batches(host_, p, Balance::kCost, c_.batch_size, scaled, c_.color_cap));
   if (same_batches(batches_, from)) {  // nothing to move
     if (chef_->caches_hits()) chef_->release_traced_hits();
     recut_.cost_after = counted;

@@ -19,10 +19,13 @@ struct Batch {
 // Contiguous vertex batches assigned round-robin to ranks. kStatic: batch_size vertices each
 // (default vertices / ranks, rounded up); kCost: the same number of batches, cut so each holds
 // about the same cost: vertex_cost[v] when given (mirror_hit_cost), else its colour count (N per
-// reflective vertex, 1 per other vertex).
+// reflective vertex, 1 per other vertex). color_cap > 0 (kCost): no batch holds more than
+// color_cap x the mean colours per batch (but for one vertex where a vertex alone is more), the
+// cost balanced as well as that allows; with one batch per rank, the colours a rank owns, which
+// its memory grows with (BakeConfig::color_cap).
 std::vector<Batch> make_batches(const BakeSceneHost& scene, int ranks, Balance balance,
                                 std::int64_t batch_size,
-                                const std::vector<double>& vertex_cost = {});
+                                const std::vector<double>& vertex_cost = {}, double color_cap = 0);
 
 // The cost of each vertex's colours in a mirror iteration: 1 per colour plus per_hit per mirror
 // hit that needs a viewpoint lookup (hits[v], counted or estimated). Such a hit costs a kd-tree

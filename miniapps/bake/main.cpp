@@ -89,6 +89,9 @@ void MapCli::add_to(CLI::App& app, BakeConfig& c) {
                  "halo exchanges after the first: changed (only colours that changed since the "
                  "last one; same output) or full (every halo colour every time)");
   app.add_option("--batch-size", c.batch_size, "vertices per batch (0 = vertices/ranks)");
+  app.add_option("--max-colors", c.color_cap,
+                 "most colours a batch (a rank) may own, as a multiple of the mean, under the "
+                 "cost cuts: a rank's memory grows with them (0 = no cap; default 1.1)");
   app.add_option("--time-limit", c.time_limit_minutes,
                  "minutes; checkpoint and exit 4 if the next iteration would not fit (0 = none)");
   app.add_option("--background", background, "colour of rays that leave the scene, r,g,b");
@@ -163,6 +166,8 @@ void MapCli::finish(BakeConfig& c) const {
   require_at_least("--shadow-samples", c.shadow_samples, 1);
   require_at_least("--gather-rays", c.gather_rays, 0);
   require_at_least("--batch-size", c.batch_size, std::int64_t(0));
+  if (c.color_cap != 0 && !(c.color_cap >= 1))
+    throw InputError("--max-colors must be 0 or >= 1 (got " + std::to_string(c.color_cap) + ")");
   if (c.shadow_samples > (1 << 24))
     throw InputError("--shadow-samples must be <= 16777216 (got " +
                      std::to_string(c.shadow_samples) + ")");

@@ -196,7 +196,11 @@ for k in ("items", "trace_nodes", "lookups", "remote_reads", "iteration_cost"):
     assert len(w[k]["per_rank"]) == r, (k, w[k])
     print("work", k, "max/mean: cost %.3f, pilot %.3f" % (w[k]["max_over_mean"], wp[k]["max_over_mean"]))
 assert sum(w["items"]["per_rank"]) == sum(wp["items"]["per_rank"]) == colors
-assert w["iteration_cost"]["max_over_mean"] <= wp["iteration_cost"]["max_over_mean"] + 1e-9, (w, wp)
+# Both cuts are capped at --max-colors 1.1 (the default) x the mean colours per rank, but for one
+# vertex; under the cap the counted cut no longer always beats the pilot's (np4: 1.140 / 1.131).
+n = many["parameters"]["stored_viewpoints"]
+for s in (w, wp):
+    assert s["items"]["max"] <= 1.1 * s["items"]["mean"] + n, s["items"]
 # The skewed recut: rank r measured as 1 + r times its counted cost, so the cut gives the later
 # ranks less counted cost than the earlier ones and moves colours.
 if r > 1:

@@ -35,7 +35,8 @@ TEST(BakeBatches, AnyBatchSizeTilesTheVertices) {
   for (int ranks : {1, 2, 3, 4, 7})
     for (std::int64_t size : {0, 1, 157, 1000, 5000})
       for (Balance bal : {Balance::kStatic, Balance::kCost})
-        expect_tiling(make_batches(s, ranks, bal, size), 1924, ranks);
+        for (double cap : {0.0, 1.0, 1.1})
+          expect_tiling(make_batches(s, ranks, bal, size, {}, cap), 1924, ranks);
 }
 
 TEST(BakeBatches, CostBalanceEqualisesWork) {
@@ -72,6 +73,29 @@ TEST(BakeBatches, LookupHitsShiftTheCuts) {
     EXPECT_NEAR(part / total, 0.25, 0.01);
   }
   EXPECT_LT(b[2].end, 500);  // three of the four ranks share the expensive half
+}
+
+// The colour cap: the same cost as LookupHitsShiftTheCuts, where the cheap half would go to one
+// rank (2x the mean colours); capped at 1.1x the mean, no rank owns more than 1.1 x 2500 colours,
+// and a cap of 0 keeps the uncapped cut.
+TEST(BakeBatches, ColorCapBoundsTheColoursPerRank) {
+  const BakeSceneHost s = scene_with(1000, 0, 10);
+  std::vector<float> hits(1000, 0.f);
+  for (int v = 0; v < 500; ++v) hits[v] = 10.f;
+  const std::vector<double> cost = lookup_hit_cost(s, hits);
+  const auto uncapped = make_batches(s, 4, Balance::kCost, 0, cost);
+  const auto zero = make_batches(s, 4, Balance::kCost, 0, cost, 0.0);
+  ASSERT_EQ(zero.size(), uncapped.size());
+  for (std::size_t i = 0; i < zero.size(); ++i) EXPECT_EQ(zero[i].end, uncapped[i].end);
+  EXPECT_GT(s.color_offset[uncapped[3].end] - s.color_offset[uncapped[3].begin], 4000);
+  const auto b = make_batches(s, 4, Balance::kCost, 0, cost, 1.1);
+  expect_tiling(b, 1000, 4);
+  ASSERT_EQ(b.size(), 4u);
+  for (const Batch& x : b) EXPECT_LE(s.color_offset[x.end] - s.color_offset[x.begin], 2750);
+  // Where the cap does not bind (equal colours per vertex, cut by colours) nothing changes.
+  const BakeSceneHost even = scene_with(1000, 0, 10);
+  const auto free_cut = make_batches(even, 4, Balance::kCost, 0, {}, 1.1);
+  for (const Batch& x : free_cut) EXPECT_EQ(x.end - x.begin, 250);
 }
 
 // The mirror trace's cut weighs the BVH nodes the rays visit: with the first quarter of the
