@@ -571,23 +571,19 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
 }
 
 // One subtree built on its own (possibly by another thread): nodes and leaf triangle ids with
-// local indices, appended to the whole tree afterwards.
+// local indices, placed into the whole tree afterwards (place_fragment).
 struct Fragment {
-  std::vector<BvhNode> nodes;  // child boxes padded, except the root's (in the parent's slot)
+  std::vector<BvhNode> nodes;  // the root's box is in the parent's slot
   std::vector<int> prim;
-  std::vector<Triangle> tris;   // the leaves' triangles, in prim's order
   std::uint32_t root = 0;       // reference for the parent's slot (local node index or local leaf)
   std::int64_t references = 0;  // items in its leaves
 };
 
-// The leaves' triangles in leaf order, zero-area ones as points. Gathered in one loop after a
-// fragment's build rather than leaf by leaf within it: the reads are scattered over the input,
-// and a loop of nothing else, fetching ahead, keeps many of them in flight.
-void gather_leaf_triangles(TriangleSpan input, const std::vector<int>& prim,
-                           std::vector<Triangle>& tris) {
+// The leaves' triangles in leaf order, zero-area ones as points, written to `tris`. One loop of
+// nothing else: the reads are scattered over the input, and fetching ahead keeps many in flight.
+void gather_leaf_triangles(TriangleSpan input, const std::vector<int>& prim, Triangle* tris) {
   constexpr std::size_t kAhead = 16;  // triangles fetched ahead of their use
   const std::size_t n = prim.size();
-  tris.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     if (i + kAhead < n) __builtin_prefetch(&input[prim[i + kAhead]]);
     tris[i] = point_if_zero_area(input[prim[i]]);
@@ -596,9 +592,7 @@ void gather_leaf_triangles(TriangleSpan input, const std::vector<int>& prim,
 
 // The serial top-down build of items[task.begin, task.end), depth first (the left child is
 // processed next, so it lands next to its parent).
-// Its triangles are gathered and its boxes padded here too, so that this work is shared by the
-// threads that build fragments rather than left to one after them.
-void build_fragment(const SpatialContext& ctx, TriangleSpan input, const Task& top, Fragment& f) {
+void build_fragment(const SpatialContext& ctx, const Task& top, Fragment& f) {
   // A leaf stores each triangle once, even when several of its split parts landed here.
   auto emit_leaf = [&](const Task& t) {
     const auto first = static_cast<std::uint32_t>(f.prim.size());
@@ -617,7 +611,7 @@ void build_fragment(const SpatialContext& ctx, TriangleSpan input, const Task& t
     else
       f.nodes[t.node].set_child(t.slot, t.box, ref);
   };
-  f.nodes.reserve(top.end - top.begin);  // as in build_tree: no regrowth
+  f.nodes.reserve(top.end - top.begin);  // at most one node per item: no regrowth
   f.prim.reserve(top.end - top.begin);
   std::vector<Task> stack{top};
   ItemLists lists;
@@ -636,28 +630,54 @@ void build_fragment(const SpatialContext& ctx, TriangleSpan input, const Task& t
     stack.push_back(sp.right);
     stack.push_back(sp.left);
   }
-  gather_leaf_triangles(input, f.prim, f.tris);
-  for (BvhNode& node : f.nodes) pad_child_boxes(node);
 }
 
-// Appends a fragment to the tree and returns its root reference with global indices.
-std::uint32_t append_fragment(const Fragment& f, HostBvh& out) {
-  const auto node_base = static_cast<std::uint32_t>(out.nodes.size());
-  const auto tri_base = static_cast<std::uint32_t>(out.prim.size());
-  auto global = [&](std::uint32_t ref) {
-    if (ref == kEmptyLeaf) return ref;
-    return is_leaf(ref) ? make_leaf(leaf_first(ref) + tri_base, leaf_count(ref)) : ref + node_base;
-  };
+// Where a fragment goes in the whole tree: its first node and its first leaf triangle.
+struct Placement {
+  std::uint32_t node_base = 0;
+  std::uint32_t tri_base = 0;
+};
+
+// A fragment's local reference (node or leaf) as a reference in the whole tree.
+std::uint32_t global_ref(std::uint32_t ref, const Placement& at) {
+  if (ref == kEmptyLeaf) return ref;
+  return is_leaf(ref) ? make_leaf(leaf_first(ref) + at.tri_base, leaf_count(ref))
+                      : ref + at.node_base;
+}
+
+// Writes a fragment into its place in `out`, whose arrays already have their final sizes: nodes
+// relinked and padded, triangle ids, and the triangles gathered from the input straight into
+// out.tris (no copy of the tree follows). Fragments occupy disjoint places, so threads may place
+// different ones at once.
+void place_fragment(const Fragment& f, const Placement& at, TriangleSpan input, HostBvh& out) {
   // Copied whole, then relinked in place: a node copied member by member into a local would
   // carry stack bytes in its padding, and the tree's bytes (its fingerprint) would vary.
-  for (const BvhNode& n : f.nodes) {
-    out.nodes.push_back(n);
-    for (std::uint32_t& c : out.nodes.back().child) c = global(c);
+  BvhNode* nodes = out.nodes.data() + at.node_base;
+  for (std::size_t k = 0; k < f.nodes.size(); ++k) {
+    nodes[k] = f.nodes[k];
+    for (std::uint32_t& c : nodes[k].child) c = global_ref(c, at);
+    pad_child_boxes(nodes[k]);
   }
-  out.prim.insert(out.prim.end(), f.prim.begin(), f.prim.end());
-  out.tris.insert(out.tris.end(), f.tris.begin(), f.tris.end());
-  out.references += static_cast<int>(f.references);
-  return global(f.root);
+  std::copy(f.prim.begin(), f.prim.end(), out.prim.begin() + at.tri_base);
+  gather_leaf_triangles(input, f.prim, out.tris.data() + at.tri_base);
+}
+
+// Each fragment's place, in order after the `top_nodes` nodes already in the tree; sizes the
+// tree's arrays for them all (once: nothing grows or moves afterwards).
+std::vector<Placement> place_all(const std::vector<const Fragment*>& fragments,
+                                 std::size_t top_nodes, HostBvh& out) {
+  std::vector<Placement> at(fragments.size());
+  Placement next{static_cast<std::uint32_t>(top_nodes), 0};
+  for (std::size_t i = 0; i < fragments.size(); ++i) {
+    at[i] = next;
+    next.node_base += static_cast<std::uint32_t>(fragments[i]->nodes.size());
+    next.tri_base += static_cast<std::uint32_t>(fragments[i]->prim.size());
+    out.references += static_cast<int>(fragments[i]->references);
+  }
+  out.nodes.resize(next.node_base);
+  out.prim.resize(next.tri_base);
+  out.tris.resize(next.tri_base);
+  return at;
 }
 
 // One item per triangle, or per pre-split part of a sliver when splitting pays (presplit.hpp)
@@ -801,9 +821,8 @@ void run_build_threads(const Work& work) {
 // the parts split so far, so no thread waits at a barrier between the two steps (a thread that
 // finds none ready while another still splits yields). What is built does not depend on who
 // builds it or when.
-void build_parts(const SpatialContext& ctx, TriangleSpan input, const std::vector<Task>& tops,
-                 int fragment_max, std::vector<TopPart>& parts,
-                 std::vector<std::vector<Fragment>>& built) {
+void build_parts(const SpatialContext& ctx, const std::vector<Task>& tops, int fragment_max,
+                 std::vector<TopPart>& parts, std::vector<std::vector<Fragment>>& built) {
   const std::vector<int> order = largest_first(tops);
   const int count = static_cast<int>(tops.size());
   std::atomic<int> next_part{0};
@@ -844,10 +863,21 @@ void build_parts(const SpatialContext& ctx, TriangleSpan input, const std::vecto
       }
       Task t = parts[job.first].pending[job.second];
       t.node = -1;  // the fragment's root reference goes to the parent slot (build_tree)
-      build_fragment(ctx, input, t, built[job.first][job.second]);
+      build_fragment(ctx, t, built[job.first][job.second]);
     }
   };
   run_build_threads(work);
+}
+
+// place_fragment for every fragment, the threads taking the next one in turn (the places are
+// fixed, so the tree does not depend on who writes what).
+void place_fragments(const std::vector<const Fragment*>& fragments,
+                     const std::vector<Placement>& at, TriangleSpan input, HostBvh& out) {
+  std::atomic<std::size_t> next{0};
+  run_build_threads([&](const std::size_t) {
+    for (std::size_t f = next.fetch_add(1); f < fragments.size(); f = next.fetch_add(1))
+      place_fragment(*fragments[f], at[f], input, out);
+  });
 }
 
 // The tree over all items (sets out.bounds) with padded child boxes and the leaves' triangles;
@@ -869,10 +899,8 @@ void build_tree(Items& items, Task root, TriangleSpan input, bool spatial, doubl
   }
   // A binary tree over n items, one or more per leaf, has at most n nodes with the root (more
   // only where spatial splits add references). Reserving them all costs address space only,
-  // while growing the vector would copy it twice.
+  // while growing the vector would copy the top's nodes when the fragments' are added.
   out.nodes.reserve(n + 1);
-  out.prim.reserve(n);
-  out.tris.reserve(n);
 
   // The root is always an internal node with two slots.
   ItemLists lists;
@@ -881,9 +909,10 @@ void build_tree(Items& items, Task root, TriangleSpan input, bool spatial, doubl
     out.nodes.emplace_back();
     Fragment leaf;
     root.depth = kMaxDepth;
-    build_fragment(ctx, input, root, leaf);
-    const std::uint32_t ref = append_fragment(leaf, out);
-    out.nodes[0].set_child(0, out.bounds, ref);
+    build_fragment(ctx, root, leaf);
+    const Placement at = place_all({&leaf}, out.nodes.size(), out)[0];
+    place_fragment(leaf, at, input, out);
+    out.nodes[0].set_child(0, out.bounds, global_ref(leaf.root, at));
     out.nodes[0].set_child(1, Aabb(), kEmptyLeaf);
     pad_child_boxes(out.nodes[0]);
     return;
@@ -902,17 +931,18 @@ void build_tree(Items& items, Task root, TriangleSpan input, bool spatial, doubl
              upper);
   std::vector<TopPart> parts(upper.pending.size());
   std::vector<std::vector<Fragment>> built(parts.size());
-  build_parts(ctx, input, upper.pending, fragment_max, parts, built);
-  const std::vector<Task> fragments = join_top_parts(upper, parts, out);
+  build_parts(ctx, upper.pending, fragment_max, parts, built);
+  const std::vector<Task> ranges = join_top_parts(upper, parts, out);
   const std::size_t top_nodes = out.nodes.size();
-  std::size_t f = 0;
+  std::vector<const Fragment*> fragments;  // in the order of `ranges`
   for (const std::vector<Fragment>& part : built)
-    for (const Fragment& b : part) {
-      const std::uint32_t ref = append_fragment(b, out);  // may reallocate out.nodes
-      out.nodes[fragments[f].node].set_child(fragments[f].slot, fragments[f].box, ref);
-      ++f;
-    }
+    for (const Fragment& b : part) fragments.push_back(&b);
+  const std::vector<Placement> at = place_all(fragments, top_nodes, out);
+  for (std::size_t f = 0; f < fragments.size(); ++f)
+    out.nodes[ranges[f].node].set_child(ranges[f].slot, ranges[f].box,
+                                        global_ref(fragments[f]->root, at[f]));
   for (std::size_t i = 0; i < top_nodes; ++i) pad_child_boxes(out.nodes[i]);
+  place_fragments(fragments, at, input, out);
 }
 
 }  // namespace
