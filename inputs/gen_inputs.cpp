@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -21,6 +20,7 @@
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/image.hpp"
 #include "rtmini/io/obj_reader.hpp"
+#include "rtmini/io/raw_bytes.hpp"
 #include "rtmini/io/scene_file.hpp"
 #include "rtmini/io/srgb.hpp"
 #include "rtmini/report/app_main.hpp"
@@ -275,13 +275,6 @@ std::uint64_t mesh_hash(const Mesh& m) {
   return h;
 }
 
-template <class T>
-void put_bytes(std::string& buf, const T& v) {
-  char bytes[sizeof(T)];
-  std::memcpy(bytes, &v, sizeof(T));
-  buf.append(bytes, sizeof(T));
-}
-
 // The glTF counterpart of a TOML instance scene: the mesh of the first [[meshes]] entry stored
 // once (float positions, uint32 triangle indices in scene/mesh.hpp's triangulation order) and
 // one node per entry naming that file, whose matrix is the entry's transform as bake --mode ao
@@ -300,14 +293,14 @@ Mesh write_gltf_instances(const std::string& toml, const std::string& out) {
   for (const Vec3d& p : mesh.positions) {
     const float f[3] = {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
     for (int k = 0; k < 3; ++k) {
-      put_bytes(bin, f[k]);
+      append_raw(bin, f[k]);
       lo[k] = std::min(lo[k], f[k]);
       hi[k] = std::max(hi[k], f[k]);
     }
   }
   const std::size_t index_offset = bin.size();
   for (const auto& t : tris.vertices)
-    for (int k = 0; k < 3; ++k) put_bytes(bin, static_cast<std::uint32_t>(t[k]));
+    for (int k = 0; k < 3; ++k) append_raw(bin, static_cast<std::uint32_t>(t[k]));
 
   nlohmann::json nodes = nlohmann::json::array(), children = nlohmann::json::array();
   nodes.push_back({{"name", "instances"}});

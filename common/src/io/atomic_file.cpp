@@ -16,7 +16,7 @@
 namespace rtmini {
 namespace {
 
-std::string directory_of(const std::string& path) {
+std::string parent_directory(const std::string& path) {
   const auto slash = path.find_last_of('/');
   if (slash == std::string::npos) return ".";
   return slash == 0 ? "/" : path.substr(0, slash);
@@ -34,7 +34,7 @@ bool sync_file(const std::string& tmp) {
 // The directory entry of the rename must survive a crash too (best effort:
 // some filesystems refuse fsync on directories).
 void sync_directory(const std::string& path) {
-  const int fd = ::open(directory_of(path).c_str(), O_RDONLY | O_DIRECTORY);
+  const int fd = ::open(parent_directory(path).c_str(), O_RDONLY | O_DIRECTORY);
   if (fd < 0) return;
   ::fsync(fd);
   ::close(fd);
@@ -53,7 +53,7 @@ void check_replaceable(const std::string& path) {
 }
 
 void check_output_place(const std::string& path, double expected_bytes) {
-  const std::string dir = directory_of(path);
+  const std::string dir = parent_directory(path);
   struct stat st {};
   if (::stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
     throw IoError(path + ": cannot write here: the directory " + dir + " does not exist");
@@ -82,7 +82,7 @@ void check_output_places(const std::vector<std::pair<std::string, double>>& outp
 void remove_stale_temporaries(const std::string& path) {
   const auto slash = path.find_last_of('/');
   const std::string prefix = (slash == std::string::npos ? path : path.substr(slash + 1)) + ".tmp.";
-  const std::string dir = directory_of(path);
+  const std::string dir = parent_directory(path);
   DIR* d = ::opendir(dir.c_str());
   if (!d) return;
   while (const dirent* e = ::readdir(d)) {

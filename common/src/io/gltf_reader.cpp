@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/path.hpp"
 
 #ifdef RTMINI_HAVE_GLTF
 #include <tiny_gltf.h>
@@ -71,11 +72,6 @@ Mesh flatten_gltf(const GltfScene& scene) {
 
 namespace {
 
-std::string directory_of(const std::string& path) {
-  const std::size_t slash = path.find_last_of('/');
-  return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
-}
-
 // URIs in glTF are percent-encoded ("my%20texture.png"); the file on disk is not.
 std::string percent_decoded(const std::string& uri) {
   std::string out;
@@ -92,22 +88,11 @@ std::string percent_decoded(const std::string& uri) {
   return out;
 }
 
-// The extension of the last path component, lower-cased. (io/path.hpp's lower_extension lives in
-// rtmini_common, which this host-only library must not call back into.)
-std::string extension_of(const std::string& path) {
-  const std::size_t slash = path.find_last_of('/');
-  const std::size_t dot = path.find_last_of('.');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
-  std::string ext = path.substr(dot);
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
 bool is_data_uri(const std::string& uri) { return uri.rfind("data:", 0) == 0; }
 
 std::string resolve_uri(const std::string& gltf_path, const std::string& uri) {
   const std::string file = percent_decoded(uri);
-  return !file.empty() && file.front() == '/' ? file : directory_of(gltf_path) + file;
+  return !file.empty() && file.front() == '/' ? file : directory_prefix(gltf_path) + file;
 }
 
 // tinygltf errors are several lines; ours are one ("file: reason").
@@ -131,7 +116,7 @@ tinygltf::Model load_model(const std::string& path) {
   loader.SetImageLoader(skip_image_decoding, nullptr);
   tinygltf::Model model;
   std::string err, warn;
-  const std::string ext = extension_of(path);
+  const std::string ext = lower_extension(path);
   bool ok = false;
   if (ext == ".glb") {
     ok = loader.LoadBinaryFromFile(&model, &err, &warn, path);

@@ -31,7 +31,7 @@
 namespace rtmini {
 namespace {
 
-std::string directory_of(const std::string& path) {
+std::string obj_folder(const std::string& path) {
   const std::size_t slash = path.find_last_of('/');
   return slash == std::string::npos ? std::string(".") : path.substr(0, slash);
 }
@@ -282,7 +282,7 @@ class ObjScan {
   void mtllib(const std::vector<std::string_view>& f, std::string_view raw) {
     if (f.size() < 2) fail("mtllib without a file name");
     for (std::size_t i = 1; i < f.size(); ++i) {
-      const std::string mtl = directory_of(path_) + "/" + std::string(f[i]);
+      const std::string mtl = obj_folder(path_) + "/" + std::string(f[i]);
       if (std::ifstream(mtl)) {
         if (std::find(mtl_files_.begin(), mtl_files_.end(), mtl) == mtl_files_.end())
           mtl_files_.push_back(mtl);
@@ -376,7 +376,7 @@ class ObjScan {
     if (f.size() < 2) fail(std::string(f[0]) + " needs an image file");
     const std::string name(f.back());
     if (name[0] == '-') fail(std::string(f[0]) + " needs an image file after its options");
-    const std::string file = directory_of(path_) + "/" + name;
+    const std::string file = obj_folder(path_) + "/" + name;
     if (lower_extension(file) != ".png")
       fail("image map '" + name + "' is not a PNG file (only PNG maps are read)");
     if (std::find(image_files_.begin(), image_files_.end(), file) != image_files_.end()) return;
@@ -617,9 +617,9 @@ Mesh read_obj(const std::string& path, std::size_t piece_bytes, std::size_t max_
   scan.check_libraries();
   for (const std::string& mtl : scan.mtl_files()) ObjScan(mtl).run_mtl(detail::read_text_file(mtl));
 
-  const MaterialLibraries libraries = read_material_libraries(directory_of(path), scan);
+  const MaterialLibraries libraries = read_material_libraries(obj_folder(path), scan);
   for (const tinyobj::material_t& m : libraries.materials) {
-    mesh.materials.push_back(to_material(m, directory_of(path)));
+    mesh.materials.push_back(to_material(m, obj_folder(path)));
     if (!material_is_finite(mesh.materials.back()))
       throw InputError(path, 0, "material '" + m.name + "' has a non-finite value");
   }

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/path.hpp"
 #include "rtmini/io/scene_settings.hpp"
 #include "rtmini/io/text_fields.hpp"
 
@@ -13,11 +14,6 @@ namespace rtmini {
 namespace {
 
 long line_of(const toml::node& node) { return static_cast<long>(node.source().begin.line); }
-
-std::string directory_of(const std::string& path) {
-  const std::size_t slash = path.find_last_of('/');
-  return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
-}
 
 // Reads typed values out of one TOML table, reporting errors at the value's line. Every check
 // happens here, at parse time, so a bad scene is one "file:line: reason" (exit 2) before any
@@ -212,7 +208,7 @@ MeshDesc read_mesh_desc(const TableReader& r, const std::set<std::string>& mater
   const std::string file = r.string("file", "");
   // Relative to the scene file, not to the working directory: a scene and its meshes move
   // together. Opened once here so a wrong path fails at its own line in the scene.
-  m.file = !file.empty() && file.front() == '/' ? file : directory_of(r.file()) + file;
+  m.file = !file.empty() && file.front() == '/' ? file : directory_prefix(r.file()) + file;
   if (!std::ifstream(m.file)) r.fail("file", "names a mesh that cannot be opened: " + m.file);
   m.translate = r.vec3("translate", m.translate);
   m.rotate_deg = r.vec3("rotate_deg", m.rotate_deg);

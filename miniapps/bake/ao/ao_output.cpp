@@ -2,12 +2,12 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <fstream>
 
 #include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/path.hpp"
+#include "rtmini/io/raw_bytes.hpp"
 
 namespace rtmini::ao {
 namespace {
@@ -21,15 +21,6 @@ std::ofstream open_binary(const std::string& tmp) {
 void finish(std::ofstream& out, const std::string& tmp) {
   out.flush();
   if (!out) throw IoError("write failed: " + tmp);
-}
-
-// Little-endian bytes of trivially copyable values (the build targets are little endian).
-template <class T>
-void put(std::string& buf, const T& v) {
-  static_assert(std::is_trivially_copyable<T>::value, "raw bytes only");
-  char bytes[sizeof(T)];
-  std::memcpy(bytes, &v, sizeof(T));
-  buf.append(bytes, sizeof(T));
 }
 
 float clamp01(float v) { return v < 0.f ? 0.f : (v > 1.f ? 1.f : v); }
@@ -68,12 +59,12 @@ OutputFormat output_format(const std::string& path) {
 void write_ao_bin(const std::string& path, const AoResult& res) {
   const SamplePlan& plan = *res.plan;
   std::string buf;
-  put(buf, static_cast<std::uint64_t>(plan.receivers.size()));
-  put(buf, static_cast<std::uint64_t>(plan.total_vertices()));
+  append_raw(buf, static_cast<std::uint64_t>(plan.receivers.size()));
+  append_raw(buf, static_cast<std::uint64_t>(plan.total_vertices()));
   for (std::size_t r = 0; r < plan.receivers.size(); ++r) {
-    put(buf, static_cast<std::uint64_t>(res.scene->instances[plan.receivers[r]].mesh));
-    put(buf, static_cast<std::uint64_t>(plan.vertex_base[r]));
-    put(buf, static_cast<std::uint64_t>(plan.vertex_base[r + 1] - plan.vertex_base[r]));
+    append_raw(buf, static_cast<std::uint64_t>(res.scene->instances[plan.receivers[r]].mesh));
+    append_raw(buf, static_cast<std::uint64_t>(plan.vertex_base[r]));
+    append_raw(buf, static_cast<std::uint64_t>(plan.vertex_base[r + 1] - plan.vertex_base[r]));
   }
   buf.append(reinterpret_cast<const char*>(res.values.data()), res.values.size() * sizeof(float));
   write_text_atomic(path, buf);
@@ -100,13 +91,13 @@ void write_ao_ply(const std::string& path, const AoResult& res, bool ascii) {
                           c, c, c, ao);
             buf += line;
           } else {
-            put(buf, static_cast<float>(p.x));
-            put(buf, static_cast<float>(p.y));
-            put(buf, static_cast<float>(p.z));
-            put(buf, c);
-            put(buf, c);
-            put(buf, c);
-            put(buf, ao);
+            append_raw(buf, static_cast<float>(p.x));
+            append_raw(buf, static_cast<float>(p.y));
+            append_raw(buf, static_cast<float>(p.z));
+            append_raw(buf, c);
+            append_raw(buf, c);
+            append_raw(buf, c);
+            append_raw(buf, ao);
           }
         },
         [&](std::int64_t a, std::int64_t b, std::int64_t c) {
@@ -115,10 +106,10 @@ void write_ao_ply(const std::string& path, const AoResult& res, bool ascii) {
                           static_cast<long long>(b), static_cast<long long>(c));
             buf += line;
           } else {
-            put(buf, static_cast<unsigned char>(3));
-            put(buf, static_cast<std::int32_t>(a));
-            put(buf, static_cast<std::int32_t>(b));
-            put(buf, static_cast<std::int32_t>(c));
+            append_raw(buf, static_cast<unsigned char>(3));
+            append_raw(buf, static_cast<std::int32_t>(a));
+            append_raw(buf, static_cast<std::int32_t>(b));
+            append_raw(buf, static_cast<std::int32_t>(c));
           }
         });
     out.write(buf.data(), static_cast<std::streamsize>(buf.size()));

@@ -11,6 +11,7 @@
 
 #include "ao_output.hpp"
 #include "rtmini/io/atomic_file.hpp"
+#include "rtmini/io/raw_bytes.hpp"
 
 namespace rtmini::ao {
 namespace {
@@ -20,13 +21,6 @@ constexpr std::uint32_t kChunkJson = 0x4E4F534Au;
 constexpr std::uint32_t kChunkBin = 0x004E4942u;
 constexpr int kFloat = 5126, kUnsignedInt = 5125;
 constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
-
-template <class T>
-void put(std::string& buf, const T& v) {
-  char bytes[sizeof(T)];
-  std::memcpy(bytes, &v, sizeof(T));
-  buf.append(bytes, sizeof(T));
-}
 
 void pad4(std::string& buf, char fill) {
   while (buf.size() % 4 != 0) buf.push_back(fill);
@@ -155,14 +149,14 @@ void write_ao_glb(const std::string& path, const AoResult& res) {
   pad4(json, ' ');
   std::string out;
   out.reserve(12 + 8 + json.size() + 8 + bin_size);
-  put(out, kGlbMagic);
-  put(out, std::uint32_t{2});
-  put(out, static_cast<std::uint32_t>(12 + 8 + json.size() + 8 + bin_size));
-  put(out, static_cast<std::uint32_t>(json.size()));
-  put(out, kChunkJson);
+  append_raw(out, kGlbMagic);
+  append_raw(out, std::uint32_t{2});
+  append_raw(out, static_cast<std::uint32_t>(12 + 8 + json.size() + 8 + bin_size));
+  append_raw(out, static_cast<std::uint32_t>(json.size()));
+  append_raw(out, kChunkJson);
   out += json;
-  put(out, static_cast<std::uint32_t>(bin_size));
-  put(out, kChunkBin);
+  append_raw(out, static_cast<std::uint32_t>(bin_size));
+  append_raw(out, kChunkBin);
   const std::size_t bin_start = out.size();
   out.resize(bin_start + bin_size, '\0');  // the padding between views stays zero
   for (const auto& [offset, fill] : g.fills) fill(out.data() + bin_start + offset);

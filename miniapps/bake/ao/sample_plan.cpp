@@ -6,7 +6,7 @@
 namespace rtmini::ao {
 namespace {
 
-double triangle_area(const Vec3d& a, const Vec3d& b, const Vec3d& c) {
+double area_in_double(const Vec3d& a, const Vec3d& b, const Vec3d& c) {
   return 0.5 * length(cross(b - a, c - a));
 }
 
@@ -74,7 +74,7 @@ SamplePlan plan_samples(const AoScene& scene, std::int64_t requested, int min_pe
       obj.clear();
       for (const auto& t : mesh.tris)
         obj.push_back(
-            triangle_area(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]));
+            area_in_double(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]));
     }
     // Shape areas: object space for similarities (shared by instances), else world.
     const std::size_t first = plan.areas.size();
@@ -85,9 +85,9 @@ SamplePlan plan_samples(const AoScene& scene, std::int64_t requested, int min_pe
         plan.relative_areas.push_back(obj[t]);
       } else {
         const auto& tri = mesh.tris[t];
-        world = triangle_area(inst.xform.point(mesh.positions[tri[0]]),
-                              inst.xform.point(mesh.positions[tri[1]]),
-                              inst.xform.point(mesh.positions[tri[2]]));
+        world = area_in_double(inst.xform.point(mesh.positions[tri[0]]),
+                               inst.xform.point(mesh.positions[tri[1]]),
+                               inst.xform.point(mesh.positions[tri[2]]));
         plan.relative_areas.push_back(world);
       }
       plan.areas.push_back(world);

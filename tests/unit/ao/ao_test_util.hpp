@@ -1,11 +1,22 @@
 #pragma once
 // Small scenes for the AO tests.
 #include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
 
 #include "ao_scene.hpp"
 #include "rtmini/scene/primitives.hpp"
 
 namespace rtmini::ao::test {
+
+// A file's whole contents (the outputs the tests read back).
+inline std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
 
 // A disk of radius r in the plane z = z0 as a fan of `segments` triangles.
 inline Mesh disk_mesh(double r, double z0, int segments) {

@@ -11,6 +11,7 @@
 #include "ao_mode.hpp"
 #include "ao_output.hpp"
 #include "ao_scene.hpp"
+#include "ao_test_util.hpp"
 #include "rtmini/io/bakeshop.hpp"
 #include "rtmini/io/gltf_reader.hpp"
 #include "rtmini/io/scene_file.hpp"
@@ -20,13 +21,6 @@ namespace rtmini::ao {
 namespace {
 
 const std::string kInputs = RTMINI_AO_INPUTS_DIR;
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 std::string g17(double v) {
   char buf[32];
@@ -68,7 +62,7 @@ std::string bake(const std::string& input, const std::string& output) {
   o.batch = 5000;
   Communicator comm;
   EXPECT_EQ(run_ao_mode(comm, o), 0);
-  return slurp(output);
+  return test::file_bytes(output);
 }
 
 // spot_three.gltf: one mesh, three nodes (rtmini-gen-inputs gltf_instances from

@@ -29,13 +29,6 @@ AoScene sphere_on_grid() {
   return scene;
 }
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 TEST(AoSamples, MinimumPerFaceAndAreaProportionalExtras) {
   AoScene scene = sphere_on_grid();
   const SamplePlan base = plan_samples(scene, 0, 3);
@@ -135,11 +128,12 @@ TEST(AoTrace, InstancesKeyTheirRaysSoNoiseIsNotRepeated) {
   }
 }
 
-struct Baked {
+// The sphere-on-grid scene and a result of known values (nothing traced): what the writers read.
+struct FilledResult {
   AoScene scene = sphere_on_grid();
   SamplePlan plan;
   AoResult result;
-  Baked() {
+  FilledResult() {
     plan = plan_samples(scene, 0, 3);
     result.scene = &scene;
     result.plan = &plan;
@@ -149,10 +143,10 @@ struct Baked {
 };
 
 TEST(AoOutput, BinLayout) {
-  Baked b;
+  FilledResult b;
   const std::string path = ::testing::TempDir() + "ao_test.bin";
   write_ao_output(path, b.result, false);
-  const std::string bytes = slurp(path);
+  const std::string bytes = test::file_bytes(path);
   const std::size_t ni = b.plan.receivers.size(), nv = b.plan.total_vertices();
   ASSERT_EQ(bytes.size(), 16 + ni * 24 + nv * 4);
   std::uint64_t head[2];
@@ -170,10 +164,10 @@ TEST(AoOutput, BinLayout) {
 }
 
 TEST(AoOutput, GlbIsValidGltf2) {
-  Baked b;
+  FilledResult b;
   const std::string path = ::testing::TempDir() + "ao_test.glb";
   write_ao_output(path, b.result, false);
-  const std::string bytes = slurp(path);
+  const std::string bytes = test::file_bytes(path);
   std::uint32_t h[5];
   ASSERT_GE(bytes.size(), 20u);
   std::memcpy(h, bytes.data(), 20);
@@ -209,10 +203,10 @@ TEST(AoOutput, GlbIsValidGltf2) {
 }
 
 TEST(AoOutput, PlyAndObjCounts) {
-  Baked b;
+  FilledResult b;
   const std::string ply = ::testing::TempDir() + "ao_test.ply";
   write_ao_output(ply, b.result, true);
-  const std::string text = slurp(ply);
+  const std::string text = test::file_bytes(ply);
   EXPECT_NE(text.find("element vertex " + std::to_string(b.plan.total_vertices())),
             std::string::npos);
   EXPECT_NE(text.find("element face " + std::to_string(b.plan.total_triangles())),
@@ -224,7 +218,7 @@ TEST(AoOutput, PlyAndObjCounts) {
   EXPECT_EQ(lines - header, std::size_t(b.plan.total_vertices() + b.plan.total_triangles()));
   const std::string obj = ::testing::TempDir() + "ao_test.obj";
   write_ao_output(obj, b.result, false);
-  const std::string o = slurp(obj);
+  const std::string o = test::file_bytes(obj);
   std::size_t v = 0, f = 0;
   std::istringstream in(o);
   for (std::string line; std::getline(in, line);) {

@@ -19,6 +19,7 @@
 #include "rtmini/scene/device_mesh.hpp"
 #include "rtmini/scene/primitives.hpp"
 #include "test_space.hpp"
+#include "trace_answers.hpp"
 
 namespace rtmini::test {
 namespace {
@@ -54,24 +55,6 @@ Kokkos::View<Ray*, TestMemSpace> random_rays(Kokkos::View<const Triangle*, TestM
         rays(i) = r;
       });
   return rays;
-}
-
-// Closest hit and any-hit answers for every ray.
-struct Answers {
-  Kokkos::View<Hit*, TestMemSpace> hit;
-  Kokkos::View<int*, TestMemSpace> any;
-};
-
-template <class Accel>
-Answers trace_all(const Accel& accel, Kokkos::View<Ray*, TestMemSpace> rays) {
-  const int n = static_cast<int>(rays.extent(0));
-  Answers a{Kokkos::View<Hit*, TestMemSpace>("hit", n), Kokkos::View<int*, TestMemSpace>("any", n)};
-  Kokkos::parallel_for(
-      "test::trace", Policy(0, n), KOKKOS_LAMBDA(int i) {
-        a.hit(i) = bvh::closest_hit(accel, rays(i));
-        a.any(i) = bvh::any_hit(accel, rays(i));
-      });
-  return a;
 }
 
 void expect_same(const Answers& x, const Answers& ref, const std::string& what) {
@@ -324,10 +307,6 @@ Kokkos::View<Ray*, TestMemSpace> grazing_rays(Kokkos::View<const Triangle*, Test
 // test of traverse.hpp): rays grazing the faces, edges and corners of touching boxes, at large
 // and small scales far from the origin, find exactly what brute force finds.
 TEST(Bvh, GrazingRaysAtManyScalesMatchBruteForce) {
-  struct Placement {
-    const char* name;
-    double scale, offset;
-  };
   const Placement placements[] = {
       {"unit", 1, 0}, {"far", 1, 1e3}, {"small-far", 1e-2, 1e3}, {"far-huge", 1e3, 1e4}};
   for (const Placement& p : placements) {

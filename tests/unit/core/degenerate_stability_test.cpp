@@ -14,6 +14,7 @@
 #include "rtmini/sampling/rng.hpp"
 #include "rtmini/sampling/sampling.hpp"
 #include "test_space.hpp"
+#include "trace_answers.hpp"
 
 namespace rtmini::test {
 namespace {
@@ -109,24 +110,6 @@ RayView make_rays(TriView tris, int n, std::uint64_t seed) {
   return rays;
 }
 
-struct Answers {
-  Kokkos::View<Hit*, TestMemSpace> hit;
-  Kokkos::View<int*, TestMemSpace> any;
-};
-
-template <class Accel>
-Answers trace(const Accel& accel, RayView rays) {
-  const int n = static_cast<int>(rays.extent(0));
-  Answers out{Kokkos::View<Hit*, TestMemSpace>("hit", n),
-              Kokkos::View<int*, TestMemSpace>("any", n)};
-  Kokkos::parallel_for(
-      "test::degenerate_trace", Policy(0, n), KOKKOS_LAMBDA(int i) {
-        out.hit(i) = bvh::closest_hit(accel, rays(i));
-        out.any(i) = bvh::any_hit(accel, rays(i));
-      });
-  return out;
-}
-
 struct HostAnswers {
   std::string name;
   Kokkos::View<Hit*, Kokkos::HostSpace> hit;
@@ -141,15 +124,15 @@ HostAnswers to_host(const std::string& name, const Answers& a) {
 // Every accelerator: brute force, then each build in each node layout it has.
 std::vector<HostAnswers> trace_everything(TriView tris, RayView rays) {
   std::vector<HostAnswers> all;
-  all.push_back(to_host("brute force", trace(bvh::BruteForce<TestMemSpace>{tris}, rays)));
+  all.push_back(to_host("brute force", trace_all(bvh::BruteForce<TestMemSpace>{tris}, rays)));
   for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah, bvh::BuildQuality::kPloc}) {
     auto accel = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), tris, q);
     const bool has_wide = accel.wide.extent(0) > 0;
     const std::string name = bvh::to_string(q);
-    all.push_back(to_host(name + (has_wide ? " wide" : " binary"), trace(accel, rays)));
+    all.push_back(to_host(name + (has_wide ? " wide" : " binary"), trace_all(accel, rays)));
     if (has_wide) {
       accel.wide = decltype(accel.wide)();  // the same tree through the binary traversal
-      all.push_back(to_host(name + " binary", trace(accel, rays)));
+      all.push_back(to_host(name + " binary", trace_all(accel, rays)));
     }
   }
   return all;

@@ -58,10 +58,6 @@ double acne_fraction(double scale, double offset, bool grazing, long long n) {
   return double(bad) / double(n);
 }
 
-struct Placement {
-  double scale, offset;
-};
-
 class Stability : public ::testing::TestWithParam<Placement> {};
 
 TEST_P(Stability, NoAcneOnAnOpenPlane) {
@@ -103,9 +99,11 @@ TEST_P(Stability, NoLeaksThroughSharedEdges) {
 // Scaled at the origin from 1e-6 to 1e6, and moved 1e5 and 1e9 away at unit and 1e3 scale
 // (recentring makes the distance free).
 INSTANTIATE_TEST_SUITE_P(Extremes, Stability,
-                         ::testing::Values(Placement{1e-6, 0}, Placement{1e-3, 0}, Placement{1, 0},
-                                           Placement{1e3, 0}, Placement{1e6, 0}, Placement{1, 1e5},
-                                           Placement{1e3, 1e5}, Placement{1, 1e9}));
+                         ::testing::Values(Placement{"micro", 1e-6, 0}, Placement{"milli", 1e-3, 0},
+                                           Placement{"unit", 1, 0}, Placement{"kilo", 1e3, 0},
+                                           Placement{"mega", 1e6, 0}, Placement{"far", 1, 1e5},
+                                           Placement{"far-kilo", 1e3, 1e5},
+                                           Placement{"very-far", 1, 1e9}));
 
 }  // namespace
 }  // namespace rtmini::test

@@ -26,4 +26,12 @@ inline Kokkos::View<Triangle*, TestMemSpace> upload_triangles(const Mesh& mesh) 
   Kokkos::deep_copy(tris, h);
   return tris;
 }
+
+// A test scene scaled by `scale` and moved `offset` away from the origin: the numerical
+// extremes (tiny, huge, far) that watertightness and the box tests must survive.
+struct Placement {
+  const char* name;
+  double scale;
+  double offset;
+};
 }  // namespace rtmini::test

@@ -50,18 +50,12 @@ long long count_escapes(const Mesh& mesh, const Vec3& inside, long long n, bvh::
   return escapes;
 }
 
-struct Case {
-  const char* name;
-  double scale;
-  double offset;
-};
-
 TEST(Watertight, IcosphereAtManyScales) {
   // 10.4M rays in all: 13 placements x 800K rays, both builders.
-  const Case cases[] = {{"unit", 1, 0},  {"tiny", 1e-4, 0},      {"huge", 1e4, 0},
-                        {"far", 1, 1e3}, {"far-huge", 1e3, 1e4}, {"off-center", 0.37, 11.3}};
+  const Placement cases[] = {{"unit", 1, 0},  {"tiny", 1e-4, 0},      {"huge", 1e4, 0},
+                             {"far", 1, 1e3}, {"far-huge", 1e3, 1e4}, {"off-center", 0.37, 11.3}};
   long long total = 0, escaped = 0;
-  for (const Case& c : cases) {
+  for (const Placement& c : cases) {
     for (auto q : {bvh::BuildQuality::kLbvh, bvh::BuildQuality::kSah}) {
       Mesh m;
       const Vec3d center(c.offset, -0.5 * c.offset, 0.25 * c.offset);
@@ -85,9 +79,9 @@ TEST(Watertight, IcosphereAtManyScales) {
 // Spatial splits chop references at planes through the triangles: the chopped parts' boxes must
 // still hold every hit the watertight test reports, at every scale.
 TEST(Watertight, SpatialSplitsAtManyScales) {
-  const Case cases[] = {
+  const Placement cases[] = {
       {"unit", 1, 0}, {"tiny", 1e-4, 0}, {"huge", 1e4, 0}, {"far-huge", 1e3, 1e4}};
-  for (const Case& c : cases) {
+  for (const Placement& c : cases) {
     Mesh m;
     const Vec3d center(c.offset, -0.5 * c.offset, 0.25 * c.offset);
     append_icosphere(m, center, c.scale, 3, -1, 0);

@@ -145,18 +145,12 @@ void check_one(const Vec3& center, Real scale, int trial, Tally& tally) {
   tally.cull_only += __builtin_popcount(keep_robust & ~keep_fma);
 }
 
-struct Case {
-  const char* name;
-  double scale;
-  double offset;
-};
-
 TEST(WideFmaBox, AcceptsEveryBoxTheRobustTestAndExactArithmeticAccept) {
-  const Case cases[] = {{"unit", 1, 0},           {"tiny", 1e-4, 0},
-                        {"huge", 1e4, 0},         {"far", 1, 1e3},
-                        {"far-huge", 1e3, 1e4},   {"off-center", 0.37, 11.3},
-                        {"small-far", 1e-3, 1e3}, {"very-small-far", 1e-5, 1e2}};
-  for (const Case& cs : cases) {
+  const Placement cases[] = {{"unit", 1, 0},           {"tiny", 1e-4, 0},
+                             {"huge", 1e4, 0},         {"far", 1, 1e3},
+                             {"far-huge", 1e3, 1e4},   {"off-center", 0.37, 11.3},
+                             {"small-far", 1e-3, 1e3}, {"very-small-far", 1e-5, 1e2}};
+  for (const Placement& cs : cases) {
     const Vec3 center(Real(cs.offset), Real(-0.5 * cs.offset), Real(0.25 * cs.offset));
     Tally t;
     for (int trial = 0; trial < 40000; ++trial) check_one(center, Real(cs.scale), trial, t);
