@@ -2,6 +2,9 @@
 
 #include <sys/resource.h>
 #include <unistd.h>
+#if defined(__GLIBC__)
+#include <malloc.h>  // mallopt
+#endif
 
 #include <algorithm>
 #include <csignal>
@@ -260,6 +263,132 @@ std::int64_t batch_end(const std::vector<double>& before, const std::vector<std:
   return end;
 }
 
+// The running cost before each vertex (vertices + 1 entries): vertex_cost, or the colours.
+std::vector<double> cost_before(const BakeSceneHost& scene,
+                                const std::vector<double>& vertex_cost) {
+  const std::int64_t nv = scene.vertices();
+  std::vector<double> before(static_cast<std::size_t>(nv) + 1, 0.0);
+  for (std::int64_t v = 0; v < nv; ++v)
+    before[v + 1] =
+        before[v] + (vertex_cost.empty() ? double(scene.color_count(v)) : vertex_cost[v]);
+  return before;
+}
+
+// `count` contiguous batches, dealt round-robin to the ranks, cut where the running cost passes
+// the next multiple of total / count. Under a colour cap (colours per batch, 0: none) a batch
+// may close early; then the cost left is shared equally by the batches left (each target is the
+// cost so far plus that share).
+std::vector<Batch> contiguous_cut(const BakeSceneHost& scene, const std::vector<double>& before,
+                                  std::int64_t count, int ranks, double cap) {
+  const std::int64_t nv = scene.vertices();
+  const double total = before[nv];
+  std::vector<Batch> out;
+  std::int64_t begin = 0;
+  for (std::int64_t b = 0; b < count && begin < nv; ++b) {
+    std::int64_t end = nv;
+    if (b + 1 < count) {
+      const double target =
+          cap > 0 ? before[begin] + (total - before[begin]) / static_cast<double>(count - b)
+                  : total * static_cast<double>(b + 1) / static_cast<double>(count);
+      end = batch_end(before, scene.color_offset, begin, count - b - 1, target, cap);
+    }
+    out.push_back({begin, end, static_cast<int>(b % ranks)});
+    begin = end;
+  }
+  return out;
+}
+
+// The largest rank's cost under `batches` over the mean per rank.
+double max_cost_over_mean(const std::vector<double>& before, const std::vector<Batch>& batches,
+                          int ranks) {
+  std::vector<double> cost(static_cast<std::size_t>(ranks), 0.0);
+  for (const Batch& b : batches) cost[b.rank] += before[b.end] - before[b.begin];
+  const double total = before.back();
+  return total > 0 ? *std::max_element(cost.begin(), cost.end()) * double(ranks) / total : 1.0;
+}
+
+// Swaps of one piece for another between the rank with the most colours and any other rank
+// until no rank holds more than `cap` colours; false where no swap lowers the largest rank's
+// colours before that. Each time the swap that leaves the larger of the two ranks' colours
+// smallest: it moves the fewest pieces for the colours shed. The pieces cost the same, so the
+// cost stays balanced.
+bool swap_under_cap(std::vector<Batch>& pieces, const std::vector<std::int64_t>& colors, int ranks,
+                    double cap) {
+  std::vector<std::int64_t> held(static_cast<std::size_t>(ranks), 0);
+  for (std::size_t i = 0; i < pieces.size(); ++i) held[pieces[i].rank] += colors[i];
+  for (;;) {
+    const int top = static_cast<int>(std::max_element(held.begin(), held.end()) - held.begin());
+    if (double(held[top]) <= cap) return true;
+    std::int64_t best = held[top];
+    std::size_t give = 0, take = 0;
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+      if (pieces[i].rank != top) continue;
+      for (std::size_t j = 0; j < pieces.size(); ++j) {
+        const std::int64_t d = colors[i] - colors[j];
+        if (pieces[j].rank == top || d <= 0) continue;
+        const std::int64_t larger = std::max(held[top] - d, held[pieces[j].rank] + d);
+        if (larger < best) {
+          best = larger;
+          give = i;
+          take = j;
+        }
+      }
+    }
+    if (best == held[top]) return false;
+    const std::int64_t d = colors[give] - colors[take];
+    held[top] -= d;
+    held[pieces[take].rank] += d;
+    std::swap(pieces[give].rank, pieces[take].rank);
+  }
+}
+
+// kPiecesPerRank x ranks contiguous pieces of equal cost, the rank's share of them in a row
+// (the cost cut without a cap, to a piece), then pieces swapped between ranks until every rank
+// fits the colour cap (swap_under_cap): each rank keeps most of its contiguous range and holds
+// the same cost, to a vertex per piece. Returned in vertex order, a rank's neighbouring pieces
+// merged; empty when there are fewer vertices than pieces or the swaps cannot fit the cap.
+constexpr int kPiecesPerRank = 16;
+
+std::vector<Batch> swapped_pieces(const BakeSceneHost& scene, const std::vector<double>& before,
+                                  int ranks, double cap) {
+  const std::int64_t count = std::int64_t(ranks) * kPiecesPerRank;
+  std::vector<Batch> pieces = contiguous_cut(scene, before, count, ranks, 0.0);
+  if (static_cast<std::int64_t>(pieces.size()) < count) return {};
+  std::vector<std::int64_t> colors(pieces.size());
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    pieces[i].rank = static_cast<int>(i / kPiecesPerRank);
+    colors[i] = scene.color_offset[pieces[i].end] - scene.color_offset[pieces[i].begin];
+  }
+  if (!swap_under_cap(pieces, colors, ranks, cap)) return {};
+  std::vector<Batch> merged;
+  for (const Batch& x : pieces) {
+    if (!merged.empty() && merged.back().rank == x.rank)
+      merged.back().end = x.end;
+    else
+      merged.push_back(x);
+  }
+  return merged;
+}
+
+// The ownership of --balance cost under a colour cap (colours per rank): one contiguous range
+// per rank (capped, contiguous_cut) while that leaves the largest cost within kCostTolerance of
+// the mean, else swapped_pieces. On bunny_room (N = 300) the capped contiguous cut left
+// 1.09-1.16x the mean cost at 2-16 ranks: a range of cheap vertices (many colours, few lookup
+// hits) fills its colour quota before its cost share, and the ranges of expensive ones carry
+// the rest; swapped pieces give a cheap range's rank some expensive pieces for some of its own.
+// Dealing all the pieces afresh balanced both as well but cut a rank's region into unrelated
+// parts: at 16 ranks its halo grew 26 % and the exchange 34 % (results/bake/distributed.md,
+// thirteenth round). Where the pieces cannot fit the cap, the contiguous cut stays.
+constexpr double kCostTolerance = 1.02;
+
+std::vector<Batch> capped_ownership(const BakeSceneHost& scene, const std::vector<double>& before,
+                                    int ranks, double cap) {
+  std::vector<Batch> contiguous = contiguous_cut(scene, before, ranks, ranks, cap);
+  if (max_cost_over_mean(before, contiguous, ranks) <= kCostTolerance) return contiguous;
+  std::vector<Batch> swapped = swapped_pieces(scene, before, ranks, cap);
+  return swapped.empty() ? contiguous : swapped;
+}
+
 }  // namespace
 
 std::vector<Batch> make_batches(const BakeSceneHost& scene, int ranks, Balance balance,
@@ -275,29 +404,12 @@ std::vector<Batch> make_batches(const BakeSceneHost& scene, int ranks, Balance b
       out.push_back({b * size, std::min(nv, (b + 1) * size), static_cast<int>(b % ranks)});
     return out;
   }
-  // Cost balance: cut where the running cost passes the next multiple of total / count. Under a
-  // colour cap a batch may close early; then the cost left is shared equally by the batches
-  // left (each target is the cost so far plus that share).
-  std::vector<double> before(static_cast<std::size_t>(nv) + 1, 0.0);  // cost of vertices < v
-  for (std::int64_t v = 0; v < nv; ++v)
-    before[v + 1] =
-        before[v] + (vertex_cost.empty() ? double(scene.color_count(v)) : vertex_cost[v]);
-  const double total = before[nv];
+  const std::vector<double> before = cost_before(scene, vertex_cost);
   const double cap =
       color_cap > 0 ? color_cap * double(scene.colors()) / static_cast<double>(count) : 0.0;
-  std::int64_t begin = 0;
-  for (std::int64_t b = 0; b < count && begin < nv; ++b) {
-    std::int64_t end = nv;
-    if (b + 1 < count) {
-      const double target =
-          cap > 0 ? before[begin] + (total - before[begin]) / static_cast<double>(count - b)
-                  : total * static_cast<double>(b + 1) / static_cast<double>(count);
-      end = batch_end(before, scene.color_offset, begin, count - b - 1, target, cap);
-    }
-    out.push_back({begin, end, static_cast<int>(b % ranks)});
-    begin = end;
-  }
-  return out;
+  // One batch per rank (no --batch-size): a rank may take several ranges to fit both.
+  if (cap > 0 && count == ranks && ranks > 1) return capped_ownership(scene, before, ranks, cap);
+  return contiguous_cut(scene, before, count, ranks, cap);
 }
 
 std::vector<Batch> make_spatial_batches(const BakeSceneHost& scene,
@@ -401,7 +513,7 @@ class BakeRun {
   MapLayout remote_layout(const std::vector<char>& own) const;
   void plan_exchange();
   void start_fused_plan(const std::vector<char>& own);
-  void finish_fused_plan();
+  void finish_fused_plan(int it);
   void report_map_plan();
   void bake_base();
   void restart();
@@ -859,15 +971,17 @@ void BakeRun::start_fused_plan(const std::vector<char>& own) {
 
 // After the fused first iteration: the halo from what it read and the exchange plan. The map
 // keeps its layout (this rank's vertices, dense), so iteration 1's colours stay where they are.
-void BakeRun::finish_fused_plan() {
+void BakeRun::finish_fused_plan(int it) {
   chef_->set_first_reads(FirstReads{});
   const auto read = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pending_.flags);
   layout_ = make_halo_layout(host_, pending_.remote, read.data(), owner_, comm_.rank());
   pending_ = PendingHalo{};
+  mark_rss("iteration " + std::to_string(it) + " halo layout");
   // A measured recut changed this rank's share (next_ moved with it); prev_ follows.
   if (static_cast<std::int64_t>(prev_.extent(0)) != layout_.colors())
     prev_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_prev", layout_.colors());
   plan_exchange();
+  mark_rss("iteration " + std::to_string(it) + " exchange plan");
 }
 
 // The measured recut's threshold: the slowest rank's first mirror iteration over the mean.
@@ -1065,12 +1179,24 @@ void BakeRun::report_map_plan() {
   const double reads = static_cast<double>(comm_.sum(reads_.reads));
   const double remote = static_cast<double>(comm_.sum(reads_.remote_reads));
   const double bytes = static_cast<double>(comm_.sum(exchange_->send_colors())) * sizeof(Vec3f);
+  // Per rank, what its exchange holds besides the map: the halo (received) and the entries it
+  // sends (both 12 bytes a colour in the first exchange).
+  const std::vector<double> halo_per_rank =
+      comm_.allgatherv(std::vector<double>{static_cast<double>(layout_.halo_colors)});
+  const std::vector<double> send_per_rank =
+      comm_.allgatherv(std::vector<double>{static_cast<double>(exchange_->send_colors())});
+  // The vertex ranges each rank owns (several where the colour cap and the cost need them).
+  const std::vector<double> ranges_per_rank =
+      comm_.allgatherv(std::vector<double>{static_cast<double>(my_ranges_.size())});
   report_.scene["map"] = {{"halo", halo_ == Halo::kAll     ? "all"
                                    : halo_ == Halo::kOwned ? "owned"
                                                            : "traced"},
                           {"local_colors_max", max_local},
                           {"local_colors_mean", sum_local / comm_.size()},
                           {"halo_colors_max", max_halo},
+                          {"halo_colors_per_rank", halo_per_rank},
+                          {"send_colors_per_rank", send_per_rank},
+                          {"ranges_per_rank", ranges_per_rank},
                           {"mirror_reads", reads},
                           {"remote_read_fraction", reads > 0 ? remote / reads : 0.0},
                           {"exchange_bytes_per_iteration", bytes},
@@ -1229,7 +1355,7 @@ void BakeRun::exchange(int it, IterationRecord& rec) {
   const double t0 = timer_.now();
   if (pending_.active && it >= 1) {
     if (recuts_by_measured_time()) recut_by_measured_time(rec.trace);
-    finish_fused_plan();
+    finish_fused_plan(it);
   }
   std::swap(prev_, next_);
   rec.allgather_bytes = exchange_ && it < iterations_ ? exchange_->run(comm_, prev_, next_) : 0;
@@ -1284,6 +1410,7 @@ int BakeRun::iterate() {
     const double t0 = timer_.now();
     totals_.rays += trace(it, next_);
     const double t1 = timer_.now();
+    if (pending_.active && it >= 1) mark_rss("iteration " + std::to_string(it) + " trace");
     rec.trace = t1 - t0;
     eta_.iteration_done(static_cast<int>(hit_mode(it)));
     totals_.completion = t1;
@@ -1418,8 +1545,23 @@ void BakeRun::report_results() {
   report_.finish(comm_, c_.summary);
 }
 
+// Large buffers go back to the operating system when freed. glibc raises its mmap threshold to
+// the size of each mmap'd block freed (up to 32 MiB), after which blocks up to that size come
+// from the heap, where freed memory stays resident: the exchange plan's request lists (8 bytes
+// per halo and sent colour, freed before the halo is allocated) then stayed in the largest 16 x 1
+// rank's peak RSS, 0.104 against 0.096 GiB with the threshold fixed (results/bake/distributed.md,
+// thirteenth round). Fixed at glibc's default of 128 KiB (mallopt turns the adjustment off).
+namespace {
+void return_freed_buffers() {
+#if defined(__GLIBC__)
+  mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+#endif
+}
+}  // namespace
+
 int BakeRun::run() {
   report_.app = "bake";
+  return_freed_buffers();
   install_stop_handlers();
   read();
   timer_.start("setup");

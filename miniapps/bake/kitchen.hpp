@@ -22,7 +22,8 @@ struct Batch {
 // reflective vertex, 1 per other vertex). color_cap > 0 (kCost): no batch holds more than
 // color_cap x the mean colours per batch (but for one vertex where a vertex alone is more), the
 // cost balanced as well as that allows; with one batch per rank, the colours a rank owns, which
-// its memory grows with (BakeConfig::color_cap).
+// its memory grows with (BakeConfig::color_cap), and a rank may then own several ranges, the
+// cost balanced to 2 % (kitchen.cpp, capped_ownership). Batches come in vertex order.
 std::vector<Batch> make_batches(const BakeSceneHost& scene, int ranks, Balance balance,
                                 std::int64_t batch_size,
                                 const std::vector<double>& vertex_cost = {}, double color_cap = 0);

@@ -91,7 +91,8 @@ void MapCli::add_to(CLI::App& app, BakeConfig& c) {
   app.add_option("--batch-size", c.batch_size, "vertices per batch (0 = vertices/ranks)");
   app.add_option("--max-colors", c.color_cap,
                  "most colours a batch (a rank) may own, as a multiple of the mean, under the "
-                 "cost cuts: a rank's memory grows with them (0 = no cap; default 1.1)");
+                 "cost cuts: a rank's memory grows with them; a rank may own several ranges to "
+                 "fit the cap and the cost (0 = no cap; default 1.1)");
   app.add_option("--time-limit", c.time_limit_minutes,
                  "minutes; checkpoint and exit 4 if the next iteration would not fit (0 = none)");
   app.add_option("--background", background, "colour of rays that leave the scene, r,g,b");

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -41,15 +42,18 @@ std::vector<int> displacements(const std::vector<int>& counts) {
 // collective-failure contract, docs/architecture.md), and the collective it abandons keeps its
 // buffers, counts and displacements, which MPI's progress engine may still touch while the ranks
 // agree on the exit code (freed under it, they crashed that agreement: commit 23bae46).
+// `recv_displs`: where each rank's records land in `recv` (empty: one after the other).
 template <class Send, class Recv>
 void alltoallv_records(const Communicator& comm, Send& send, const std::vector<int>& send_counts,
-                       Recv& recv, const std::vector<int>& recv_counts, std::size_t record_bytes) {
+                       Recv& recv, const std::vector<int>& recv_counts, std::size_t record_bytes,
+                       const std::vector<int>& recv_displs = {}) {
 #ifdef RTMINI_HAVE_MPI
   MPI_Datatype type;
   MPI_Type_contiguous(static_cast<int>(record_bytes), MPI_BYTE, &type);
   MPI_Type_commit(&type);
   std::vector<int> sc = send_counts, rc = recv_counts;  // kept with the request, as the buffers
-  std::vector<int> sd = displacements(sc), rd = displacements(rc);
+  std::vector<int> sd = displacements(sc),
+                   rd = recv_displs.empty() ? displacements(rc) : recv_displs;
   MPI_Request req;
   MPI_Ialltoallv(send.data(), sc.data(), sd.data(), type, recv.data(), rc.data(), rd.data(), type,
                  comm.native(), &req);
@@ -58,6 +62,7 @@ void alltoallv_records(const Communicator& comm, Send& send, const std::vector<i
 #else
   (void)comm;
   (void)recv_counts;
+  (void)recv_displs;
   std::copy_n(reinterpret_cast<const unsigned char*>(send.data()),
               static_cast<std::size_t>(send_counts[0]) * record_bytes,
               reinterpret_cast<unsigned char*>(recv.data()));
@@ -273,62 +278,116 @@ MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
   for (int r = 0; r < ranks && r + 1 < static_cast<int>(layout.halo_rank_at.size()); ++r)
     ask[r] = checked_int(layout.halo_rank_at[r + 1] - layout.halo_rank_at[r]);
   const std::vector<int> told = exchange_counts(comm, ask);
-  send_items_ = Kokkos::View<std::int64_t*, MemSpace>(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::exchange_send_items"),
-      static_cast<std::size_t>(total(told)));
-  auto send = Kokkos::create_mirror_view(send_items_);  // send_items_ itself on a host backend
+  const std::size_t sent = static_cast<std::size_t>(total(told));
+  if (layout.colors() > std::int64_t(std::numeric_limits<SendItem>::max()))
+    throw std::runtime_error("rtmini: a rank's map exceeds 2^32 entries");
   {
-    std::vector<std::int64_t> asked = remote_entries(scene, layout);
-    alltoallv(comm, asked, ask, send, told);
+    // Global entry numbers asked (they may pass 2^32), turned into this rank's map entries.
+    std::vector<std::int64_t> send(sent);
+    {
+      std::vector<std::int64_t> asked = remote_entries(scene, layout);
+      alltoallv(comm, asked, ask, send, told);
+    }
+    // What this rank sends: its own entries that each asker wants; what it gets lands in the halo.
+    to_layout_entries(scene, layout, send.data(), static_cast<std::int64_t>(sent));
+    send_items_ = Kokkos::View<SendItem*, MemSpace>(
+        Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::exchange_send_items"), sent);
+    auto items = Kokkos::create_mirror_view(send_items_);  // send_items_ itself on a host backend
+    host_parallel_for("rtmini::bake::exchange_send_items", static_cast<std::int64_t>(sent),
+                      [&](std::int64_t i) { items(i) = static_cast<SendItem>(send[i]); });
+    Kokkos::deep_copy(send_items_, items);
   }
-  // What this rank sends: its own entries that each asker wants; what it gets lands in the halo.
-  to_layout_entries(scene, layout, send.data(), static_cast<std::int64_t>(send.extent(0)));
-  Kokkos::deep_copy(send_items_, send);
   send_counts_ = told;
   recv_counts_ = ask;
   send_displs_ = displacements(send_counts_);
   recv_displs_ = displacements(recv_counts_);
-  const std::size_t sent = send.extent(0), received = static_cast<std::size_t>(total(ask));
+  const std::size_t received = static_cast<std::size_t>(total(ask));
   std::vector<std::int64_t> first_entry(send_displs_.begin(), send_displs_.end());
   first_entry.push_back(static_cast<std::int64_t>(sent));
   first_entry_ = upload("rtmini::bake::exchange_first_entry", first_entry);
   recv_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::halo", received);
   direct_ = mpi_takes_map_memory();
-  if (!direct_) {
-    host_send_.resize(sent);
-    host_recv_.resize(received);
-  }
 }
 
 std::int64_t MapExchange::run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
-                              Kokkos::View<const Vec3f*, MemSpace> previous) {
+                              Kokkos::View<Vec3f*, MemSpace> other) {
   if (comm.size() == 1) return 0;
   const std::int64_t bytes =
-      sent_ && changed_only_ ? run_changed(comm, map, previous) : run_full(comm, map);
+      sent_ && changed_only_ ? run_changed(comm, map, other) : run_full(comm, map, other);
   sent_ = true;
   Kokkos::fence();
   return bytes;
 }
 
-std::int64_t MapExchange::run_full(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map) {
-  auto send_items = send_items_;
-  // The packed colours live only for this run (later runs send what changed, from the map).
-  Kokkos::View<Vec3f*, MemSpace> send_buf(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::exchange_send"),
-      send_items.extent(0));
-  Kokkos::parallel_for(
-      "rtmini::bake::exchange_pack", Policy(0, static_cast<std::int64_t>(send_items.extent(0))),
-      KOKKOS_LAMBDA(std::int64_t i) { send_buf(i) = map(send_items(i)); });
-  if (direct_) {
-    Kokkos::fence();  // the packed colours must be in memory before MPI reads them
-    alltoallv(comm, send_buf, send_counts_, recv_buf_, recv_counts_);
-  } else {
-    // Device memory and an MPI that cannot read it: through host buffers (any MPI works).
-    Kokkos::deep_copy(compat::host_view(host_send_.data(), host_send_.size()), send_buf);
-    alltoallv(comm, host_send_, send_counts_, host_recv_, recv_counts_);
-    Kokkos::deep_copy(recv_buf_, compat::host_view(host_recv_.data(), host_recv_.size()));
+namespace {
+
+// The records to each peer in `round` of `rounds`: an equal share of its `count`, rounded up (the
+// last rounds may hold fewer or none). Sender and receiver derive the same from the count.
+std::vector<int> round_counts(const std::vector<int>& count, std::int64_t round,
+                              std::int64_t rounds) {
+  std::vector<int> out(count.size());
+  for (std::size_t r = 0; r < count.size(); ++r) {
+    const std::int64_t share = (count[r] + rounds - 1) / rounds;
+    out[r] = static_cast<int>(std::max<std::int64_t>(
+        0, std::min<std::int64_t>(count[r], share * (round + 1)) - share * round));
   }
-  return send_colors() * static_cast<std::int64_t>(sizeof(Vec3f));
+  return out;
+}
+
+}  // namespace
+
+// The first exchange sends every halo colour. They are packed into `spare`, the other map
+// buffer: its colours (the iteration before's, or the restart's) are read by no one before the
+// next iteration overwrites every entry, and a changed-only run compares with the map just sent,
+// not with these. A rank that sends more colours than it owns sends them in rounds, an equal
+// share of every peer's list per round, as many rounds as the rank that needs most (its packed
+// colours were a third buffer of 12 bytes per colour sent, about 9 MB of the 16 x 1 ranks'
+// ~30 MB step at iteration 1 on bunny_room, results/bake/distributed.md, thirteenth round).
+std::int64_t MapExchange::run_full(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
+                                   Kokkos::View<Vec3f*, MemSpace> spare) {
+  const std::int64_t sent = send_colors(), room = static_cast<std::int64_t>(spare.extent(0));
+  const std::int64_t ranks = comm.size();
+  auto send_items = send_items_;
+  // With R rounds a round packs at most sent / R + ranks colours (one rounded up per peer).
+  std::int64_t rounds = 1;
+  if (sent > room && room > ranks) rounds = (sent + room - ranks - 1) / (room - ranks);
+  rounds = static_cast<std::int64_t>(comm.max(static_cast<double>(rounds)));
+  std::int64_t most = 0;  // the largest round this rank packs: its first
+  for (const int n : round_counts(send_counts_, 0, rounds)) most += n;
+  Kokkos::View<Vec3f*, MemSpace> packed = spare;
+  if (most > room)  // a rank of (almost) no colours read by many: a buffer of its own
+    packed = Kokkos::View<Vec3f*, MemSpace>(
+        Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::exchange_send"),
+        static_cast<std::size_t>(most));
+  std::vector<Vec3f> host_recv(direct_ ? 0 : recv_buf_.extent(0));  // staging, without direct_
+  std::vector<int> recv_at = recv_displs_;  // where each peer's next colours land in the halo
+  std::vector<std::int64_t> send_at(send_displs_.begin(), send_displs_.end());
+  for (std::int64_t round = 0; round < rounds; ++round) {
+    const std::vector<int> sc = round_counts(send_counts_, round, rounds);
+    const std::vector<int> rc = round_counts(recv_counts_, round, rounds);
+    std::int64_t n = 0;
+    for (std::int64_t r = 0; r < ranks; ++r) {
+      const std::int64_t to = n, from = send_at[r];
+      Kokkos::parallel_for(
+          "rtmini::bake::exchange_pack", Policy(0, sc[r]),
+          KOKKOS_LAMBDA(std::int64_t i) { packed(to + i) = map(send_items(from + i)); });
+      n += sc[r];
+      send_at[r] += sc[r];
+    }
+    if (direct_) {
+      Kokkos::fence();  // the packed colours must be in memory before MPI reads them
+      alltoallv_records(comm, packed, sc, recv_buf_, rc, sizeof(Vec3f), recv_at);
+    } else {
+      // Device memory and an MPI that cannot read it: through host buffers (any MPI works).
+      std::vector<Vec3f> host_send(static_cast<std::size_t>(n));
+      Kokkos::deep_copy(compat::host_view(host_send.data(), host_send.size()),
+                        Kokkos::subview(packed, std::make_pair(std::int64_t(0), n)));
+      alltoallv_records(comm, host_send, sc, host_recv, rc, sizeof(Vec3f), recv_at);
+    }
+    for (std::int64_t r = 0; r < ranks; ++r) recv_at[r] += rc[r];
+  }
+  if (!direct_) Kokkos::deep_copy(recv_buf_, compat::host_view(host_recv.data(), host_recv.size()));
+  return sent * static_cast<std::int64_t>(sizeof(Vec3f));
 }
 
 namespace {
@@ -530,8 +589,6 @@ std::int64_t MapExchange::run_changed(const Communicator& comm, Kokkos::View<Vec
 void MapExchange::release() {
   send_items_ = {};
   recv_buf_ = {};
-  std::vector<Vec3f>().swap(host_send_);
-  std::vector<Vec3f>().swap(host_recv_);
   first_entry_ = {};
   changed_before_ = {};
   send_words_ = {};

@@ -98,15 +98,17 @@ class MapExchange {
   Kokkos::View<Vec3f*, MemSpace> halo() const { return recv_buf_; }
 
   // Refreshes the halo from the owners' colours in their `map` (collective); returns bytes
-  // sent. `previous`: the map of the iteration before, which the last run sent (the other of the
-  // two map buffers, read-only since). The first run sends every halo entry. With `changed_only`
-  // (bake --exchange changed, the default), later runs send, per destination, only the entries
-  // whose colour changed (bit for bit) since the last run, with a bitmask of the destination's
-  // entries or a list of their indices, whichever is smaller; the receiver keeps the last colour of
-  // the others. A view-independent vertex's colour, and a mirror colour whose reflected path ends
-  // on such vertices, stop changing after an iteration or two, so later exchanges shrink.
+  // sent. `other`: the other of the two map buffers, the map of the iteration before, which the
+  // last run sent; the next iteration overwrites all of it. The first run sends every halo
+  // entry, packed in `other` (nothing reads it any more); later ones only read it. With
+  // `changed_only` (bake --exchange changed, the default), later runs send, per destination, only
+  // the entries whose colour changed (bit for bit) since the last run, with a bitmask of the
+  // destination's entries or a list of their indices, whichever is smaller; the receiver keeps the
+  // last colour of the others. A view-independent vertex's colour, and a mirror colour whose
+  // reflected path ends on such vertices, stop changing after an iteration or two, so later
+  // exchanges shrink.
   std::int64_t run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
-                   Kokkos::View<const Vec3f*, MemSpace> previous);
+                   Kokkos::View<Vec3f*, MemSpace> other);
 
   std::int64_t send_colors() const { return total(send_counts_); }
   bool direct() const { return direct_; }  // MPI moves the map's own buffers (no host copies)
@@ -117,7 +119,8 @@ class MapExchange {
   std::int64_t offered_colors() const { return offered_colors_; }
 
   // The two kinds of run() (public only because nvcc rejects device lambdas in private members).
-  std::int64_t run_full(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map);
+  std::int64_t run_full(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
+                        Kokkos::View<Vec3f*, MemSpace> spare);
   std::int64_t run_changed(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
                            Kokkos::View<const Vec3f*, MemSpace> previous);
 
@@ -134,11 +137,13 @@ class MapExchange {
   // The words a changed-only message to or from a rank holds: as a bitmask or an index list.
   static std::int64_t mask_words(std::int64_t entries) { return (entries + 31) / 32; }
   std::vector<int> send_counts_, send_displs_, recv_counts_, recv_displs_;  // in colours
-  Kokkos::View<std::int64_t*, MemSpace> send_items_;  // map entries, in send order
+  // This rank's map entries that it sends, in send order: 4 bytes each (a rank's map has fewer
+  // than 2^32 entries; checked), 8 with the global numbers they are asked by.
+  using SendItem = std::uint32_t;
+  Kokkos::View<SendItem*, MemSpace> send_items_;
   // The colours last received: the halo, in receive order. (What was last sent is the previous
   // iteration's map, which the owner holds anyway: no copy of it is kept.)
   Kokkos::View<Vec3f*, MemSpace> recv_buf_;
-  std::vector<Vec3f> host_send_, host_recv_;  // only when MPI cannot take MemSpace (direct_)
   bool direct_ = false;
   bool sent_ = false;                                  // the first (full) run is done
   bool changed_only_ = false;                          // bake --exchange changed

@@ -9,6 +9,15 @@ import json
 import os
 import sys
 
+# Marks within iteration N come as "iteration N trace", "iteration N halo layout", "iteration N
+# exchange plan" (the fused first iteration's halo and exchange plan), then "iteration N".
+ITERATION_STEPS = ["trace", "halo layout", "exchange plan", ""]
+
+
+def iteration_step(k):
+    words = k.split()
+    return int(words[1]), ITERATION_STEPS.index(" ".join(words[2:]))
+
 
 def rows(out, prefix):
     found = []
@@ -244,7 +253,7 @@ def memory_steps(out, prefix):
         rss = s["scene"]["peak_rss_bytes_per_rank"]
         r = rss.index(max(rss))
         order = ["setup", "map", "halo"] + sorted(
-            (k for k in steps if k.startswith("iteration")), key=lambda k: int(k.split()[1])) + ["write"]
+            (k for k in steps if k.startswith("iteration")), key=iteration_step) + ["write"]
         after = [(k, steps[k][r] / 2**30) for k in order if k in steps]
         first = next(k for k, v in after if v >= max(rss) / 2**30 - 1e-9)
         found.append((os.path.basename(path)[:-5], s["ranks"], s["threads"], r, after, first,

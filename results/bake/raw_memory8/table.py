@@ -8,6 +8,16 @@ import json
 import os
 import sys
 
+# Marks within iteration N come as "iteration N trace", "iteration N halo layout", "iteration N
+# exchange plan" (the fused first iteration's halo and exchange plan), then "iteration N".
+ITERATION_STEPS = ["trace", "halo layout", "exchange plan", ""]
+
+
+def iteration_step(k):
+    words = k.split()
+    return int(words[1]), ITERATION_STEPS.index(" ".join(words[2:]))
+
+
 G = 2**30
 out = sys.argv[1]
 runs = {}
@@ -33,7 +43,7 @@ for which in ("main", "new"):
             if steps:
                 r = peak.index(max(peak))
                 order = ["setup", "map", "halo"] + sorted(
-                    (k for k in steps if k.startswith("iteration")), key=lambda k: int(k.split()[1])) + ["write"]
+                    (k for k in steps if k.startswith("iteration")), key=iteration_step) + ["write"]
                 setby = next(k for k in order if k in steps and steps[k][r] >= max(peak) - 1)
             items = sc.get("work", {}).get("items", {}).get("max_over_mean", 1.0)
             cost = sc.get("work", {}).get("iteration_cost", {}).get("max_over_mean", 1.0)

@@ -98,6 +98,37 @@ TEST(BakeBatches, ColorCapBoundsTheColoursPerRank) {
   for (const Batch& x : free_cut) EXPECT_EQ(x.end - x.begin, 250);
 }
 
+// Both balanced under the cap: expensive vertices (2 lookup hits each) in the first and
+// third quarters, cheap ones between. The capped contiguous cut gives a cheap quarter's rank its
+// colour quota at a fraction of the mean cost (1.6x the mean cost on the largest); ranks that
+// take several ranges (pieces of equal cost swapped between them) hold the mean cost to 2 % and
+// at most 1.1x the mean colours.
+TEST(BakeBatches, SwappedPiecesBalanceCostAndColours) {
+  const BakeSceneHost s = scene_with(1000, 0, 10);
+  std::vector<float> hits(1000, 0.f);
+  for (int v = 0; v < 1000; ++v)
+    if (v < 250 || (v >= 500 && v < 750)) hits[v] = 2.f;
+  const std::vector<double> cost = lookup_hit_cost(s, hits);
+  const auto b = make_batches(s, 4, Balance::kCost, 0, cost, 1.1);
+  expect_tiling(b, 1000, 4);
+  EXPECT_GT(b.size(), 4u);
+  std::vector<double> rank_cost(4, 0.0), rank_colors(4, 0.0);
+  double total = 0;
+  for (const Batch& x : b)
+    for (std::int64_t v = x.begin; v < x.end; ++v) {
+      rank_cost[x.rank] += cost[v];
+      rank_colors[x.rank] += double(s.color_count(v));
+      total += cost[v];
+    }
+  for (int r = 0; r < 4; ++r) {
+    EXPECT_LE(rank_cost[r], 1.02 * total / 4) << r;
+    EXPECT_LE(rank_colors[r], 1.1 * 2500) << r;
+  }
+  for (std::size_t i = 1; i < b.size(); ++i) EXPECT_NE(b[i].rank, b[i - 1].rank);  // merged
+  // Without the cap: one range per rank, cut by cost.
+  EXPECT_EQ(make_batches(s, 4, Balance::kCost, 0, cost, 0.0).size(), 4u);
+}
+
 // The mirror trace's cut weighs the BVH nodes the rays visit: with the first quarter of the
 // vertices tracing into a deep part of the tree (86 % of the nodes), three of four ranks share
 // that quarter.
