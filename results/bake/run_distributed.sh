@@ -24,11 +24,12 @@
 # Every run writes its summary (verification hash, peak RSS per rank, map statistics) and
 # timings (.h5) to OUT_DIR; table.md collects them. Usage (from the repository root, build/ built):
 #   results/bake/run_distributed.sh OUT_DIR [strong|scaling|weak|weakrooms|exchange|big|all]
+# BAKE=path runs another build's bake (a baseline in the same call), on the same inputs.
 set -eu
 out=$1
 what=${2:-all}
 src=$(cd "$(dirname "$0")/../.." && pwd)
-bake=$src/build/miniapps/bake/bake
+bake=${BAKE:-$src/build/miniapps/bake/bake}
 gen=$src/build/inputs/rtmini-gen-inputs
 mkdir -p "$out"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_PROC_BIND=false
