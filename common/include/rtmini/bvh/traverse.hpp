@@ -761,13 +761,12 @@ struct PacketBoxHits {
 };
 
 #if RTMINI_FMA_BOX_TEST
-// Rays of an any-hit packet from which its node's box tests go child by child rather than ray by
-// ray: eight children's tests of all eight lanes cost less than one test per ray from about this
-// many rays (packets of one direction octant; kMinMixedRaysByChild where blends pick each lane's
-// near planes). Both measured on the dragon's shadow and AO rays (results/bvh/README.md).
-// Closest-hit packets go child by child from one ray on: measured faster at every ray count on
-// the dragon's and the bunny's diffuse and primary rays, the per-ray form kept only for rays
-// whose directions need the robust test (results/bvh/README.md, branch cpu9).
+// Rays of a packet from which its node's box tests go child by child rather than ray by ray:
+// eight children's tests of all eight lanes cost less than one test per ray from about this many
+// rays (packets of one direction octant; kMinMixedRaysByChild where blends pick each lane's near
+// planes). Both measured on the dragon's shadow and AO rays, and kept for closest hit (diffuse
+// and primary rays; from one ray on was faster on a quiet machine but slower under load, when
+// the eight lanes' arithmetic competes for the core: results/bvh/raw_cpu9/explore.txt).
 inline constexpr int kMinRaysByChild = 3;
 inline constexpr int kMinMixedRaysByChild = 4;
 
@@ -912,21 +911,18 @@ KOKKOS_FORCEINLINE_FUNCTION int packet_leaf(const BvhT& bvh, std::uint32_t c, in
 // The box tests of one node for the rays `rays` of a packet: byte k of the result = the rays
 // that hit child k; with kEntries, tn[r][k] = ray r's entry distance to child k (closest hit),
 // else tn is scratch. Child by child where the packet has enough rays for it
-// (fma_box_test_by_child), else ray by ray, the "children ray r hits" bytes transposed.
+// (fma_box_test_by_child, kMinRaysByChild), else ray by ray, the "children ray r hits" bytes
+// transposed.
 template <bool kFma, bool kEntries>
 KOKKOS_FORCEINLINE_FUNCTION PacketBoxHits packet_box_tests(const WideNode& nd, const PacketRays& p,
                                                            int rays, Real (*tn)[kWidth]) {
 #if RTMINI_FMA_BOX_TEST
   if (kFma) {
-    if constexpr (kEntries) {  // closest hit: child by child from one ray on (see kMinRaysByChild)
-      if (p.one_octant) return fma_box_test_by_child<true, true>(nd, p, rays, tn);
-      return fma_box_test_by_child<false, true>(nd, p, rays, tn);
-    }
     const int n = __builtin_popcount(rays);
     if (p.one_octant && n >= kMinRaysByChild)
-      return fma_box_test_by_child<true, false>(nd, p, rays, tn);
+      return fma_box_test_by_child<true, kEntries>(nd, p, rays, tn);
     if (!p.one_octant && n >= kMinMixedRaysByChild)
-      return fma_box_test_by_child<false, false>(nd, p, rays, tn);
+      return fma_box_test_by_child<false, kEntries>(nd, p, rays, tn);
   }
 #endif
   std::uint64_t per_ray = 0;
