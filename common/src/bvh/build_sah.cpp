@@ -512,8 +512,9 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
     // and a candidate plane after one repeats the previous candidate's cost, which never wins
     // (strict <). Most nodes are small, so most of their 16 bins are empty.
     const unsigned occupied = occupied_on[axis];
-    BinBox right_box[kBins];  // [k]: bins k.. (read only at occupied k)
-    int right_count[kBins];
+    // [k]: the right side's cost term, count times area of bins k.. (read only at occupied k;
+    // the same operations as in the cost below, so the same bits).
+    Real right_cost[kBins];
     BinBox acc;
     int cnt = 0;
     for (unsigned m = occupied & ~1u; m != 0;) {
@@ -521,8 +522,7 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
       m &= ~(1u << k);
       acc.expand(bins[axis][k]);
       cnt += counts[axis][k];
-      right_box[k] = acc;
-      right_count[k] = cnt;
+      right_cost[k] = cnt * acc.surface_area();
     }
     acc = BinBox();
     cnt = 0;
@@ -534,8 +534,7 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
       acc.expand(bins[axis][k]);
       cnt += counts[axis][k];
       const Real c = kTraversalCost * parent_area +
-                     kTriangleCost * (cnt * acc.surface_area() +
-                                      right_count[next] * right_box[next].surface_area());
+                     kTriangleCost * (cnt * acc.surface_area() + right_cost[next]);
       // Kept without a branch (whether a candidate improves is hard to predict); the winner's
       // boxes are merged again below.
       const bool better = c < best;

@@ -764,18 +764,42 @@ struct PacketBoxHits {
 // Rays of a packet from which its node's box tests go child by child rather than ray by ray:
 // eight children's tests of all eight lanes cost less than one test per ray from about this many
 // rays (packets of one direction octant; kMinMixedRaysByChild where blends pick each lane's near
-// planes). Both measured on the dragon's shadow and AO rays (results/bvh/README.md).
+// planes). Both measured on the dragon's shadow and AO rays, and kept for closest hit (diffuse
+// and primary rays; from one ray on was faster on a quiet machine but slower under load, when
+// the eight lanes' arithmetic competes for the core: results/bvh/raw_cpu9/explore.txt).
 inline constexpr int kMinRaysByChild = 3;
 inline constexpr int kMinMixedRaysByChild = 4;
+
+// Stores the 8x8 matrix m (m[k] = row k) transposed: out[r][k] = lane r of m[k] (shuffles only,
+// so the values keep their bits).
+inline void store_transposed(const __m256 m[8], Real (*out)[8]) {
+  __m256 t[8], u[8];
+  for (int i = 0; i < 8; i += 2) {
+    t[i] = _mm256_unpacklo_ps(m[i], m[i + 1]);      // rows i, i+1 interleaved, lanes 0 1 4 5
+    t[i + 1] = _mm256_unpackhi_ps(m[i], m[i + 1]);  // lanes 2 3 6 7
+  }
+  for (int i = 0; i < 8; i += 4) {
+    u[i] = _mm256_shuffle_ps(t[i], t[i + 2], 0x44);
+    u[i + 1] = _mm256_shuffle_ps(t[i], t[i + 2], 0xee);
+    u[i + 2] = _mm256_shuffle_ps(t[i + 1], t[i + 3], 0x44);
+    u[i + 3] = _mm256_shuffle_ps(t[i + 1], t[i + 3], 0xee);
+  }
+  for (int i = 0; i < 4; ++i) {
+    _mm256_store_ps(out[i], _mm256_permute2f128_ps(u[i], u[i + 4], 0x20));
+    _mm256_store_ps(out[i + 4], _mm256_permute2f128_ps(u[i], u[i + 4], 0x31));
+  }
+}
 
 // The FMA box test of one node for the rays `rays` of a packet at once, child by child, ray r in
 // lane r: byte k of the result = the rays that hit child k. Lane r runs fma_box_test's operations
 // for ray r in the same order on the same planes (each ray's near plane of an axis by the sign of
 // its direction: the packet's when its rays share their octant, kOneOctant, else lane by lane),
 // so each ray finds the children its own test finds. No transpose; one child's rays per vector
-// instead of one ray's children.
-template <bool kOneOctant>
-inline PacketBoxHits fma_box_test_by_child(const WideNode& nd, const PacketRays& p, int rays) {
+// instead of one ray's children. With kEntries, tn[r][k] = ray r's entry distance to child k, the
+// value fma_box_test stores for it (closest hit culls and orders children by them).
+template <bool kOneOctant, bool kEntries>
+inline PacketBoxHits fma_box_test_by_child(const WideNode& nd, const PacketRays& p, int rays,
+                                           Real (*tn)[kWidth]) {
   const PacketRays::Lanes& l = p.lanes;
   const __m256 ix = _mm256_load_ps(l.inv[0]), iy = _mm256_load_ps(l.inv[1]),
                iz = _mm256_load_ps(l.inv[2]);
@@ -796,6 +820,7 @@ inline PacketBoxHits fma_box_test_by_child(const WideNode& nd, const PacketRays&
   const Real* far_y = swap_y ? nd.lo_y : nd.hi_y;
   const Real* far_z = swap_z ? nd.lo_z : nd.hi_z;
   PacketBoxHits out;
+  __m256 entry[kWidth];  // entry[k]: the rays' entry distances to child k (kEntries)
   for (int k = 0; k < kWidth; ++k) {
     __m256 a = _mm256_fmsub_ps(_mm256_set1_ps(near_x[k]), ix, qx);
     __m256 b = _mm256_fmsub_ps(_mm256_set1_ps(near_y[k]), iy, qy);
@@ -819,7 +844,9 @@ inline PacketBoxHits fma_box_test_by_child(const WideNode& nd, const PacketRays&
     const int hit = _mm256_movemask_ps(_mm256_cmp_ps(near, far, _CMP_LE_OQ)) & rays;
     out.per_child |= std::uint64_t(hit) << (8 * k);
     out.children |= (hit != 0 ? 1 : 0) << k;
+    if constexpr (kEntries) entry[k] = near;
   }
+  if constexpr (kEntries) store_transposed(entry, tn);
   return out;
 }
 #endif
@@ -881,6 +908,35 @@ KOKKOS_FORCEINLINE_FUNCTION int packet_leaf(const BvhT& bvh, std::uint32_t c, in
   return done;
 }
 
+// The box tests of one node for the rays `rays` of a packet: byte k of the result = the rays
+// that hit child k; with kEntries, tn[r][k] = ray r's entry distance to child k (closest hit),
+// else tn is scratch. Child by child where the packet has enough rays for it
+// (fma_box_test_by_child, kMinRaysByChild), else ray by ray, the "children ray r hits" bytes
+// transposed.
+template <bool kFma, bool kEntries>
+KOKKOS_FORCEINLINE_FUNCTION PacketBoxHits packet_box_tests(const WideNode& nd, const PacketRays& p,
+                                                           int rays, Real (*tn)[kWidth]) {
+#if RTMINI_FMA_BOX_TEST
+  if (kFma) {
+    const int n = __builtin_popcount(rays);
+    if (p.one_octant && n >= kMinRaysByChild)
+      return fma_box_test_by_child<true, kEntries>(nd, p, rays, tn);
+    if (!p.one_octant && n >= kMinMixedRaysByChild)
+      return fma_box_test_by_child<false, kEntries>(nd, p, rays, tn);
+  }
+#endif
+  std::uint64_t per_ray = 0;
+  PacketBoxHits out;
+  for (int m = rays; m != 0; m &= m - 1) {
+    const int r = lowest_bit(m);
+    const int h = box_test<kFma>(nd, p.box[r], p.rays[r].tmin, p.tmax[r], tn[r]);
+    per_ray |= std::uint64_t(h) << (8 * r);
+    out.children |= h;
+  }
+  out.per_child = transpose_bytes(per_ray);
+  return out;
+}
+
 // The closest-hit packet walk (any hits: occlude_packet_with below).
 template <class BvhT, bool kFma, bool kSharedOrigin>
 inline void traverse_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* hits, bool* found) {
@@ -888,18 +944,12 @@ inline void traverse_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* 
   PacketEntry at{0u, live};
   while (true) {
     const WideNode& nd = bvh.wide(at.node);
-    // Each ray's box test: byte r of `per_ray` = the children ray r hits.
+    // Byte k of `per_child` = the rays that hit child k; tn[r][k] = ray r's entry distance.
     alignas(32) Real tn[kPacketSize][kWidth];
-    std::uint64_t per_ray = 0;
-    int any_child = 0;
-    for (int m = at.rays; m != 0; m &= m - 1) {
-      const int r = lowest_bit(m);
-      const int h = box_test<kFma>(nd, p.box[r], p.rays[r].tmin, p.tmax[r], tn[r]);
-      per_ray |= std::uint64_t(h) << (8 * r);
-      any_child |= h;
-    }
+    const PacketBoxHits box = packet_box_tests<kFma, true>(nd, p, at.rays, tn);
+    std::uint64_t per_child = box.per_child;
+    const int any_child = box.children;
     const int leaves = leaf_lanes(nd);
-    std::uint64_t per_child = transpose_bytes(per_ray);
     // Every leaf some ray will test, fetched before the first is tested: with eight rays per
     // leaf the later leaves' misses overlap the earlier leaves' tests.
     for (int m = any_child & leaves; m != 0; m &= m - 1) {
@@ -924,6 +974,7 @@ inline void traverse_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* 
     // Closest hit: a ray whose tmax moved drops the inner children now beyond it (as the
     // single-ray traversal does).
     if (shrunk != 0) {
+      std::uint64_t per_ray = transpose_bytes(per_child);  // byte r = the children ray r hits
       for (int m = shrunk; m != 0; m &= m - 1) {
         const int r = lowest_bit(m);
         const int keep = lanes_not_after(tn[r], cull_limit<kFma>(p.tmax[r], p.box[r]));
@@ -980,33 +1031,6 @@ inline void traverse_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* 
   }
 }
 
-// The box tests of one node for the rays `rays` of a packet: byte k of the result = the rays
-// that hit child k (any hit; entry distances are not kept). Child by child where the packet can
-// (fma_box_test_by_child), else ray by ray, the "children ray r hits" bytes transposed.
-template <bool kFma>
-KOKKOS_FORCEINLINE_FUNCTION PacketBoxHits packet_box_tests(const WideNode& nd, const PacketRays& p,
-                                                           int rays) {
-#if RTMINI_FMA_BOX_TEST
-  if (kFma) {
-    const int n = __builtin_popcount(rays);
-    if (p.one_octant && n >= kMinRaysByChild) return fma_box_test_by_child<true>(nd, p, rays);
-    if (!p.one_octant && n >= kMinMixedRaysByChild)
-      return fma_box_test_by_child<false>(nd, p, rays);
-  }
-#endif
-  std::uint64_t per_ray = 0;
-  PacketBoxHits out;
-  alignas(32) Real tn[kWidth];  // (entry distances: unused here)
-  for (int m = rays; m != 0; m &= m - 1) {
-    const int r = lowest_bit(m);
-    const int h = box_test<kFma>(nd, p.box[r], p.rays[r].tmin, p.tmax[r], tn);
-    per_ray |= std::uint64_t(h) << (8 * r);
-    out.children |= h;
-  }
-  out.per_child = transpose_bytes(per_ray);
-  return out;
-}
-
 // Leaf children a node's box tests found, and the rays that hit each.
 struct PendingLeaves {
   std::uint32_t leaf[kWidth];
@@ -1028,7 +1052,8 @@ inline void occlude_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* h
     // The next node's box tests: byte k of `per_child` = the rays that hit child k.
     at.rays &= live;
     PacketBoxHits box;
-    if (at.rays != 0) box = packet_box_tests<kFma>(bvh.wide(at.node), p, at.rays);
+    alignas(32) Real tn[kPacketSize][kWidth];  // (entry distances: unused here)
+    if (at.rays != 0) box = packet_box_tests<kFma, false>(bvh.wide(at.node), p, at.rays, tn);
     // The previous node's leaves, fetched while this node's boxes were tested.
     for (int j = 0; j < pending.count; ++j) {
       const int rays = pending.rays[j] & live;
@@ -1144,7 +1169,7 @@ inline void traverse_packet(const BvhT& bvh, const Ray* rays, int n, Hit* hits, 
   for (int r = n; r < kPacketSize; ++r) p.tmax[r] = Real(0);
   if (live == 0 || bvh.num_prims == 0) return;
 #if RTMINI_FMA_BOX_TEST
-  if constexpr (kAnyHit) fill_packet_lanes(p, n);  // (only the any-hit walk tests by child)
+  if (fma) fill_packet_lanes(p, n);
 #endif
   const bool shared = shares_origin(rays, n);
 #if RTMINI_FMA_BOX_TEST
