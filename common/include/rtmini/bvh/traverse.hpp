@@ -910,7 +910,7 @@ KOKKOS_FORCEINLINE_FUNCTION int packet_leaf(const BvhT& bvh, std::uint32_t c, in
 
 // The box tests of one node for the rays `rays` of a packet: byte k of the result = the rays
 // that hit child k; with kEntries, tn[r][k] = ray r's entry distance to child k (closest hit),
-// else tn is scratch. Child by child where the packet has enough rays for it
+// else tn is one row of scratch. Child by child where the packet has enough rays for it
 // (fma_box_test_by_child, kMinRaysByChild), else ray by ray, the "children ray r hits" bytes
 // transposed.
 template <bool kFma, bool kEntries>
@@ -929,7 +929,7 @@ KOKKOS_FORCEINLINE_FUNCTION PacketBoxHits packet_box_tests(const WideNode& nd, c
   PacketBoxHits out;
   for (int m = rays; m != 0; m &= m - 1) {
     const int r = lowest_bit(m);
-    const int h = box_test<kFma>(nd, p.box[r], p.rays[r].tmin, p.tmax[r], tn[r]);
+    const int h = box_test<kFma>(nd, p.box[r], p.rays[r].tmin, p.tmax[r], tn[kEntries ? r : 0]);
     per_ray |= std::uint64_t(h) << (8 * r);
     out.children |= h;
   }
@@ -1052,7 +1052,7 @@ inline void occlude_packet_with(const BvhT& bvh, PacketRays& p, int live, Hit* h
     // The next node's box tests: byte k of `per_child` = the rays that hit child k.
     at.rays &= live;
     PacketBoxHits box;
-    alignas(32) Real tn[kPacketSize][kWidth];  // (entry distances: unused here)
+    alignas(32) Real tn[1][kWidth];  // scratch: any hit keeps no entry distances
     if (at.rays != 0) box = packet_box_tests<kFma, false>(bvh.wide(at.node), p, at.rays, tn);
     // The previous node's leaves, fetched while this node's boxes were tested.
     for (int j = 0; j < pending.count; ++j) {
