@@ -209,13 +209,7 @@ struct MirrorIteration {
       ray.dir = r;
       hit = bvh::closest_hit(accel, ray);
       ++rays;
-      if (cache_mode == HitCacheMode::kFill) {
-        CachedHit h;
-        h.prim = hit.prim;
-        h.u = static_cast<float>(hit.u);
-        h.v = static_cast<float>(hit.v);
-        cache(slot) = h;
-      }
+      if (cache_mode == HitCacheMode::kFill) cache(slot) = cached_hit(hit);
     }
     return hit;
   }
@@ -539,14 +533,7 @@ Kokkos::View<CachedHit*, MemSpace> hits_as_cache(Kokkos::View<Traced*, MemSpace>
       "rtmini::bake::fill_hit_cache",
       Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(
           0, static_cast<std::int64_t>(traced.extent(0))),
-      KOKKOS_LAMBDA(std::int64_t i) {
-        const Traced t = traced(i);
-        CachedHit h;
-        h.prim = t.prim;
-        h.u = static_cast<float>(t.u);
-        h.v = static_cast<float>(t.v);
-        cache(i) = h;
-      });
+      KOKKOS_LAMBDA(std::int64_t i) { cache(i) = cached_hit(traced(i)); });
   return cache;
 }
 

@@ -25,6 +25,16 @@ struct HitRecord {
 // only re-read the map at the same hit (a gather instead of a trace).
 using CachedHit = HitRecord<float>;
 
+// A hit (a traced record or a traversal's Hit: prim, u, v) as the float cache stores it.
+template <class H>
+KOKKOS_INLINE_FUNCTION CachedHit cached_hit(const H& h) {
+  CachedHit c;
+  c.prim = h.prim;
+  c.u = static_cast<float>(h.u);
+  c.v = static_cast<float>(h.v);
+  return c;
+}
+
 // A mirror hit at full precision, traced once before the iterations (the owner-computes map
 // needs every hit up front to know which remote colours a rank reads). The first mirror
 // iteration shades from it, exactly as from a fresh trace; later ones read the float cache, as
