@@ -19,38 +19,4 @@
 #   RTMINI_ENV_HOOK       bash file of `module load` lines, sourced by every job first []
 # Prints the submitted job ids, one per line.
 set -euo pipefail
-
-here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
-root=${RTMINI_ROOT:-$(cd "$here/../.." && pwd)}
-outdir=${RTMINI_OUTDIR:-$PWD/rtmini-weak}
-threads=${RTMINI_THREADS:-1}
-per_node=${RTMINI_RANKS_PER_NODE:-16}
-base=${RTMINI_WEAK_BASE:-16}
-if [ "${RTMINI_APP:-sketchtrace}" = bake ]; then knob=RTMINI_VIEWPOINTS; else knob=RTMINI_SPP; fi
-read -r -a extra <<<"${RTMINI_SBATCH_ARGS:-}"
-mkdir -p "$outdir"
-
-ids=()
-dep=()
-for r in ${RTMINI_RANKS:-1 2 4 8 16}; do
-  nodes=$(((r + per_node - 1) / per_node))
-  id=$(sbatch --parsable "${dep[@]}" "${extra[@]}" --job-name="rtmini-weak-$r" \
-    --nodes="$nodes" --ntasks="$r" --ntasks-per-node="$(((r + nodes - 1) / nodes))" --cpus-per-task="$threads" \
-    --output="$outdir/weak-$r-%j.out" \
-    --export="ALL,RTMINI_ROOT=$root,RTMINI_OUTDIR=$outdir,RTMINI_TAG=weak-$r,$knob=$((base * r))" \
-    "$root/jobs/slurm/cpu_node.sbatch")
-  ids+=("$id")
-  echo "$id"
-  if [ "${RTMINI_SEQUENTIAL:-0}" = 1 ]; then
-    dep=(--dependency="afterany:$id")
-  fi
-done
-
-if [ "${RTMINI_ANALYZE:-0}" = 1 ]; then
-  hook=""
-  if [ -n "${RTMINI_ENV_HOOK:-}" ]; then hook=". '$RTMINI_ENV_HOOK' && "; fi
-  after=$(IFS=:; echo "${ids[*]}")
-  sbatch --parsable "${extra[@]}" --job-name=rtmini-weak-plot --ntasks=1 \
-    --dependency="afterany:$after" --output="$outdir/plot-%j.out" \
-    --wrap="${hook}cd '$root/analysis' && PYTHONPATH=. '${RTMINI_PYTHON:-python3}' -m rtmini_analysis.scaling --mode weak -o '$outdir/weak_scaling.png' '$outdir'/weak-*.json"
-fi
+exec "$(dirname "${BASH_SOURCE[0]}")/scaling_series.sh" weak

@@ -137,31 +137,8 @@ KOKKOS_FORCEINLINE_FUNCTION bool intersect_stored_triangle(const WatertightRay& 
   const Real Ax = a[r.kx] - o.x, Ay = a[r.ky] - o.y, Az = a[r.kz] - o.z;
   const Real Bx = b[r.kx] - o.x, By = b[r.ky] - o.y, Bz = b[r.kz] - o.z;
   const Real Cx = c[r.kx] - o.x, Cy = c[r.ky] - o.y, Cz = c[r.kz] - o.z;
-  const Real ax = Ax - r.sx * Az, ay = Ay - r.sy * Az;
-  const Real bx = Bx - r.sx * Bz, by = By - r.sy * Bz;
-  const Real cx = Cx - r.sx * Cz, cy = Cy - r.sy * Cz;
-  using rtmini::detail::mul_rn;
-  Real U = mul_rn(cx, by) - mul_rn(cy, bx);
-  Real V = mul_rn(ax, cy) - mul_rn(ay, cx);
-  Real W = mul_rn(bx, ay) - mul_rn(by, ax);
-  if (sizeof(Real) == 4 && (U == Real(0) || V == Real(0) || W == Real(0))) {
-    U = Real(mul_rn(double(cx), double(by)) - mul_rn(double(cy), double(bx)));
-    V = Real(mul_rn(double(ax), double(cy)) - mul_rn(double(ay), double(cx)));
-    W = Real(mul_rn(double(bx), double(ay)) - mul_rn(double(by), double(ax)));
-  }
-  if ((U < Real(0) || V < Real(0) || W < Real(0)) && (U > Real(0) || V > Real(0) || W > Real(0)))
-    return false;
-  const Real det = U + V + W;
-  if (det == Real(0)) return false;
-  const Real az = r.sz * Az, bz = r.sz * Bz, cz = r.sz * Cz;
-  const Real T = U * az + V * bz + W * cz;
-  const Real inv = Real(1) / det;
-  const Real t = T * inv;
-  if (!(t >= tmin && t <= tmax)) return false;
-  t_out = t;
-  u_out = V * inv;
-  v_out = W * inv;
-  return true;
+  return intersect_permuted(r, Ax, Ay, Az, Bx, By, Bz, Cx, Cy, Cz, tmin, tmax, t_out, u_out,
+                            v_out);
 }
 
 // One axis of a node's slab test in the form of Ylitie et al.: a plane's ray distance is one

@@ -61,19 +61,17 @@ struct WatertightRay {
   }
 };
 
-// Returns true when the ray hits the triangle with t in (tmin, tmax); then t,
-// u (weight of b) and v (weight of c) are set. Both windings are hit.
-KOKKOS_INLINE_FUNCTION bool intersect_triangle(const WatertightRay& r, const Vec3& a, const Vec3& b,
-                                               const Vec3& c, Real tmin, Real tmax, Real& t_out,
-                                               Real& u_out, Real& v_out) {
-  // Index the permuted axes through small arrays: one load each instead of a
-  // compare-and-select chain per access.
-  const Real A[3] = {a.x - r.org.x, a.y - r.org.y, a.z - r.org.z};
-  const Real B[3] = {b.x - r.org.x, b.y - r.org.y, b.z - r.org.z};
-  const Real C[3] = {c.x - r.org.x, c.y - r.org.y, c.z - r.org.z};
-  const Real ax = A[r.kx] - r.sx * A[r.kz], ay = A[r.ky] - r.sy * A[r.kz];
-  const Real bx = B[r.kx] - r.sx * B[r.kz], by = B[r.ky] - r.sy * B[r.kz];
-  const Real cx = C[r.kx] - r.sx * C[r.kz], cy = C[r.ky] - r.sy * C[r.kz];
+// The watertight test from the vertices relative to the ray's origin, already permuted
+// (x, y, z along the ray's kx, ky, kz): shear, edge functions, sign test, t. Shared by
+// intersect_triangle and the GPU's stored-triangle walk, which load the permuted coordinates
+// differently, so that both give the same bits.
+KOKKOS_FORCEINLINE_FUNCTION bool intersect_permuted(const WatertightRay& r, Real Ax, Real Ay,
+                                                    Real Az, Real Bx, Real By, Real Bz, Real Cx,
+                                                    Real Cy, Real Cz, Real tmin, Real tmax,
+                                                    Real& t_out, Real& u_out, Real& v_out) {
+  const Real ax = Ax - r.sx * Az, ay = Ay - r.sy * Az;
+  const Real bx = Bx - r.sx * Bz, by = By - r.sy * Bz;
+  const Real cx = Cx - r.sx * Cz, cy = Cy - r.sy * Cz;
   using detail::mul_rn;
   Real U = mul_rn(cx, by) - mul_rn(cy, bx);
   Real V = mul_rn(ax, cy) - mul_rn(ay, cx);
@@ -87,7 +85,7 @@ KOKKOS_INLINE_FUNCTION bool intersect_triangle(const WatertightRay& r, const Vec
     return false;
   const Real det = U + V + W;
   if (det == Real(0)) return false;
-  const Real az = r.sz * A[r.kz], bz = r.sz * B[r.kz], cz = r.sz * C[r.kz];
+  const Real az = r.sz * Az, bz = r.sz * Bz, cz = r.sz * Cz;
   const Real T = U * az + V * bz + W * cz;
   // Divide first, then compare t itself, so every caller (BVH, brute force,
   // any ordering of leaves) accepts exactly the same t for the same interval.
@@ -98,6 +96,20 @@ KOKKOS_INLINE_FUNCTION bool intersect_triangle(const WatertightRay& r, const Vec
   u_out = V * inv;
   v_out = W * inv;
   return true;
+}
+
+// Returns true when the ray hits the triangle with t in (tmin, tmax); then t,
+// u (weight of b) and v (weight of c) are set. Both windings are hit.
+KOKKOS_INLINE_FUNCTION bool intersect_triangle(const WatertightRay& r, const Vec3& a, const Vec3& b,
+                                               const Vec3& c, Real tmin, Real tmax, Real& t_out,
+                                               Real& u_out, Real& v_out) {
+  // Index the permuted axes through small arrays: one load each instead of a
+  // compare-and-select chain per access.
+  const Real A[3] = {a.x - r.org.x, a.y - r.org.y, a.z - r.org.z};
+  const Real B[3] = {b.x - r.org.x, b.y - r.org.y, b.z - r.org.z};
+  const Real C[3] = {c.x - r.org.x, c.y - r.org.y, c.z - r.org.z};
+  return intersect_permuted(r, A[r.kx], A[r.ky], A[r.kz], B[r.kx], B[r.ky], B[r.kz], C[r.kx],
+                            C[r.ky], C[r.kz], tmin, tmax, t_out, u_out, v_out);
 }
 
 // Exactly zero area in the working precision (repeated or collinear vertices). The sheared

@@ -164,31 +164,9 @@ class Communicator {
   double max(double v) const { return reduce(v, kMax); }
   double min(double v) const { return reduce(v, kMin); }
   double sum(double v) const { return reduce(v, kSum); }
-  std::int64_t sum(std::int64_t v) const {
-#ifdef RTMINI_HAVE_MPI
-    std::vector<std::int64_t> in_out{v, 0};
-    MPI_Request req;
-    MPI_Iallreduce(&in_out[0], &in_out[1], 1, MPI_INT64_T, MPI_SUM, comm_, &req);
-    wait_keeping(req, in_out);
-    count(sizeof v);
-    return in_out[1];
-#else
-    return v;
-#endif
-  }
+  std::int64_t sum(std::int64_t v) const { return reduce(v, kSum); }
   // Sum of 64-bit words modulo 2^64 (verification hashes).
-  std::uint64_t sum_wrap(std::uint64_t v) const {
-#ifdef RTMINI_HAVE_MPI
-    std::vector<std::uint64_t> in_out{v, 0};
-    MPI_Request req;
-    MPI_Iallreduce(&in_out[0], &in_out[1], 1, MPI_UINT64_T, MPI_SUM, comm_, &req);
-    wait_keeping(req, in_out);
-    count(sizeof v);
-    return in_out[1];
-#else
-    return v;
-#endif
-  }
+  std::uint64_t sum_wrap(std::uint64_t v) const { return reduce(v, kSum); }
 
   // Every rank's `mine`, concatenated in rank order, on every rank (MPI_Allgatherv).
   template <class T>
@@ -303,11 +281,19 @@ class Communicator {
 
  private:
   enum Op { kMax, kMin, kSum };
-  double reduce(double v, Op op) const {
+  // One value through MPI_Iallreduce (double, int64 or uint64; unsigned sums wrap mod 2^64).
+  template <class T>
+  T reduce(T v, Op op) const {
+    static_assert(std::is_same<T, double>::value || std::is_same<T, std::int64_t>::value ||
+                      std::is_same<T, std::uint64_t>::value,
+                  "reduce: double, int64 or uint64");
 #ifdef RTMINI_HAVE_MPI
-    std::vector<double> in_out{v, v};
+    const MPI_Datatype type = std::is_same<T, double>::value         ? MPI_DOUBLE
+                              : std::is_same<T, std::int64_t>::value ? MPI_INT64_T
+                                                                     : MPI_UINT64_T;
+    std::vector<T> in_out{v, v};
     MPI_Request req;
-    MPI_Iallreduce(&in_out[0], &in_out[1], 1, MPI_DOUBLE,
+    MPI_Iallreduce(&in_out[0], &in_out[1], 1, type,
                    op == kMax ? MPI_MAX : (op == kMin ? MPI_MIN : MPI_SUM), comm_, &req);
     wait_keeping(req, in_out);
     count(sizeof v);
