@@ -143,6 +143,14 @@ class Chef {
   // Per-vertex base colours (emission + direct light; filled for baked batches only).
   Kokkos::View<Vec3*, MemSpace> base() const { return base_; }
 
+  // Bytes of the hit records held now (the traced hits, or the cache made of them; one view
+  // when both are float), for the summary's account of what is resident.
+  std::int64_t hit_bytes() const {
+    const std::int64_t traced = static_cast<std::int64_t>(traced_.span() * sizeof(TracedHit));
+    const bool same = static_cast<const void*>(cache_.data()) == traced_.data();
+    return traced + (same ? 0 : static_cast<std::int64_t>(cache_.span() * sizeof(CachedHit)));
+  }
+
   static std::int64_t hit_cache_bytes(std::int64_t items) {
     return items * static_cast<std::int64_t>(sizeof(CachedHit));
   }

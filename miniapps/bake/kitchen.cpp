@@ -48,6 +48,15 @@ double peak_rss_bytes() {
   return static_cast<double>(u.ru_maxrss) * 1024.0;
 }
 
+// This process's resident set now (Linux: /proc/self/statm, in pages; 0 where it is missing):
+// the peak says how high a step went, this what it left resident.
+double current_rss_bytes() {
+  std::ifstream f("/proc/self/statm");
+  double pages = 0, resident = 0;
+  if (!(f >> pages >> resident)) return 0;
+  return resident * static_cast<double>(sysconf(_SC_PAGESIZE));
+}
+
 std::string human_bytes(double b) {
   const char* unit[] = {"B", "KiB", "MiB", "GiB", "TiB"};
   int u = 0;
@@ -310,35 +319,74 @@ double max_cost_over_mean(const std::vector<double>& before, const std::vector<B
 // Swaps of one piece for another between the rank with the most colours and any other rank
 // until no rank holds more than `cap` colours; false where no swap lowers the largest rank's
 // colours before that. Each time the swap that leaves the larger of the two ranks' colours
-// smallest: it moves the fewest pieces for the colours shed. The pieces cost the same, so the
-// cost stays balanced.
+// smallest: it moves the fewest pieces for the colours shed (ties: the top rank's first piece,
+// then the other's first, in vertex order). The pieces cost the same, so the cost stays balanced.
+//
+// A swap of d colours between ranks of H and h colours leaves max(H - d, h + d), at least
+// (H + h) / 2 and at least H - (the top's largest piece - the other's smallest): the pieces of a
+// rank are compared only where that bound reaches the best swap found, the rank of the lowest
+// bound first. Trying every pair of pieces (16 x 16 P per swap, thousands of swaps) took 0.9 s at
+// P = 1000 (rtmini-bake-ownership-bench; results/bake/distributed.md, fifteenth round).
 bool swap_under_cap(std::vector<Batch>& pieces, const std::vector<std::int64_t>& colors, int ranks,
                     double cap) {
   std::vector<std::int64_t> held(static_cast<std::size_t>(ranks), 0);
-  for (std::size_t i = 0; i < pieces.size(); ++i) held[pieces[i].rank] += colors[i];
+  std::vector<std::vector<std::size_t>> of_rank(static_cast<std::size_t>(ranks));
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    held[pieces[i].rank] += colors[i];
+    of_rank[pieces[i].rank].push_back(i);
+  }
+  const auto extreme = [&](int r, bool largest) {
+    std::int64_t x = colors[of_rank[r].front()];
+    for (const std::size_t i : of_rank[r])
+      x = largest ? std::max(x, colors[i]) : std::min(x, colors[i]);
+    return x;
+  };
+  std::vector<std::int64_t> smallest(static_cast<std::size_t>(ranks), 0);  // piece, per rank
+  for (int r = 0; r < ranks; ++r)
+    if (!of_rank[r].empty()) smallest[r] = extreme(r, false);
+  std::vector<std::int64_t> least(static_cast<std::size_t>(ranks));  // the bound, per rank
   for (;;) {
     const int top = static_cast<int>(std::max_element(held.begin(), held.end()) - held.begin());
-    if (double(held[top]) <= cap) return true;
-    std::int64_t best = held[top];
-    std::size_t give = 0, take = 0;
-    for (std::size_t i = 0; i < pieces.size(); ++i) {
-      if (pieces[i].rank != top) continue;
-      for (std::size_t j = 0; j < pieces.size(); ++j) {
-        const std::int64_t d = colors[i] - colors[j];
-        if (pieces[j].rank == top || d <= 0) continue;
-        const std::int64_t larger = std::max(held[top] - d, held[pieces[j].rank] + d);
-        if (larger < best) {
-          best = larger;
-          give = i;
-          take = j;
-        }
-      }
+    const std::int64_t big = held[top];
+    if (double(big) <= cap) return true;
+    const std::int64_t largest = extreme(top, true);
+    int first = -1;  // the rank of the lowest bound, compared first
+    for (int q = 0; q < ranks; ++q) {
+      least[q] = q == top || of_rank[q].empty()
+                     ? big + 1
+                     : std::max((big + held[q] + 1) / 2, big - (largest - smallest[q]));
+      if (first < 0 || least[q] < least[first]) first = q;
     }
-    if (best == held[top]) return false;
+    std::int64_t best = big;
+    std::size_t give = 0, take = 0;
+    const auto compare = [&](int q) {
+      for (const std::size_t i : of_rank[top])
+        for (const std::size_t j : of_rank[q]) {
+          const std::int64_t d = colors[i] - colors[j];
+          if (d <= 0) continue;
+          const std::int64_t larger = std::max(big - d, held[q] + d);
+          const bool tie =
+              larger == best && best < big && std::make_pair(i, j) < std::make_pair(give, take);
+          if (larger < best || tie) {
+            best = larger;
+            give = i;
+            take = j;
+          }
+        }
+    };
+    if (first >= 0 && least[first] <= best) compare(first);
+    for (int q = 0; q < ranks; ++q)
+      if (q != first && least[q] <= best) compare(q);
+    if (best == big) return false;
+    const int q = pieces[take].rank;
     const std::int64_t d = colors[give] - colors[take];
     held[top] -= d;
-    held[pieces[take].rank] += d;
+    held[q] += d;
+    std::replace(of_rank[top].begin(), of_rank[top].end(), give, take);
+    std::replace(of_rank[q].begin(), of_rank[q].end(), take, give);
     std::swap(pieces[give].rank, pieces[take].rank);
+    smallest[top] = extreme(top, false);
+    smallest[q] = extreme(q, false);
   }
 }
 
@@ -558,10 +606,21 @@ class BakeRun {
 
   std::unique_ptr<BakeSceneDevice> scene_;
   double scene_rss_bytes_ = 0;  // peak RSS once the scene and its BVH are up, before any map
-  // This rank's peak RSS after each step of the run (mark_rss), in order: which step sets the
-  // peak, which is what the memory bound per rank has to chase.
-  std::vector<std::pair<std::string, double>> rss_marks_;
-  void mark_rss(const std::string& step) { rss_marks_.emplace_back(step, peak_rss_bytes()); }
+  // This rank's peak and current RSS after each step of the run (mark_rss), in order: which
+  // step sets the peak, which is what the memory bound per rank has to chase, and what the step
+  // left resident (the difference is the step's transient).
+  struct RssMark {
+    std::string step;
+    double peak = 0, now = 0;
+  };
+  std::vector<RssMark> rss_marks_;
+  // The large buffers this rank held after the step that raised its peak last (resident_buffers):
+  // what the peak is made of, besides the scene and that step's transient.
+  std::size_t peak_mark_ = 0;
+  std::vector<std::pair<const char*, double>> buffers_at_peak_;
+  void mark_rss(const std::string& step);
+  std::vector<std::pair<const char*, double>> resident_buffers() const;
+  void report_resident_buffers();
   std::unique_ptr<Chef> chef_;
   MapLayout layout_;
   std::unique_ptr<MapExchange> exchange_;
@@ -973,8 +1032,14 @@ void BakeRun::start_fused_plan(const std::vector<char>& own) {
 // keeps its layout (this rank's vertices, dense), so iteration 1's colours stay where they are.
 void BakeRun::finish_fused_plan(int it) {
   chef_->set_first_reads(FirstReads{});
-  const auto read = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pending_.flags);
-  layout_ = make_halo_layout(host_, pending_.remote, read.data(), owner_, comm_.rank());
+  {
+    // The flags (one byte per colour of every remote vertex read, the flags' view itself on a
+    // host backend) go before the exchange is planned: held through the plan, they were 7 MiB
+    // of the largest 16 x 1 rank's 98 MiB peak on bunny_room (results/bake/distributed.md,
+    // fifteenth round).
+    const auto read = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pending_.flags);
+    layout_ = make_halo_layout(host_, pending_.remote, read.data(), owner_, comm_.rank());
+  }
   pending_ = PendingHalo{};
   mark_rss("iteration " + std::to_string(it) + " halo layout");
   // A measured recut changed this rank's share (next_ moved with it); prev_ follows.
@@ -982,6 +1047,77 @@ void BakeRun::finish_fused_plan(int it) {
     prev_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_prev", layout_.colors());
   plan_exchange();
   mark_rss("iteration " + std::to_string(it) + " exchange plan");
+}
+
+void BakeRun::mark_rss(const std::string& step) {
+  const RssMark m{step, peak_rss_bytes(), current_rss_bytes()};
+  if (rss_marks_.empty() || m.peak > rss_marks_[peak_mark_].peak) {
+    peak_mark_ = rss_marks_.size();
+    buffers_at_peak_ = resident_buffers();
+  }
+  rss_marks_.push_back(m);
+}
+
+// The buffers of the bake proper that this rank holds now, in bytes (host and device copies;
+// one where they share memory). The scene, its BVH and the runtimes are the scene's RSS.
+std::vector<std::pair<const char*, double>> BakeRun::resident_buffers() const {
+  const auto bytes = [](const auto& v) {
+    return static_cast<double>(v.span() * sizeof(typename std::decay_t<decltype(v)>::value_type));
+  };
+  const double nv = static_cast<double>(host_.vertices());
+  // Per vertex: the owner (4 bytes), the read and owned flags, the iteration cost, the base.
+  double per_vertex = static_cast<double>(owner_.capacity() * sizeof(int) + read_.capacity() +
+                                          iteration_cost_.capacity() * sizeof(double)) +
+                      bytes(owned_);
+  if (chef_) per_vertex += bytes(chef_->base());
+  double first = 0;  // the fused first iteration's read flags, their layout, the remote bases
+  if (pending_.active)
+    first = bytes(pending_.flags) + double(pending_.remote.table_bytes()) + nv * sizeof(Vec3f);
+  return {{"map", bytes(prev_) + bytes(next_)},
+          {"hits", chef_ ? double(chef_->hit_bytes()) : 0.0},
+          {"halo", exchange_ ? bytes(exchange_->halo()) : 0.0},
+          {"send_list", exchange_ ? double(exchange_->send_list_bytes()) : 0.0},
+          {"exchange_scratch", exchange_ ? double(exchange_->scratch_bytes()) : 0.0},
+          {"layout_tables", double(layout_.table_bytes())},
+          {"first_iteration_reads", first},
+          {"per_vertex", per_vertex}};
+}
+
+// The summary's scene.resident_at_peak: per rank, the step after which its peak was highest, the
+// RSS that step left, and the buffers held then (resident_buffers); one collective. Stdout
+// gives the largest rank's.
+void BakeRun::report_resident_buffers() {
+  std::vector<double> mine{static_cast<double>(peak_mark_), rss_marks_[peak_mark_].peak,
+                           rss_marks_[peak_mark_].now};
+  for (const auto& b : buffers_at_peak_) mine.push_back(b.second);
+  const std::size_t n = mine.size();
+  const std::vector<double> all = comm_.allgatherv(mine);
+  const std::size_t ranks = all.size() / n;
+  const auto column = [&](std::size_t k) {
+    std::vector<double> c(ranks);
+    for (std::size_t r = 0; r < ranks; ++r) c[r] = all[r * n + k];
+    return c;
+  };
+  nlohmann::json out;
+  std::vector<std::string> steps(ranks);
+  for (std::size_t r = 0; r < ranks; ++r)
+    steps[r] = rss_marks_[static_cast<std::size_t>(all[r * n])].step;
+  out["step_per_rank"] = steps;
+  out["peak_bytes_per_rank"] = column(1);
+  out["rss_after_step_bytes_per_rank"] = column(2);
+  for (std::size_t k = 0; k < buffers_at_peak_.size(); ++k)
+    out[buffers_at_peak_[k].first] = column(3 + k);
+  report_.scene["resident_at_peak"] = out;
+  if (!root_) return;
+  const std::vector<double> peaks = column(1);
+  const std::size_t top = std::max_element(peaks.begin(), peaks.end()) - peaks.begin();
+  std::string line;
+  for (std::size_t k = 0; k < buffers_at_peak_.size(); ++k)
+    line += std::string(k ? ", " : "") + buffers_at_peak_[k].first + " " +
+            human_bytes(all[top * n + 3 + k]);
+  std::printf("  rank %zu's peak %s (after '%s', %s resident then): %s\n", top,
+              human_bytes(peaks[top]).c_str(), steps[top].c_str(),
+              human_bytes(all[top * n + 2]).c_str(), line.c_str());
 }
 
 // The measured recut's threshold: the slowest rank's first mirror iteration over the mean.
@@ -1170,24 +1306,41 @@ void BakeRun::report_work() {
   if (root_) std::printf("  work per rank, max / mean: %s\n", line.c_str());
 }
 
-// The map's size and traffic per rank, into the summary and on stdout.
+// The map's size and traffic per rank, into the summary and on stdout: every rank's figures in
+// one collective (integers below 2^53, so the sums are exact in any order).
 void BakeRun::report_map_plan() {
-  // The colours a rank holds: its map (double-buffered) and its halo (held once).
-  const double local = static_cast<double>(layout_.colors() + layout_.halo_colors);
-  const double max_local = comm_.max(local), sum_local = comm_.sum(local);
-  const double max_halo = comm_.max(static_cast<double>(layout_.halo_colors));
-  const double reads = static_cast<double>(comm_.sum(reads_.reads));
-  const double remote = static_cast<double>(comm_.sum(reads_.remote_reads));
-  const double bytes = static_cast<double>(comm_.sum(exchange_->send_colors())) * sizeof(Vec3f);
-  // Per rank, what its exchange holds besides the map: the halo (received) and the entries it
-  // sends (both 12 bytes a colour in the first exchange).
-  const std::vector<double> halo_per_rank =
-      comm_.allgatherv(std::vector<double>{static_cast<double>(layout_.halo_colors)});
-  const std::vector<double> send_per_rank =
-      comm_.allgatherv(std::vector<double>{static_cast<double>(exchange_->send_colors())});
-  // The vertex ranges each rank owns (several where the colour cap and the cost need them).
-  const std::vector<double> ranges_per_rank =
-      comm_.allgatherv(std::vector<double>{static_cast<double>(my_ranges_.size())});
+  // Per rank: the colours it holds (its map, double-buffered, and its halo, held once), its halo
+  // (received) and the entries it sends (both 12 bytes a colour in the first exchange), the
+  // vertex ranges it owns (several where the colour cap and the cost need them), its mirror
+  // reads and the remote ones among them.
+  enum Field { kLocal, kHalo, kSent, kRanges, kReads, kRemote, kFields };
+  std::vector<double> mine(kFields);
+  mine[kLocal] = static_cast<double>(layout_.colors() + layout_.halo_colors);
+  mine[kHalo] = static_cast<double>(layout_.halo_colors);
+  mine[kSent] = static_cast<double>(exchange_->send_colors());
+  mine[kRanges] = static_cast<double>(my_ranges_.size());
+  mine[kReads] = static_cast<double>(reads_.reads);
+  mine[kRemote] = static_cast<double>(reads_.remote_reads);
+  const std::vector<double> all = comm_.allgatherv(mine);
+  const std::size_t ranks = all.size() / kFields;
+  std::vector<std::vector<double>> per_rank(kFields, std::vector<double>(ranks));
+  for (std::size_t r = 0; r < ranks; ++r)
+    for (int f = 0; f < kFields; ++f) per_rank[f][r] = all[r * kFields + f];
+  const auto sum = [](const std::vector<double>& x) {
+    double t = 0;
+    for (const double e : x) t += e;
+    return t;
+  };
+  const auto max = [](const std::vector<double>& x) {
+    return *std::max_element(x.begin(), x.end());
+  };
+  const double max_local = max(per_rank[kLocal]), sum_local = sum(per_rank[kLocal]);
+  const double max_halo = max(per_rank[kHalo]);
+  const double reads = sum(per_rank[kReads]), remote = sum(per_rank[kRemote]);
+  const double bytes = sum(per_rank[kSent]) * sizeof(Vec3f);
+  const std::vector<double>& halo_per_rank = per_rank[kHalo];
+  const std::vector<double>& send_per_rank = per_rank[kSent];
+  const std::vector<double>& ranges_per_rank = per_rank[kRanges];
   report_.scene["map"] = {{"halo", halo_ == Halo::kAll     ? "all"
                                    : halo_ == Halo::kOwned ? "owned"
                                                            : "traced"},
@@ -1529,9 +1682,13 @@ void BakeRun::report_results() {
   // of the peak that does not fall with the ranks.
   report_.scene["scene_rss_bytes_per_rank"] =
       comm_.allgatherv(std::vector<double>{scene_rss_bytes_});
-  for (const auto& [step, bytes] : rss_marks_)
-    report_.scene["peak_rss_after_bytes_per_rank"][step] =
-        comm_.allgatherv(std::vector<double>{bytes});
+  for (const RssMark& m : rss_marks_) {
+    report_.scene["peak_rss_after_bytes_per_rank"][m.step] =
+        comm_.allgatherv(std::vector<double>{m.peak});
+    report_.scene["rss_after_bytes_per_rank"][m.step] =
+        comm_.allgatherv(std::vector<double>{m.now});
+  }
+  report_resident_buffers();
   if (!c_.timings.empty())
     write_timings_file(comm_, c_, timer_,
                        {"read", "setup", "base", "map", "halo", "iterate", "write"}, iter_records_,

@@ -140,13 +140,60 @@ bool mpi_takes_map_memory() {
 #endif
 }
 
+namespace {
+template <class T>
+std::int64_t bytes_of(const std::vector<T>& v) {
+  return static_cast<std::int64_t>(v.capacity() * sizeof(T));
+}
+template <class V>
+std::int64_t view_bytes(const V& v) {
+  return static_cast<std::int64_t>(v.span() * sizeof(typename V::value_type));
+}
+// A device copy's bytes, unless it shares the host vector's memory.
+template <class V, class T>
+std::int64_t copy_bytes(const V& device, const std::vector<T>& host) {
+  return static_cast<const void*>(device.data()) == static_cast<const void*>(host.data())
+             ? 0
+             : view_bytes(device);
+}
+}  // namespace
+
+std::int64_t MapLayout::table_bytes() const {
+  std::int64_t b = bytes_of(offset) + bytes_of(halo_at) + bytes_of(halo_rank_at) +
+                   bytes_of(mask_at) + bytes_of(mask) + bytes_of(kept) + copy_bytes(device, offset);
+  if (sparse.start.data() != device.data()) b += view_bytes(sparse.start);
+  if (sparse.mask_at.data() != device.data()) b += copy_bytes(sparse.mask_at, mask_at);
+  return b + copy_bytes(sparse.mask, mask) + copy_bytes(sparse.kept, kept);
+}
+
+std::int64_t MapExchange::send_list_bytes() const {
+  return view_bytes(send_items_) + view_bytes(first_entry_);
+}
+
+std::int64_t MapExchange::scratch_bytes() const {
+  return view_bytes(changed_bits_) + view_bytes(changed_words_before_) + view_bytes(message_words_);
+}
+
+namespace {
+// Where the Chef reads a layout's table `v`: the host vector itself on a host backend (an
+// unmanaged view, valid while the MapLayout, moved but never copied, holds the vector), else a
+// device copy. The copies were 2 MiB of the largest 16 x 1 rank's peak on bunny_room
+// (results/bake/distributed.md, fifteenth round).
+template <class T>
+Kokkos::View<T*, MemSpace> device_table(const char* label, std::vector<T>& v) {
+  if (Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpace>::accessible)
+    return Kokkos::View<T*, MemSpace>(v.data(), v.size());
+  return compat::upload<MemSpace>(label, v);
+}
+}  // namespace
+
 MapLayout make_map_layout(const BakeSceneHost& scene, const std::vector<char>& present) {
   MapLayout l;
   const std::int64_t nv = scene.vertices();
   l.offset.assign(static_cast<std::size_t>(nv) + 1, 0);
   for (std::int64_t v = 0; v < nv; ++v)
     l.offset[v + 1] = l.offset[v] + (present[v] ? scene.color_count(v) : 0);
-  l.device = upload("rtmini::bake::map_offset", l.offset);
+  l.device = device_table("rtmini::bake::map_offset", l.offset);
   return l;
 }
 
@@ -205,9 +252,9 @@ MapLayout make_halo_layout(const BakeSceneHost& scene, const MapLayout& remote, 
   for (std::int64_t v = 0; v < nv; ++v)
     start[v] = l.in_halo(v) ? l.colors() + l.halo_at[v] : l.offset[v];
   l.sparse.start = upload("rtmini::bake::map_start", start);
-  l.sparse.mask_at = upload("rtmini::bake::map_mask_at", l.mask_at);
-  l.sparse.mask = compat::upload<MemSpace>("rtmini::bake::map_mask", l.mask);
-  l.sparse.kept = compat::upload<MemSpace>("rtmini::bake::map_kept", l.kept);
+  l.sparse.mask_at = device_table("rtmini::bake::map_mask_at", l.mask_at);
+  l.sparse.mask = device_table("rtmini::bake::map_mask", l.mask);
+  l.sparse.kept = device_table("rtmini::bake::map_kept", l.kept);
   l.sparse.map_colors = l.colors();
   return l;
 }
@@ -234,7 +281,7 @@ std::vector<std::int64_t> remote_entries(const BakeSceneHost& scene, const MapLa
 void mark_dense(MapLayout& layout) {
   layout.mask_at.assign(layout.offset.size() - 1, -1);
   layout.sparse.start = layout.device;
-  layout.sparse.mask_at = upload("rtmini::bake::map_mask_at", layout.mask_at);
+  layout.sparse.mask_at = device_table("rtmini::bake::map_mask_at", layout.mask_at);
   layout.sparse.map_colors = layout.colors();
 }
 
@@ -412,18 +459,20 @@ KOKKOS_INLINE_FUNCTION bool same_bits(const Vec3f& a, const Vec3f& b) {
 }
 
 using Words = Kokkos::View<std::uint32_t*, MemSpace>;
+// Words in memory that another view owns (a message in the previous map's memory).
+using WordsAt = Kokkos::View<std::uint32_t*, MemSpace, Kokkos::MemoryUnmanaged>;
 
 // Per destination of a changed-only exchange: where its message starts (words), its first
 // changed colour and first entry in send order, where its colours start (words) and whether it
 // is an index list (else a bitmask).
 enum MessageField { kFirstWord, kFirstChanged, kFirstEntry, kColorsAt, kIndexList, kMessageFields };
 
-KOKKOS_INLINE_FUNCTION void put_color(const Words& w, std::int64_t at, const Vec3f& c) {
+KOKKOS_INLINE_FUNCTION void put_color(const WordsAt& w, std::int64_t at, const Vec3f& c) {
   w(at) = compat::bit_cast<std::uint32_t>(c.x);
   w(at + 1) = compat::bit_cast<std::uint32_t>(c.y);
   w(at + 2) = compat::bit_cast<std::uint32_t>(c.z);
 }
-KOKKOS_INLINE_FUNCTION Vec3f get_color(const Words& w, std::int64_t at) {
+KOKKOS_INLINE_FUNCTION Vec3f get_color(const WordsAt& w, std::int64_t at) {
   return Vec3f(compat::bit_cast<float>(w(at)), compat::bit_cast<float>(w(at + 1)),
                compat::bit_cast<float>(w(at + 2)));
 }
@@ -450,31 +499,65 @@ Words words_for(const Words& words, std::int64_t n, const char* label) {
                static_cast<std::size_t>(n));
 }
 
+// An exchange's message words at `at`, holding the views whose memory they are in: what
+// alltoallv_records keeps alive when a peer fails while they are in flight.
+struct MessageBuffer {
+  Kokkos::View<Vec3f*, MemSpace> map;  // the previous map, when the words are in its memory
+  Words own;                           // else the exchange's own buffer
+  std::uint32_t* at = nullptr;
+  std::uint32_t* data() const { return at; }
+};
+
+// Whether send entry i changed: bit i % 32 of word i / 32.
+KOKKOS_INLINE_FUNCTION bool changed_entry(const Words& bits, std::int64_t i) {
+  return ((bits(i >> 5) >> (i & 31)) & 1u) != 0;
+}
+// The changed entries before send entry i (i up to all of them): those of the words before its
+// word, then its word's bits below it.
+KOKKOS_INLINE_FUNCTION std::int64_t changed_before(
+    const Words& bits, const Kokkos::View<std::int32_t*, MemSpace>& before, std::int64_t i) {
+  const std::int64_t w = i >> 5;
+  if ((i & 31) == 0) return before(w);
+  return before(w) + compat::popcount64(bits(w) & ((std::uint32_t(1) << (i & 31)) - 1));
+}
+
 }  // namespace
 
 std::int64_t MapExchange::run_changed(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
-                                      Kokkos::View<const Vec3f*, MemSpace> previous) {
+                                      Kokkos::View<Vec3f*, MemSpace> previous) {
   const int ranks = comm.size();
   const std::int64_t n = static_cast<std::int64_t>(send_items_.extent(0));
+  const std::int64_t bit_words = mask_words(n);
   auto send_items = send_items_;
   auto first_entry = first_entry_;
-  if (static_cast<std::int64_t>(changed_before_.extent(0)) != n + 1)
-    changed_before_ = Kokkos::View<std::int32_t*, MemSpace>(
+  if (static_cast<std::int64_t>(changed_bits_.extent(0)) != bit_words) {
+    changed_bits_ = Words(
+        Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::exchange_changed_bits"),
+        static_cast<std::size_t>(bit_words));
+    changed_words_before_ = Kokkos::View<std::int32_t*, MemSpace>(
         Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::exchange_changed_before"),
-        static_cast<std::size_t>(n) + 1);
-  auto before = changed_before_;
-  // before(i + 1): whether entry i's colour changed since the last send (bit for bit: the
-  // receiver must end with the sender's bits), which sent the previous iteration's map. Then,
-  // scanned in place, before(i): the changed entries before entry i, in send order.
+        static_cast<std::size_t>(bit_words) + 1);
+  }
+  auto bits = changed_bits_;
+  auto before = changed_words_before_;
+  // Bit i: whether entry i's colour changed since the last send (bit for bit: the receiver must
+  // end with the sender's bits), which sent the previous iteration's map; then, per word, the
+  // changed entries before it. A bit per entry and a count per 32 (a quarter byte an entry sent)
+  // instead of a scanned count per entry (4 bytes): 3 MiB of the largest 16 x 1 rank's peak on
+  // bunny_room (results/bake/distributed.md, fifteenth round).
   Kokkos::parallel_for(
-      "rtmini::bake::exchange_changed", Policy(0, n), KOKKOS_LAMBDA(std::int64_t i) {
-        before(i + 1) = same_bits(map(send_items(i)), previous(send_items(i))) ? 0 : 1;
+      "rtmini::bake::exchange_changed", Policy(0, bit_words), KOKKOS_LAMBDA(std::int64_t w) {
+        std::uint32_t b = 0;
+        for (std::int64_t i = 32 * w; i < 32 * w + 32 && i < n; ++i)
+          if (!same_bits(map(send_items(i)), previous(send_items(i))))
+            b |= std::uint32_t(1) << (i & 31);
+        bits(w) = b;
       });
   Kokkos::parallel_scan(
-      "rtmini::bake::exchange_changed_scan", Policy(0, n + 1),
-      KOKKOS_LAMBDA(std::int64_t i, std::int32_t & sum, bool final) {
-        sum += i == 0 ? 0 : before(i);
-        if (final) before(i) = sum;
+      "rtmini::bake::exchange_changed_scan", Policy(0, bit_words + 1),
+      KOKKOS_LAMBDA(std::int64_t w, std::int32_t & sum, bool final) {
+        if (final) before(w) = sum;
+        if (w < bit_words) sum += static_cast<std::int32_t>(compat::popcount64(bits(w)));
       });
   // Per destination: the colours changed, the message's words and where its parts start.
   std::vector<std::int32_t> at;  // changed colours before each destination's first entry
@@ -483,7 +566,9 @@ std::int64_t MapExchange::run_changed(const Communicator& comm, Kokkos::View<Vec
                                                  static_cast<std::size_t>(ranks) + 1);
     Kokkos::parallel_for(
         "rtmini::bake::exchange_changed_bounds", Policy(0, ranks + 1),
-        KOKKOS_LAMBDA(std::int64_t r) { bounds(r) = before(first_entry(r)); });
+        KOKKOS_LAMBDA(std::int64_t r) {
+          bounds(r) = static_cast<std::int32_t>(changed_before(bits, before, first_entry(r)));
+        });
     compat::download(bounds, at);
   }
   std::vector<int> changed(ranks), words(ranks);
@@ -501,15 +586,40 @@ std::int64_t MapExchange::run_changed(const Communicator& comm, Kokkos::View<Vec
     m[kIndexList] = index_list(changed[r], entries) ? 1 : 0;
     offset += words[r];
   }
+  // The counts go ahead (each side derives a message's words from its count and entries).
+  const std::vector<int> received = exchange_counts(comm, changed);
+  std::vector<int> recv_words(ranks);
+  std::int64_t recv_total = 0;
+  for (int r = 0; r < ranks; ++r) {
+    recv_words[r] = checked_int(message_words(received[r], recv_counts_[r]));
+    recv_total += recv_words[r];
+  }
+  // The messages sent and received, one after the other: in the previous map's memory where they
+  // fit (read above for the last time; the next iteration overwrites all of it), else in a
+  // buffer of the exchange's own (kept from run to run). Their own buffer was 4 MiB of the
+  // largest 16 x 1 rank's peak on bunny_room.
+  MessageBuffer send_buf, recv_buf_words;
+  std::uint32_t* words_at = nullptr;
+  if (offset + recv_total <= 3 * static_cast<std::int64_t>(previous.extent(0))) {
+    send_buf.map = recv_buf_words.map = previous;
+    words_at = reinterpret_cast<std::uint32_t*>(previous.data());
+  } else {
+    message_words_ =
+        words_for(message_words_, offset + recv_total, "rtmini::bake::exchange_message_words");
+    send_buf.own = recv_buf_words.own = message_words_;
+    words_at = message_words_.data();
+  }
+  send_buf.at = words_at;
+  recv_buf_words.at = words_at + offset;
+  const WordsAt send_words(send_buf.at, static_cast<std::size_t>(offset));
+  const WordsAt recv_msg(recv_buf_words.at, static_cast<std::size_t>(recv_total));
   const auto message = upload("rtmini::bake::exchange_messages", meta);
-  send_words_ = words_for(send_words_, offset, "rtmini::bake::exchange_send_words");
-  auto send_words = send_words_;
   // The changed colours and an index list's indices...
   Kokkos::parallel_for(
       "rtmini::bake::exchange_pack_changed", Policy(0, n), KOKKOS_LAMBDA(std::int64_t i) {
-        if (before(i + 1) == before(i)) return;
+        if (!changed_entry(bits, i)) return;
         const std::int64_t* m = &message(kMessageFields * destination(first_entry, ranks, i));
-        const std::int64_t k = before(i) - m[kFirstChanged];
+        const std::int64_t k = changed_before(bits, before, i) - m[kFirstChanged];
         put_color(send_words, m[kColorsAt] + 3 * k, map(send_items(i)));
         if (m[kIndexList])
           send_words(m[kFirstWord] + k) = static_cast<std::uint32_t>(i - m[kFirstEntry]);
@@ -522,35 +632,21 @@ std::int64_t MapExchange::run_changed(const Communicator& comm, Kokkos::View<Vec
     Kokkos::parallel_for(
         "rtmini::bake::exchange_pack_mask", Policy(0, mask_words(send_counts_[r])),
         KOKKOS_LAMBDA(std::int64_t w) {
-          std::uint32_t bits = 0;
-          for (std::int64_t b = 0; b < 32 && first + 32 * w + b < end; ++b) {
-            const std::int64_t i = first + 32 * w + b;
-            if (before(i + 1) != before(i)) bits |= std::uint32_t(1) << b;
-          }
-          send_words(w0 + w) = bits;
+          std::uint32_t b = 0;
+          for (std::int64_t k = 0; k < 32 && first + 32 * w + k < end; ++k)
+            if (changed_entry(bits, first + 32 * w + k)) b |= std::uint32_t(1) << k;
+          send_words(w0 + w) = b;
         });
   }
-  // The counts go ahead (each side derives a message's words from its count and entries).
-  const std::vector<int> received = exchange_counts(comm, changed);
-  std::vector<int> recv_words(ranks);
-  std::int64_t recv_total = 0;
-  for (int r = 0; r < ranks; ++r) {
-    recv_words[r] = checked_int(message_words(received[r], recv_counts_[r]));
-    recv_total += recv_words[r];
-  }
-  recv_words_ = words_for(recv_words_, recv_total, "rtmini::bake::exchange_recv_words");
-  auto recv_msg = recv_words_;
   if (direct_) {
     Kokkos::fence();  // the packed words must be in memory before MPI reads them
-    alltoallv(comm, send_words_, words, recv_words_, recv_words);
+    alltoallv_records(comm, send_buf, words, recv_buf_words, recv_words, sizeof(std::uint32_t));
   } else {
     std::vector<std::uint32_t> host_send(static_cast<std::size_t>(offset)),
         host_recv(static_cast<std::size_t>(recv_total));
-    Kokkos::deep_copy(compat::host_view(host_send.data(), host_send.size()),
-                      Kokkos::subview(send_words, std::make_pair(std::int64_t(0), offset)));
+    Kokkos::deep_copy(compat::host_view(host_send.data(), host_send.size()), send_words);
     alltoallv(comm, host_send, words, host_recv, recv_words);
-    Kokkos::deep_copy(Kokkos::subview(recv_msg, std::make_pair(std::int64_t(0), recv_total)),
-                      compat::host_view(host_recv.data(), host_recv.size()));
+    Kokkos::deep_copy(recv_msg, compat::host_view(host_recv.data(), host_recv.size()));
   }
   // Each rank's changed colours into the last received ones.
   auto recv_buf = recv_buf_;
@@ -571,15 +667,16 @@ std::int64_t MapExchange::run_changed(const Communicator& comm, Kokkos::View<Vec
       Kokkos::parallel_scan(
           "rtmini::bake::exchange_unpack_mask", Policy(0, mask_words(entries)),
           KOKKOS_LAMBDA(std::int64_t w, std::int64_t & k, bool final) {
-            std::uint32_t bits = recv_msg(w0 + w);
+            std::uint32_t b = recv_msg(w0 + w);
             if (final)
-              for (std::int64_t kk = k; bits != 0; bits &= bits - 1, ++kk)
-                recv_buf(base + 32 * w + compat::popcount64((bits & (~bits + 1)) - 1)) =
+              for (std::int64_t kk = k; b != 0; b &= b - 1, ++kk)
+                recv_buf(base + 32 * w + compat::popcount64((b & (~b + 1)) - 1)) =
                     get_color(recv_msg, colors_at + 3 * kk);
             k += compat::popcount64(recv_msg(w0 + w));
           });
     }
   }
+  Kokkos::fence();  // the words in the previous map are read before the next iteration writes it
   changed_colors_ += total(changed);
   offered_colors_ += send_colors();
   // The words and the counts sent to other ranks.
@@ -590,9 +687,9 @@ void MapExchange::release() {
   send_items_ = {};
   recv_buf_ = {};
   first_entry_ = {};
-  changed_before_ = {};
-  send_words_ = {};
-  recv_words_ = {};
+  changed_bits_ = {};
+  changed_words_before_ = {};
+  message_words_ = {};
 }
 
 std::vector<Vec3f> gather_global_map(const Communicator& comm, const BakeSceneHost& scene,

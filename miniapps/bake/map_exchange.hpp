@@ -22,7 +22,15 @@ namespace rtmini::bake {
 
 // Where each vertex's colours sit in this rank's map and halo. Entries are numbered map first
 // (0 .. colors()), then halo (colors() .. colors() + halo_colors), as SparseColors reads them.
+// On a host backend the device views are the host vectors themselves (make_halo_layout): moved,
+// never copied.
 struct MapLayout {
+  MapLayout() = default;
+  MapLayout(MapLayout&&) = default;
+  MapLayout& operator=(MapLayout&&) = default;
+  MapLayout(const MapLayout&) = delete;
+  MapLayout& operator=(const MapLayout&) = delete;
+
   std::vector<std::int64_t> offset;  // vertices + 1, the map's entries; others span none
   // The halo: first halo entry per vertex (-1: not in the halo; empty: no halo), in the
   // exchange's receive order; its sparse vertices (SparseColors): first mask word per vertex (-1
@@ -37,6 +45,8 @@ struct MapLayout {
   SparseColors sparse;  // device copies (without the halo's colours); empty: no halo, all dense
 
   std::int64_t colors() const { return offset.back(); }
+  // Bytes of the tables (host and device copies; one where they share memory), not the colours.
+  std::int64_t table_bytes() const;
   bool in_map(std::int64_t v) const { return offset[v + 1] > offset[v]; }
   bool in_halo(std::int64_t v) const { return !halo_at.empty() && halo_at[v] >= 0; }
   bool dense(std::int64_t v) const { return mask_at.empty() || mask_at[v] < 0; }
@@ -100,7 +110,8 @@ class MapExchange {
   // Refreshes the halo from the owners' colours in their `map` (collective); returns bytes
   // sent. `other`: the other of the two map buffers, the map of the iteration before, which the
   // last run sent; the next iteration overwrites all of it. The first run sends every halo
-  // entry, packed in `other` (nothing reads it any more); later ones only read it. With
+  // entry, packed in `other` (nothing reads it any more); later ones read it, then hold their
+  // messages in it where they fit. With
   // `changed_only` (bake --exchange changed, the default), later runs send, per destination, only
   // the entries whose colour changed (bit for bit) since the last run, with a bitmask of the
   // destination's entries or a list of their indices, whichever is smaller; the receiver keeps the
@@ -111,6 +122,10 @@ class MapExchange {
                    Kokkos::View<Vec3f*, MemSpace> other);
 
   std::int64_t send_colors() const { return total(send_counts_); }
+  // Bytes held now: the send list (entries and first entry per peer) and the changed-only
+  // runs' scratch (changed counts, the messages sent and received). The halo is halo().
+  std::int64_t send_list_bytes() const;
+  std::int64_t scratch_bytes() const;
   bool direct() const { return direct_; }  // MPI moves the map's own buffers (no host copies)
   std::int64_t recv_colors() const { return total(recv_counts_); }
   // Over the runs after the first: the colours sent (changed) and those a full send would have
@@ -122,7 +137,7 @@ class MapExchange {
   std::int64_t run_full(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
                         Kokkos::View<Vec3f*, MemSpace> spare);
   std::int64_t run_changed(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
-                           Kokkos::View<const Vec3f*, MemSpace> previous);
+                           Kokkos::View<Vec3f*, MemSpace> previous);
 
   // Frees the buffers (the halo, the colours last sent, the scratch) once no exchange follows;
   // the counts above stay.
@@ -148,10 +163,12 @@ class MapExchange {
   bool sent_ = false;                                  // the first (full) run is done
   bool changed_only_ = false;                          // bake --exchange changed
   Kokkos::View<std::int64_t*, MemSpace> first_entry_;  // send_displs_ and the send entries
-  // Changed-only runs' scratch, kept from run to run: changed entries before each send entry,
-  // the messages sent and received (words).
-  Kokkos::View<std::int32_t*, MemSpace> changed_before_;
-  Kokkos::View<std::uint32_t*, MemSpace> send_words_, recv_words_;
+  // Changed-only runs' scratch, kept from run to run: which send entries changed (a bit each),
+  // the changed entries before each word of those bits, and the messages sent and received
+  // (words) where they do not fit in the previous map's memory.
+  Kokkos::View<std::uint32_t*, MemSpace> changed_bits_;
+  Kokkos::View<std::int32_t*, MemSpace> changed_words_before_;
+  Kokkos::View<std::uint32_t*, MemSpace> message_words_;
   std::int64_t changed_colors_ = 0, offered_colors_ = 0;
 };
 

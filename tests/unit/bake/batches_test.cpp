@@ -129,6 +129,33 @@ TEST(BakeBatches, SwappedPiecesBalanceCostAndColours) {
   EXPECT_EQ(make_batches(s, 4, Balance::kCost, 0, cost, 0.0).size(), 4u);
 }
 
+// The same at 300 ranks, where the swaps' search skips the ranks it cannot gain from
+// (kitchen.cpp, swap_under_cap): bands of 3,000 vertices alternate between 9 and 1.5 lookup
+// hits per vertex, so a capped contiguous cut leaves some ranks cheap, and the swapped pieces
+// still hold every rank to the cap and to 2 % of the mean cost.
+TEST(BakeBatches, SwappedPiecesAtManyRanks) {
+  constexpr int kRanks = 300, kVertices = 300 * 400;
+  const BakeSceneHost s = scene_with(kVertices, 0, 30);
+  std::vector<float> hits(kVertices);
+  for (int v = 0; v < kVertices; ++v) hits[v] = (v / 3000) % 2 == 0 ? 9.f : 1.5f;
+  const std::vector<double> cost = lookup_hit_cost(s, hits);
+  const auto b = make_batches(s, kRanks, Balance::kCost, 0, cost, 1.1);
+  expect_tiling(b, kVertices, kRanks);
+  EXPECT_GT(b.size(), std::size_t(kRanks));  // pieces were swapped
+  std::vector<double> rank_cost(kRanks, 0.0), rank_colors(kRanks, 0.0);
+  double total = 0;
+  for (const Batch& x : b)
+    for (std::int64_t v = x.begin; v < x.end; ++v) {
+      rank_cost[x.rank] += cost[v];
+      rank_colors[x.rank] += double(s.color_count(v));
+      total += cost[v];
+    }
+  for (int r = 0; r < kRanks; ++r) {
+    EXPECT_LE(rank_cost[r], 1.02 * total / kRanks) << r;
+    EXPECT_LE(rank_colors[r], 1.1 * double(s.colors()) / kRanks) << r;
+  }
+}
+
 // The mirror trace's cut weighs the BVH nodes the rays visit: with the first quarter of the
 // vertices tracing into a deep part of the tree (86 % of the nodes), three of four ranks share
 // that quarter.
