@@ -478,60 +478,10 @@ void best_boxes(const BinBox* bins, unsigned occupied, int last_left, Aabb& left
   right = r.aabb();
 }
 
-// split_range's answer for a range of two items without its bins (object splits only; about
-// half of a build's splits on meshes of one or two triangles per leaf): -1 where that shortcut
-// does not apply, else 1 with the two halves or 0 for "make a leaf". On an axis with a centroid
-// extent the lower item falls in bin 0 and the upper in a later bin, so the sweep's one candidate
-// there is "each item alone", costed by the same operations; every such axis gives the same
-// cost (the same two areas summed, which in either order are the same bits) and the first of
-// them wins, as the sweep's strict < keeps it; the halves come from the same partition.
-int split_pair(const Task& t, Split& out) {
-  std::vector<Item>& items = *t.items;
-  const int b = t.begin, e = t.end;
-  const Aabb& cb = t.centroids;
-  const Vec3 ext = cb.extent();
-  int axis = 0;
-  while (axis < 3 && !(ext[axis] > Real(0))) ++axis;
-  if (axis == 3 || t.depth >= kMaxDepth) return 0;  // no split, or too deep: a leaf of two
-  const Real scale = Real(kBins) / ext[axis] * Real(0.999999);
-  const auto bin = [&](const Item& it) {
-    return std::min(kBins - 1, static_cast<int>((it.centroid[axis] - cb.lo[axis]) * scale));
-  };
-  const int k0 = bin(items[b]), k1 = bin(items[b + 1]);
-  if (std::min(k0, k1) != 0 || std::max(k0, k1) == 0) return -1;
-  BinBox lower, upper;  // the two occupied bins
-  const Item& lo_item = items[k0 == 0 ? b : b + 1];
-  const Item& hi_item = items[k0 == 0 ? b + 1 : b];
-  for (const auto& [bin_box, item] : {std::pair<BinBox*, const Item*>{&lower, &lo_item},
-                                      std::pair<BinBox*, const Item*>{&upper, &hi_item}}) {
-    Real lo[4], hi[4];  // as split_range's binning loads them
-    std::memcpy(lo, &item->box.lo, sizeof lo);
-    std::memcpy(hi, &item->box.hi, sizeof hi);
-    bin_box->expand(lo, hi);
-  }
-  const int one = 1;  // each side's count
-  const Real parent_area = t.box.surface_area();
-  const Real leaf_cost = kTriangleCost * (e - b) * parent_area;
-  const Real right_cost = one * upper.surface_area();
-  const Real c =
-      kTraversalCost * parent_area + kTriangleCost * (one * lower.surface_area() + right_cost);
-  if (!(c < leaf_cost)) return 0;
-  Aabb lc, rc;
-  const int mid = partition_by_bin(items, b, e, axis, cb.lo[axis], scale, 0, lc, rc);
-  out.left = {b, mid, -1, 0, t.depth + 1, lower.aabb(), lc, t.items, 0};
-  out.right = {mid, e, -1, 1, t.depth + 1, upper.aabb(), rc, t.items, 0};
-  share_budget(t.budget, out.left, out.right);
-  return 1;
-}
-
 // Best binned split of the task's range: true with the two halves, false for "make a leaf".
 // One pass bins every item on all three axes (bin boxes are min/max, so exact in any order);
 // the chosen bins' boxes are the children's boxes, and the partition bounds their centroids.
 bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Split& out) {
-  if (t.end - t.begin == 2 && ctx.input == nullptr) {
-    const int pair = split_pair(t, out);
-    if (pair >= 0) return pair == 1;
-  }
   std::vector<Item>& items = *t.items;
   const int b = t.begin, e = t.end;
   const int count = e - b;
