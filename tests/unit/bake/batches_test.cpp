@@ -30,6 +30,24 @@ void expect_tiling(const std::vector<Batch>& b, std::int64_t vertices, int ranks
   }
 }
 
+// Every rank's counted cost within 2 % of the mean and its colours within `cap` x the mean, over
+// the (possibly several) ranges each rank owns.
+void expect_cost_and_colours_balanced(const BakeSceneHost& s, const std::vector<Batch>& b,
+                                      const std::vector<double>& cost, int ranks, double cap) {
+  std::vector<double> rank_cost(ranks, 0.0), rank_colors(ranks, 0.0);
+  double total = 0;
+  for (const Batch& x : b)
+    for (std::int64_t v = x.begin; v < x.end; ++v) {
+      rank_cost[x.rank] += cost[v];
+      rank_colors[x.rank] += double(s.color_count(v));
+      total += cost[v];
+    }
+  for (int r = 0; r < ranks; ++r) {
+    EXPECT_LE(rank_cost[r], 1.02 * total / ranks) << r;
+    EXPECT_LE(rank_colors[r], cap * double(s.colors()) / ranks) << r;
+  }
+}
+
 TEST(BakeBatches, AnyBatchSizeTilesTheVertices) {
   const BakeSceneHost s = scene_with(1924, 1454, 100);
   for (int ranks : {1, 2, 3, 4, 7})
@@ -112,18 +130,8 @@ TEST(BakeBatches, SwappedPiecesBalanceCostAndColours) {
   const auto b = make_batches(s, 4, Balance::kCost, 0, cost, 1.1);
   expect_tiling(b, 1000, 4);
   EXPECT_GT(b.size(), 4u);
-  std::vector<double> rank_cost(4, 0.0), rank_colors(4, 0.0);
-  double total = 0;
-  for (const Batch& x : b)
-    for (std::int64_t v = x.begin; v < x.end; ++v) {
-      rank_cost[x.rank] += cost[v];
-      rank_colors[x.rank] += double(s.color_count(v));
-      total += cost[v];
-    }
-  for (int r = 0; r < 4; ++r) {
-    EXPECT_LE(rank_cost[r], 1.02 * total / 4) << r;
-    EXPECT_LE(rank_colors[r], 1.1 * 2500) << r;
-  }
+  EXPECT_EQ(s.colors(), 10000);
+  expect_cost_and_colours_balanced(s, b, cost, 4, 1.1);
   for (std::size_t i = 1; i < b.size(); ++i) EXPECT_NE(b[i].rank, b[i - 1].rank);  // merged
   // Without the cap: one range per rank, cut by cost.
   EXPECT_EQ(make_batches(s, 4, Balance::kCost, 0, cost, 0.0).size(), 4u);
@@ -142,18 +150,7 @@ TEST(BakeBatches, SwappedPiecesAtManyRanks) {
   const auto b = make_batches(s, kRanks, Balance::kCost, 0, cost, 1.1);
   expect_tiling(b, kVertices, kRanks);
   EXPECT_GT(b.size(), std::size_t(kRanks));  // pieces were swapped
-  std::vector<double> rank_cost(kRanks, 0.0), rank_colors(kRanks, 0.0);
-  double total = 0;
-  for (const Batch& x : b)
-    for (std::int64_t v = x.begin; v < x.end; ++v) {
-      rank_cost[x.rank] += cost[v];
-      rank_colors[x.rank] += double(s.color_count(v));
-      total += cost[v];
-    }
-  for (int r = 0; r < kRanks; ++r) {
-    EXPECT_LE(rank_cost[r], 1.02 * total / kRanks) << r;
-    EXPECT_LE(rank_colors[r], 1.1 * double(s.colors()) / kRanks) << r;
-  }
+  expect_cost_and_colours_balanced(s, b, cost, kRanks, 1.1);
 }
 
 // The mirror trace's cut weighs the BVH nodes the rays visit: with the first quarter of the
