@@ -137,8 +137,7 @@ KOKKOS_FORCEINLINE_FUNCTION bool intersect_stored_triangle(const WatertightRay& 
   const Real Ax = a[r.kx] - o.x, Ay = a[r.ky] - o.y, Az = a[r.kz] - o.z;
   const Real Bx = b[r.kx] - o.x, By = b[r.ky] - o.y, Bz = b[r.kz] - o.z;
   const Real Cx = c[r.kx] - o.x, Cy = c[r.ky] - o.y, Cz = c[r.kz] - o.z;
-  return intersect_permuted(r, Ax, Ay, Az, Bx, By, Bz, Cx, Cy, Cz, tmin, tmax, t_out, u_out,
-                            v_out);
+  return intersect_permuted(r, Ax, Ay, Az, Bx, By, Bz, Cx, Cy, Cz, tmin, tmax, t_out, u_out, v_out);
 }
 
 // One axis of a node's slab test in the form of Ylitie et al.: a plane's ray distance is one
