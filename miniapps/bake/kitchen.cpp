@@ -57,6 +57,19 @@ double current_rss_bytes() {
   return resident * static_cast<double>(sysconf(_SC_PAGESIZE));
 }
 
+// Every rank's `mine` (the same length on every rank) in one collective, by field: [k][r] is
+// field k of rank r. The per-rank reports gather all their figures at once with it.
+std::vector<std::vector<double>> gather_fields(const Communicator& comm,
+                                               const std::vector<double>& mine) {
+  const std::size_t n = mine.size();
+  const std::vector<double> all = comm.allgatherv(mine);
+  const std::size_t ranks = n == 0 ? 0 : all.size() / n;
+  std::vector<std::vector<double>> fields(n, std::vector<double>(ranks));
+  for (std::size_t r = 0; r < ranks; ++r)
+    for (std::size_t k = 0; k < n; ++k) fields[k][r] = all[r * n + k];
+  return fields;
+}
+
 std::string human_bytes(double b) {
   const char* unit[] = {"B", "KiB", "MiB", "GiB", "TiB"};
   int u = 0;
@@ -1090,34 +1103,28 @@ void BakeRun::report_resident_buffers() {
   std::vector<double> mine{static_cast<double>(peak_mark_), rss_marks_[peak_mark_].peak,
                            rss_marks_[peak_mark_].now};
   for (const auto& b : buffers_at_peak_) mine.push_back(b.second);
-  const std::size_t n = mine.size();
-  const std::vector<double> all = comm_.allgatherv(mine);
-  const std::size_t ranks = all.size() / n;
-  const auto column = [&](std::size_t k) {
-    std::vector<double> c(ranks);
-    for (std::size_t r = 0; r < ranks; ++r) c[r] = all[r * n + k];
-    return c;
-  };
+  const std::vector<std::vector<double>> field = gather_fields(comm_, mine);
+  const std::size_t ranks = field[0].size();
   nlohmann::json out;
   std::vector<std::string> steps(ranks);
   for (std::size_t r = 0; r < ranks; ++r)
-    steps[r] = rss_marks_[static_cast<std::size_t>(all[r * n])].step;
+    steps[r] = rss_marks_[static_cast<std::size_t>(field[0][r])].step;
   out["step_per_rank"] = steps;
-  out["peak_bytes_per_rank"] = column(1);
-  out["rss_after_step_bytes_per_rank"] = column(2);
+  out["peak_bytes_per_rank"] = field[1];
+  out["rss_after_step_bytes_per_rank"] = field[2];
   for (std::size_t k = 0; k < buffers_at_peak_.size(); ++k)
-    out[buffers_at_peak_[k].first] = column(3 + k);
+    out[buffers_at_peak_[k].first] = field[3 + k];
   report_.scene["resident_at_peak"] = out;
   if (!root_) return;
-  const std::vector<double> peaks = column(1);
+  const std::vector<double>& peaks = field[1];
   const std::size_t top = std::max_element(peaks.begin(), peaks.end()) - peaks.begin();
   std::string line;
   for (std::size_t k = 0; k < buffers_at_peak_.size(); ++k)
     line += std::string(k ? ", " : "") + buffers_at_peak_[k].first + " " +
-            human_bytes(all[top * n + 3 + k]);
+            human_bytes(field[3 + k][top]);
   std::printf("  rank %zu's peak %s (after '%s', %s resident then): %s\n", top,
               human_bytes(peaks[top]).c_str(), steps[top].c_str(),
-              human_bytes(all[top * n + 2]).c_str(), line.c_str());
+              human_bytes(field[2][top]).c_str(), line.c_str());
 }
 
 // The measured recut's threshold: the slowest rank's first mirror iteration over the mean.
@@ -1280,13 +1287,12 @@ void BakeRun::report_work() {
       {"iteration_cost", double(my_items_) + kLookupHitCost * double(reads_.lookups)}};
   std::vector<double> values;
   for (const auto& m : mine) values.push_back(m.second);
-  const std::vector<double> all = comm_.allgatherv(values);
-  const std::size_t n = mine.size(), ranks = static_cast<std::size_t>(comm_.size());
+  const std::vector<std::vector<double>> field = gather_fields(comm_, values);
+  const std::size_t ranks = static_cast<std::size_t>(comm_.size());
   nlohmann::json work;
   std::string line;
-  for (std::size_t k = 0; k < n; ++k) {
-    std::vector<double> per_rank(ranks);
-    for (std::size_t r = 0; r < ranks; ++r) per_rank[r] = all[r * n + k];
+  for (std::size_t k = 0; k < mine.size(); ++k) {
+    const std::vector<double>& per_rank = field[k];
     const double max = *std::max_element(per_rank.begin(), per_rank.end());
     double mean = 0;
     for (double x : per_rank) mean += x / double(ranks);
@@ -1321,11 +1327,7 @@ void BakeRun::report_map_plan() {
   mine[kRanges] = static_cast<double>(my_ranges_.size());
   mine[kReads] = static_cast<double>(reads_.reads);
   mine[kRemote] = static_cast<double>(reads_.remote_reads);
-  const std::vector<double> all = comm_.allgatherv(mine);
-  const std::size_t ranks = all.size() / kFields;
-  std::vector<std::vector<double>> per_rank(kFields, std::vector<double>(ranks));
-  for (std::size_t r = 0; r < ranks; ++r)
-    for (int f = 0; f < kFields; ++f) per_rank[f][r] = all[r * kFields + f];
+  const std::vector<std::vector<double>> per_rank = gather_fields(comm_, mine);
   const auto sum = [](const std::vector<double>& x) {
     double t = 0;
     for (const double e : x) t += e;
@@ -1682,11 +1684,16 @@ void BakeRun::report_results() {
   // of the peak that does not fall with the ranks.
   report_.scene["scene_rss_bytes_per_rank"] =
       comm_.allgatherv(std::vector<double>{scene_rss_bytes_});
+  // Every rank marks the same steps: their peaks and current RSS in one collective.
+  std::vector<double> marks;
   for (const RssMark& m : rss_marks_) {
-    report_.scene["peak_rss_after_bytes_per_rank"][m.step] =
-        comm_.allgatherv(std::vector<double>{m.peak});
-    report_.scene["rss_after_bytes_per_rank"][m.step] =
-        comm_.allgatherv(std::vector<double>{m.now});
+    marks.push_back(m.peak);
+    marks.push_back(m.now);
+  }
+  const std::vector<std::vector<double>> per_rank = gather_fields(comm_, marks);
+  for (std::size_t i = 0; i < rss_marks_.size(); ++i) {
+    report_.scene["peak_rss_after_bytes_per_rank"][rss_marks_[i].step] = per_rank[2 * i];
+    report_.scene["rss_after_bytes_per_rank"][rss_marks_[i].step] = per_rank[2 * i + 1];
   }
   report_resident_buffers();
   if (!c_.timings.empty())
