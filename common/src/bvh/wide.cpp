@@ -120,24 +120,34 @@ void child_costs(const std::vector<CollapsePlan>& plans, const BvhNode& nd, int 
 void plan_node(const std::vector<BvhNode>& binary, std::uint32_t node, const Range& r, int merge,
                std::vector<CollapsePlan>& plans) {
   const BvhNode& nd = binary[node];
-  float c0[kWidth], c1[kWidth];
+  float c0[kWidth];
+  // c1 after kWidth infinities: loading kWidth lanes from padded + kWidth - k gives lane j the
+  // cost of child 1 in j + 1 - k slots, or infinity where that is less than one.
+  float padded[2 * kWidth];
+  std::fill(padded, padded + kWidth, std::numeric_limits<float>::infinity());
   child_costs(plans, nd, 0, c0);
-  child_costs(plans, nd, 1, c1);
-  // The two children sharing i slots (i >= 2), the first best split (kept by selects: which
-  // split wins is data, not a pattern a branch predictor learns).
+  child_costs(plans, nd, 1, padded + kWidth);
+  // The two children sharing i slots (i >= 2), the first best split: lane j for i = j + 1, all
+  // i at once for each k slots of child 0 (the same sums and the same strict < in the same k
+  // order as one i at a time; kept by selects: which split wins is data, not a pattern a branch
+  // predictor learns).
+  typedef float Costs __attribute__((vector_size(kWidth * sizeof(float))));
+  typedef std::int32_t Ints __attribute__((vector_size(kWidth * sizeof(std::int32_t))));
+  Costs best = Costs{} + std::numeric_limits<float>::infinity();
+  Ints best_k = {};
+  for (int k = 1; k < kWidth; ++k) {
+    Costs rest;
+    std::memcpy(&rest, padded + kWidth - k, sizeof rest);
+    const Costs c = c0[k - 1] + rest;
+    const Ints better = c < best;
+    best = Costs((Ints(c) & better) | (Ints(best) & ~better));
+    best_k = (k & better) | (best_k & ~better);
+  }
   float shared[kWidth + 1];
   std::uint8_t shared_split[kWidth + 1] = {};
   for (int i = 2; i <= kWidth; ++i) {
-    float best = std::numeric_limits<float>::infinity();
-    int best_k = 0;
-    for (int k = 1; k < i; ++k) {
-      const float c = c0[k - 1] + c1[i - k - 1];
-      const bool better = c < best;
-      best = better ? c : best;
-      best_k = better ? k : best_k;
-    }
-    shared[i] = best;
-    shared_split[i] = std::uint8_t(best_k);
+    shared[i] = best[i - 1];
+    shared_split[i] = std::uint8_t(best_k[i - 1]);
   }
   Aabb box = nd.box(0);
   box.expand(nd.box(1));
