@@ -1,7 +1,7 @@
 #include "kitchen.hpp"
 
 #include <sys/resource.h>
-#include <unistd.h>
+#include <unistd.h>  // isatty
 #if defined(__GLIBC__)
 #include <malloc.h>  // mallopt
 #endif
@@ -48,13 +48,29 @@ double peak_rss_bytes() {
   return static_cast<double>(u.ru_maxrss) * 1024.0;
 }
 
-// This process's resident set now (Linux: /proc/self/statm, in pages; 0 where it is missing):
-// the peak says how high a step went, this what it left resident.
-double current_rss_bytes() {
-  std::ifstream f("/proc/self/statm");
-  double pages = 0, resident = 0;
-  if (!(f >> pages >> resident)) return 0;
-  return resident * static_cast<double>(sysconf(_SC_PAGESIZE));
+// This process's resident set now, by kind (Linux: /proc/self/status; zeros where it is
+// missing): the peak says how high a step went, this what it left resident. The kinds place what
+// no bake buffer accounts for: anonymous pages are heap (the bake's, the runtimes'), file pages
+// the program and its libraries, shared-memory pages what the MPI library maps to reach the
+// ranks on its node (the bake itself maps none).
+struct ResidentNow {
+  double total = 0, anon = 0, file = 0, shmem = 0;
+};
+ResidentNow resident_now() {
+  ResidentNow r;
+  std::ifstream in("/proc/self/status");
+  std::string key;
+  double kib = 0;
+  while (in >> key) {
+    double* field = key == "VmRSS:"      ? &r.total
+                    : key == "RssAnon:"  ? &r.anon
+                    : key == "RssFile:"  ? &r.file
+                    : key == "RssShmem:" ? &r.shmem
+                                         : nullptr;
+    if (field && in >> kib) *field = kib * 1024.0;
+    std::getline(in, key);
+  }
+  return r;
 }
 
 // Every rank's `mine` (the same length on every rank) in one collective, by field: [k][r] is
@@ -624,7 +640,8 @@ class BakeRun {
   // left resident (the difference is the step's transient).
   struct RssMark {
     std::string step;
-    double peak = 0, now = 0;
+    double peak = 0;
+    ResidentNow now;
   };
   std::vector<RssMark> rss_marks_;
   // The large buffers this rank held after the step that raised its peak last (resident_buffers):
@@ -1063,7 +1080,7 @@ void BakeRun::finish_fused_plan(int it) {
 }
 
 void BakeRun::mark_rss(const std::string& step) {
-  const RssMark m{step, peak_rss_bytes(), current_rss_bytes()};
+  const RssMark m{step, peak_rss_bytes(), resident_now()};
   if (rss_marks_.empty() || m.peak > rss_marks_[peak_mark_].peak) {
     peak_mark_ = rss_marks_.size();
     buffers_at_peak_ = resident_buffers();
@@ -1100,8 +1117,14 @@ std::vector<std::pair<const char*, double>> BakeRun::resident_buffers() const {
 // RSS that step left, and the buffers held then (resident_buffers); one collective. Stdout
 // gives the largest rank's.
 void BakeRun::report_resident_buffers() {
-  std::vector<double> mine{static_cast<double>(peak_mark_), rss_marks_[peak_mark_].peak,
-                           rss_marks_[peak_mark_].now};
+  const RssMark& at = rss_marks_[peak_mark_];
+  std::vector<double> mine{static_cast<double>(peak_mark_),
+                           at.peak,
+                           at.now.total,
+                           at.now.anon,
+                           at.now.file,
+                           at.now.shmem};
+  constexpr std::size_t kBuffers = 6;  // the buffers' fields follow these
   for (const auto& b : buffers_at_peak_) mine.push_back(b.second);
   const std::vector<std::vector<double>> field = gather_fields(comm_, mine);
   const std::size_t ranks = field[0].size();
@@ -1112,8 +1135,11 @@ void BakeRun::report_resident_buffers() {
   out["step_per_rank"] = steps;
   out["peak_bytes_per_rank"] = field[1];
   out["rss_after_step_bytes_per_rank"] = field[2];
+  out["rss_anon_after_step_bytes_per_rank"] = field[3];
+  out["rss_file_after_step_bytes_per_rank"] = field[4];
+  out["rss_shmem_after_step_bytes_per_rank"] = field[5];
   for (std::size_t k = 0; k < buffers_at_peak_.size(); ++k)
-    out[buffers_at_peak_[k].first] = field[3 + k];
+    out[buffers_at_peak_[k].first] = field[kBuffers + k];
   report_.scene["resident_at_peak"] = out;
   if (!root_) return;
   const std::vector<double>& peaks = field[1];
@@ -1121,10 +1147,13 @@ void BakeRun::report_resident_buffers() {
   std::string line;
   for (std::size_t k = 0; k < buffers_at_peak_.size(); ++k)
     line += std::string(k ? ", " : "") + buffers_at_peak_[k].first + " " +
-            human_bytes(field[3 + k][top]);
-  std::printf("  rank %zu's peak %s (after '%s', %s resident then): %s\n", top,
-              human_bytes(peaks[top]).c_str(), steps[top].c_str(),
-              human_bytes(field[2][top]).c_str(), line.c_str());
+            human_bytes(field[kBuffers + k][top]);
+  std::printf(
+      "  rank %zu's peak %s (after '%s', %s resident then: heap %s, files %s, shared "
+      "memory %s): %s\n",
+      top, human_bytes(peaks[top]).c_str(), steps[top].c_str(), human_bytes(field[2][top]).c_str(),
+      human_bytes(field[3][top]).c_str(), human_bytes(field[4][top]).c_str(),
+      human_bytes(field[5][top]).c_str(), line.c_str());
 }
 
 // The measured recut's threshold: the slowest rank's first mirror iteration over the mean.
@@ -1688,12 +1717,15 @@ void BakeRun::report_results() {
   std::vector<double> marks;
   for (const RssMark& m : rss_marks_) {
     marks.push_back(m.peak);
-    marks.push_back(m.now);
+    marks.push_back(m.now.total);
+    marks.push_back(m.now.shmem);
   }
   const std::vector<std::vector<double>> per_rank = gather_fields(comm_, marks);
   for (std::size_t i = 0; i < rss_marks_.size(); ++i) {
-    report_.scene["peak_rss_after_bytes_per_rank"][rss_marks_[i].step] = per_rank[2 * i];
-    report_.scene["rss_after_bytes_per_rank"][rss_marks_[i].step] = per_rank[2 * i + 1];
+    const std::string& step = rss_marks_[i].step;
+    report_.scene["peak_rss_after_bytes_per_rank"][step] = per_rank[3 * i];
+    report_.scene["rss_after_bytes_per_rank"][step] = per_rank[3 * i + 1];
+    report_.scene["rss_shmem_after_bytes_per_rank"][step] = per_rank[3 * i + 2];
   }
   report_resident_buffers();
   if (!c_.timings.empty())

@@ -35,42 +35,72 @@ std::vector<int> displacements(const std::vector<int>& counts) {
   return d;
 }
 
-// MPI_Alltoallv of records of record_bytes each, counts in records (so a large exchange counts
-// records, not bytes, in MPI's ints). `send` and `recv` own the buffers (std::vector or a managed
-// Kokkos::View; moved from only when a peer fails): non-blocking plus Communicator::wait_keeping,
-// so a rank that failed elsewhere cannot leave the others waiting here forever (the
-// collective-failure contract, docs/architecture.md), and the collective it abandons keeps its
-// buffers, counts and displacements, which MPI's progress engine may still touch while the ranks
-// agree on the exit code (freed under it, they crashed that agreement: commit 23bae46).
+#ifdef RTMINI_HAVE_MPI
+constexpr int kExchangeTag = 23;  // the exchanges' point-to-point messages on the bake's comm
+
+// One step of a pairwise exchange: `bytes_out` to rank `to`, `bytes_in` from rank `from` (either
+// may be zero), both waited for; `owned` as Communicator::wait_keeping keeps them.
+template <class... Owned>
+void exchange_with(const Communicator& comm, const unsigned char* out, std::int64_t bytes_out,
+                   int to, unsigned char* in, std::int64_t bytes_in, int from, MPI_Datatype type,
+                   std::int64_t record_bytes, Owned&... owned) {
+  MPI_Request recv = MPI_REQUEST_NULL, send = MPI_REQUEST_NULL;
+  if (bytes_in > 0)
+    MPI_Irecv(in, checked_int(bytes_in / record_bytes), type, from, kExchangeTag, comm.native(),
+              &recv);
+  if (bytes_out > 0)
+    MPI_Isend(out, checked_int(bytes_out / record_bytes), type, to, kExchangeTag, comm.native(),
+              &send);
+  if (recv != MPI_REQUEST_NULL) comm.wait_keeping(recv, owned...);
+  if (send != MPI_REQUEST_NULL) comm.wait_keeping(send, owned...);
+}
+#endif
+
+// MPI_Alltoallv's result for records of record_bytes each, counts in records (so a large
+// exchange counts records, not bytes, in MPI's ints). `send` and `recv` own the buffers
+// (std::vector or a managed Kokkos::View; moved from only when a peer fails): non-blocking plus
+// Communicator::wait_keeping, so a rank that failed elsewhere cannot leave the others waiting here
+// forever (the collective-failure contract, docs/architecture.md), and the messages it abandons
+// keep their buffers and counts, which MPI's progress engine may still touch while the ranks agree
+// on the exit code (freed under it, they crashed that agreement: commit 23bae46).
 // `recv_displs`: where each rank's records land in `recv` (empty: one after the other).
+//
+// Pairwise, not MPI_Ialltoallv: in step s a rank sends to rank + s and receives from rank - s,
+// one peer each way at a time. With every message in flight at once (MPI_Ialltoallv), Open MPI's
+// shared-memory transport filled fragments for every peer, and each rank's resident set held
+// about 1 MiB of shared memory per peer on its node (results/bake/distributed.md, seventeenth
+// round).
 template <class Send, class Recv>
 void alltoallv_records(const Communicator& comm, Send& send, const std::vector<int>& send_counts,
                        Recv& recv, const std::vector<int>& recv_counts, std::size_t record_bytes,
                        const std::vector<int>& recv_displs = {}) {
+  std::vector<int> sc = send_counts, rc = recv_counts;  // kept with the messages, as the buffers
+  std::vector<int> sd = displacements(sc),
+                   rd = recv_displs.empty() ? displacements(rc) : recv_displs;
+  const auto* out = reinterpret_cast<const unsigned char*>(send.data());
+  auto* in = reinterpret_cast<unsigned char*>(recv.data());
+  const auto rb = static_cast<std::int64_t>(record_bytes);
+  const int me = comm.rank(), p = comm.size();
 #ifdef RTMINI_HAVE_MPI
   MPI_Datatype type;
   MPI_Type_contiguous(static_cast<int>(record_bytes), MPI_BYTE, &type);
   MPI_Type_commit(&type);
-  std::vector<int> sc = send_counts, rc = recv_counts;  // kept with the request, as the buffers
-  std::vector<int> sd = displacements(sc),
-                   rd = recv_displs.empty() ? displacements(rc) : recv_displs;
-  MPI_Request req;
-  MPI_Ialltoallv(send.data(), sc.data(), sd.data(), type, recv.data(), rc.data(), rd.data(), type,
-                 comm.native(), &req);
-  comm.wait_keeping(req, send, recv, sc, sd, rc, rd);  // an abandoned one keeps `type` too
-  MPI_Type_free(&type);
+  // Step 0 is this rank's own records, through MPI too: the buffers may be device memory that
+  // only a CUDA-aware MPI may touch (mpi_takes_map_memory).
+  for (int s = 0; s < p; ++s) {
+    const int to = (me + s) % p, from = (me - s + p) % p;
+    exchange_with(comm, out + sd[to] * rb, sc[to] * rb, to, in + rd[from] * rb, rc[from] * rb, from,
+                  type, rb, send, recv, sc, sd, rc, rd);
+  }
+  MPI_Type_free(&type);  // an abandoned exchange keeps `type` too
 #else
-  (void)comm;
-  (void)recv_counts;
-  (void)recv_displs;
-  std::copy_n(reinterpret_cast<const unsigned char*>(send.data()),
-              static_cast<std::size_t>(send_counts[0]) * record_bytes,
-              reinterpret_cast<unsigned char*>(recv.data()));
+  std::copy_n(out + sd[me] * rb, sc[me] * rb, in + rd[me] * rb);
+  (void)p;
 #endif
 }
 
-// MPI_Alltoallv of the elements of `send` into `recv` (containers of one trivially copyable
-// type, owned as alltoallv_records says), counts in elements.
+// The all-to-all exchange of the elements of `send` into `recv` (containers of one trivially
+// copyable type, owned as alltoallv_records says), counts in elements.
 template <class Send, class Recv>
 void alltoallv(const Communicator& comm, Send& send, const std::vector<int>& send_counts,
                Recv& recv, const std::vector<int>& recv_counts) {

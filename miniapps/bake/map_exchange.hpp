@@ -4,11 +4,11 @@
 // plus those of the remote vertices its rays read (its halo, held once, apart from the map). The
 // halo is fixed (mirror hits are geometry only), so the exchange that refreshes it after each
 // iteration is planned once and replayed: every owner packs the colours each reader asked for
-// (only the viewpoints its lookups read), one MPI_Alltoallv moves them, and they land in the
-// reader's halo as they arrive: the halo is laid out in the order the exchange receives it (by
-// owner rank, then by entry), so the receive buffer is the halo itself. A remote vertex keeps
-// only the viewpoints this rank's lookups read (SparseColors, map_reader.hpp), so a rank holds
-// what it owns (twice) plus what it reads (once).
+// (only the viewpoints its lookups read), one all-to-all exchange (pairwise: alltoallv_records)
+// moves them, and they land in the reader's halo as they arrive: the halo is laid out in the order
+// the exchange receives it (by owner rank, then by entry), so the receive buffer is the halo
+// itself. A remote vertex keeps only the viewpoints this rank's lookups read (SparseColors,
+// map_reader.hpp), so a rank holds what it owns (twice) plus what it reads (once).
 #include <cstdint>
 #include <type_traits>
 #include <vector>
@@ -192,7 +192,7 @@ using RecordBytes = Kokkos::View<unsigned char*, MemSpace, Kokkos::MemoryUnmanag
 // ranges, in vertex order. Both stay in MemSpace: records that stay on a rank are copied there
 // (parallel copies, no host round trip: the serial host copies of a rank's traced hits cost
 // about 9 % of its mirror trace on one thread, so about 70 % of it on a rank of 8 threads), the
-// others go through one MPI_Alltoallv of MemSpace buffers when MPI takes that memory
+// others go through one all-to-all exchange of MemSpace buffers when MPI takes that memory
 // (mpi_takes_map_memory), else through host buffers.
 void move_entry_records(const Communicator& comm, const BakeSceneHost& scene,
                         const std::vector<Batch>& from, const std::vector<Batch>& to,
