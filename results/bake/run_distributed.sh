@@ -24,7 +24,8 @@
 # Every run writes its summary (verification hash, peak RSS per rank, map statistics) and
 # timings (.h5) to OUT_DIR; table.md collects them. Usage (from the repository root, build/ built):
 #   results/bake/run_distributed.sh OUT_DIR [strong|scaling|weak|weakrooms|exchange|big|all]
-# BAKE=path runs another build's bake (a baseline in the same call), on the same inputs.
+# BAKE=path runs another build's bake (a baseline in the same call), on the same inputs;
+# MPI_ARGS="..." adds mpirun options to every run (e.g. another MPI transport).
 set -eu
 out=$1
 what=${2:-all}
@@ -47,7 +48,7 @@ run() {
   shift 3
   echo "== $name ($np x $t)" >&2
   OMP_NUM_THREADS=$t /usr/bin/time -f "wall %e s" -o "$out/$name.time" \
-    mpirun -n "$np" --map-by "slot:PE=$t" --bind-to core "$bake" "$@" \
+    mpirun -n "$np" --map-by "slot:PE=$t" --bind-to core ${MPI_ARGS:-} "$bake" "$@" \
     --summary "$out/$name.json" --timings "$out/$name.h5" >"$out/$name.log" 2>&1 ||
     echo "   $name failed: see $out/$name.log" >&2
 }
