@@ -53,23 +53,50 @@ double peak_rss_bytes() {
 // no bake buffer accounts for: anonymous pages are heap (the bake's, the runtimes'), file pages
 // the program and its libraries, shared-memory pages what the MPI library maps to reach the
 // ranks on its node (the bake itself maps none).
+// `huge` is the part of the heap on transparent huge pages (AnonHugePages): where the kernel
+// backs a large array with them only when a 2 MiB page happens to be free, ranks of one job can
+// get different shares, and a rank on 4 KiB pages pays page walks on every random read.
 struct ResidentNow {
-  double total = 0, anon = 0, file = 0, shmem = 0;
+  double total = 0, anon = 0, file = 0, shmem = 0, huge = 0;
 };
-ResidentNow resident_now() {
-  ResidentNow r;
-  std::ifstream in("/proc/self/status");
+
+// Reads the "Key:  value kB" lines of a /proc file into the fields that `field_of` names.
+template <class FieldOf>
+void read_proc_kib(const char* path, FieldOf field_of) {
+  std::ifstream in(path);
   std::string key;
   double kib = 0;
   while (in >> key) {
-    double* field = key == "VmRSS:"      ? &r.total
-                    : key == "RssAnon:"  ? &r.anon
-                    : key == "RssFile:"  ? &r.file
-                    : key == "RssShmem:" ? &r.shmem
-                                         : nullptr;
+    double* field = field_of(key);
     if (field && in >> kib) *field = kib * 1024.0;
     std::getline(in, key);
   }
+}
+
+// The kernel's transparent-huge-page policy (the bracketed word of
+// /sys/kernel/mm/transparent_hugepage/enabled: always, madvise or never; "" where unknown), which
+// decides whether the heap's share on huge pages (ResidentNow::huge) depends on luck.
+std::string transparent_huge_page_mode() {
+  std::ifstream in("/sys/kernel/mm/transparent_hugepage/enabled");
+  std::string word;
+  while (in >> word)
+    if (word.size() > 2 && word.front() == '[' && word.back() == ']')
+      return word.substr(1, word.size() - 2);
+  return "";
+}
+
+ResidentNow resident_now() {
+  ResidentNow r;
+  read_proc_kib("/proc/self/status", [&r](const std::string& key) {
+    return key == "VmRSS:"      ? &r.total
+           : key == "RssAnon:"  ? &r.anon
+           : key == "RssFile:"  ? &r.file
+           : key == "RssShmem:" ? &r.shmem
+                                : nullptr;
+  });
+  read_proc_kib("/proc/self/smaps_rollup", [&r](const std::string& key) {
+    return key == "AnonHugePages:" ? &r.huge : nullptr;
+  });
   return r;
 }
 
@@ -1123,8 +1150,9 @@ void BakeRun::report_resident_buffers() {
                            at.now.total,
                            at.now.anon,
                            at.now.file,
-                           at.now.shmem};
-  constexpr std::size_t kBuffers = 6;  // the buffers' fields follow these
+                           at.now.shmem,
+                           at.now.huge};
+  constexpr std::size_t kBuffers = 7;  // the buffers' fields follow these
   for (const auto& b : buffers_at_peak_) mine.push_back(b.second);
   const std::vector<std::vector<double>> field = gather_fields(comm_, mine);
   const std::size_t ranks = field[0].size();
@@ -1138,6 +1166,7 @@ void BakeRun::report_resident_buffers() {
   out["rss_anon_after_step_bytes_per_rank"] = field[3];
   out["rss_file_after_step_bytes_per_rank"] = field[4];
   out["rss_shmem_after_step_bytes_per_rank"] = field[5];
+  out["rss_huge_after_step_bytes_per_rank"] = field[6];
   for (std::size_t k = 0; k < buffers_at_peak_.size(); ++k)
     out[buffers_at_peak_[k].first] = field[kBuffers + k];
   report_.scene["resident_at_peak"] = out;
@@ -1719,13 +1748,17 @@ void BakeRun::report_results() {
     marks.push_back(m.peak);
     marks.push_back(m.now.total);
     marks.push_back(m.now.shmem);
+    marks.push_back(m.now.huge);
   }
+  report_.scene["transparent_huge_pages"] = transparent_huge_page_mode();
+  constexpr std::size_t kPerMark = 4;
   const std::vector<std::vector<double>> per_rank = gather_fields(comm_, marks);
   for (std::size_t i = 0; i < rss_marks_.size(); ++i) {
     const std::string& step = rss_marks_[i].step;
-    report_.scene["peak_rss_after_bytes_per_rank"][step] = per_rank[3 * i];
-    report_.scene["rss_after_bytes_per_rank"][step] = per_rank[3 * i + 1];
-    report_.scene["rss_shmem_after_bytes_per_rank"][step] = per_rank[3 * i + 2];
+    report_.scene["peak_rss_after_bytes_per_rank"][step] = per_rank[kPerMark * i];
+    report_.scene["rss_after_bytes_per_rank"][step] = per_rank[kPerMark * i + 1];
+    report_.scene["rss_shmem_after_bytes_per_rank"][step] = per_rank[kPerMark * i + 2];
+    report_.scene["rss_huge_after_bytes_per_rank"][step] = per_rank[kPerMark * i + 3];
   }
   report_resident_buffers();
   if (!c_.timings.empty())
