@@ -22,15 +22,15 @@ namespace {
 constexpr int kBins = 16;
 constexpr Real kTraversalCost = 1;
 constexpr Real kTriangleCost = 1;
-// The SAH's triangle term counts a side's triangles in blocks of four, the lanes of a compact
-// leaf: the traversal tests a wide leaf's lanes at once, so one to four triangles cost about
-// the same. Cuts that leave a side's count just past a multiple of four then cost a block more,
-// and small ranges stay one leaf instead of being split to single triangles the collapse
-// merges again: half the binary nodes, and the build's many small split_range calls with them
-// (results/bvh/README.md, branch cpu15). Answers do not depend on the tree (the closest hit's
-// tie-break is by triangle id).
+// On ordinary meshes the SAH's triangle term counts a side's triangles in blocks of four, the
+// lanes of a compact leaf: the traversal tests a wide leaf's lanes at once, so one to four
+// triangles cost about the same. Cuts that leave a side just past a multiple of four then cost a
+// block more, and small ranges stay one leaf instead of being split to single triangles that the
+// collapse merges again: half the binary nodes, and the build's many small split_range calls
+// with them (results/bvh/README.md, branch cpu15). Answers do not depend on the tree (the closest
+// hit's tie-break is by triangle id). Builds with split references (pre-split or spatial
+// splits) count single triangles, as before: larger leaves would hold more parts of one sliver.
 constexpr int kLeafBlock = 4;
-Real triangle_term(int n) { return Real((n + kLeafBlock - 1) / kLeafBlock * kLeafBlock); }
 constexpr int kMaxDepth = kStackSize - 2;
 // Subtrees of at most max(kMinFragment, n / kFragmentShare) items are built in parallel.
 constexpr int kFragmentShare = 64;
@@ -74,7 +74,13 @@ struct SpatialContext {
   const TriangleSpan* input = nullptr;
   Real min_overlap = 0;  // kSpatialAlpha times the root's surface area
   double margin = 0;     // kClipMargin times the scene's largest extent
+  int leaf_block = 1;    // the SAH counts triangles in blocks of this many (kLeafBlock or 1)
 };
+
+// The SAH's triangle term for `n` items: n rounded up to whole blocks.
+Real triangle_term(const SpatialContext& ctx, int n) {
+  return Real((n + ctx.leaf_block - 1) / ctx.leaf_block * ctx.leaf_block);
+}
 
 Aabb range_box(const std::vector<Item>& items, int b, int e, Aabb* centroids) {
   Aabb box, cb;
@@ -376,9 +382,9 @@ SpatialSplit find_spatial_split(const SpatialContext& ctx, const Task& t, Real b
       cnt += enter[axis][k];
       const int nr = right_count[k + 1];
       if (cnt == 0 || nr == 0 || cnt + nr - count > t.budget) continue;
-      const Real c = kTraversalCost * parent_area +
-                     kTriangleCost * (triangle_term(cnt) * acc.surface_area() +
-                                      triangle_term(nr) * right_box[k + 1].surface_area());
+      const Real c =
+          kTraversalCost * parent_area +
+          kTriangleCost * (cnt * acc.surface_area() + nr * right_box[k + 1].surface_area());
       if (c < best) {
         best = c;
         best_split.axis = axis;
@@ -496,7 +502,7 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
   const int count = e - b;
   const Aabb& cb = t.centroids;
   const Real parent_area = t.box.surface_area();
-  const Real leaf_cost = kTriangleCost * triangle_term(count) * parent_area;
+  const Real leaf_cost = kTriangleCost * triangle_term(ctx, count) * parent_area;
   Real best = leaf_cost;
   int best_axis = -1, best_bin = -1;
   const Vec3 ext = cb.extent();
@@ -535,7 +541,7 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
       m &= ~(1u << k);
       acc.expand(bins[axis][k]);
       cnt += counts[axis][k];
-      right_cost[k] = triangle_term(cnt) * acc.surface_area();
+      right_cost[k] = triangle_term(ctx, cnt) * acc.surface_area();
     }
     acc = BinBox();
     cnt = 0;
@@ -546,8 +552,9 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
       const int next = lowest_bit(m);
       acc.expand(bins[axis][k]);
       cnt += counts[axis][k];
-      const Real c = kTraversalCost * parent_area +
-                     kTriangleCost * (triangle_term(cnt) * acc.surface_area() + right_cost[next]);
+      const Real c =
+          kTraversalCost * parent_area +
+          kTriangleCost * (triangle_term(ctx, cnt) * acc.surface_area() + right_cost[next]);
       // Kept without a branch (whether a candidate improves is hard to predict); the winner's
       // boxes are merged again below.
       const bool better = c < best;
@@ -902,6 +909,7 @@ void build_tree(Items& items, Task root, TriangleSpan input, bool spatial, doubl
   out.bounds = root.box;
   if (n == 0) return;
   SpatialContext ctx;
+  if (!spatial && items.size() == input.size()) ctx.leaf_block = kLeafBlock;
   if (spatial) {
     const Vec3 e = root.box.extent();
     ctx.input = &input;
