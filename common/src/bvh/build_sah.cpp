@@ -22,6 +22,15 @@ namespace {
 constexpr int kBins = 16;
 constexpr Real kTraversalCost = 1;
 constexpr Real kTriangleCost = 1;
+// On ordinary meshes the SAH's triangle term counts a side's triangles in blocks of four, the
+// lanes of a compact leaf: the traversal tests a wide leaf's lanes at once, so one to four
+// triangles cost about the same. Cuts that leave a side just past a multiple of four then cost a
+// block more, and small ranges stay one leaf instead of being split to single triangles that the
+// collapse merges again: half the binary nodes, and the build's many small split_range calls
+// with them (results/bvh/README.md, branch cpu15). Answers do not depend on the tree (the closest
+// hit's tie-break is by triangle id). Builds with split references (pre-split or spatial
+// splits) count single triangles, as before: larger leaves would hold more parts of one sliver.
+constexpr int kLeafBlock = 4;
 constexpr int kMaxDepth = kStackSize - 2;
 // Subtrees of at most max(kMinFragment, n / kFragmentShare) items are built in parallel.
 constexpr int kFragmentShare = 64;
@@ -65,7 +74,13 @@ struct SpatialContext {
   const TriangleSpan* input = nullptr;
   Real min_overlap = 0;  // kSpatialAlpha times the root's surface area
   double margin = 0;     // kClipMargin times the scene's largest extent
+  int leaf_block = 1;    // the SAH counts triangles in blocks of this many (kLeafBlock or 1)
 };
+
+// The SAH's triangle term for `n` items: n rounded up to whole blocks.
+Real triangle_term(const SpatialContext& ctx, int n) {
+  return Real((n + ctx.leaf_block - 1) / ctx.leaf_block * ctx.leaf_block);
+}
 
 Aabb range_box(const std::vector<Item>& items, int b, int e, Aabb* centroids) {
   Aabb box, cb;
@@ -487,7 +502,7 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
   const int count = e - b;
   const Aabb& cb = t.centroids;
   const Real parent_area = t.box.surface_area();
-  const Real leaf_cost = kTriangleCost * count * parent_area;
+  const Real leaf_cost = kTriangleCost * triangle_term(ctx, count) * parent_area;
   Real best = leaf_cost;
   int best_axis = -1, best_bin = -1;
   const Vec3 ext = cb.extent();
@@ -526,7 +541,7 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
       m &= ~(1u << k);
       acc.expand(bins[axis][k]);
       cnt += counts[axis][k];
-      right_cost[k] = cnt * acc.surface_area();
+      right_cost[k] = triangle_term(ctx, cnt) * acc.surface_area();
     }
     acc = BinBox();
     cnt = 0;
@@ -537,8 +552,9 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
       const int next = lowest_bit(m);
       acc.expand(bins[axis][k]);
       cnt += counts[axis][k];
-      const Real c = kTraversalCost * parent_area +
-                     kTriangleCost * (cnt * acc.surface_area() + right_cost[next]);
+      const Real c =
+          kTraversalCost * parent_area +
+          kTriangleCost * (triangle_term(ctx, cnt) * acc.surface_area() + right_cost[next]);
       // Kept without a branch (whether a candidate improves is hard to predict); the winner's
       // boxes are merged again below.
       const bool better = c < best;
@@ -893,6 +909,7 @@ void build_tree(Items& items, Task root, TriangleSpan input, bool spatial, doubl
   out.bounds = root.box;
   if (n == 0) return;
   SpatialContext ctx;
+  if (!spatial && items.size() == input.size()) ctx.leaf_block = kLeafBlock;
   if (spatial) {
     const Vec3 e = root.box.extent();
     ctx.input = &input;
