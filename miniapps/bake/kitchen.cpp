@@ -60,19 +60,6 @@ struct ResidentNow {
   double total = 0, anon = 0, file = 0, shmem = 0, huge = 0;
 };
 
-// Reads the "Key:  value kB" lines of a /proc file into the fields that `field_of` names.
-template <class FieldOf>
-void read_proc_kib(const char* path, FieldOf field_of) {
-  std::ifstream in(path);
-  std::string key;
-  double kib = 0;
-  while (in >> key) {
-    double* field = field_of(key);
-    if (field && in >> kib) *field = kib * 1024.0;
-    std::getline(in, key);
-  }
-}
-
 // The kernel's transparent-huge-page policy (the bracketed word of
 // /sys/kernel/mm/transparent_hugepage/enabled: always, madvise or never; "" where unknown), which
 // decides whether the heap's share on huge pages (ResidentNow::huge) depends on luck.
@@ -86,17 +73,13 @@ std::string transparent_huge_page_mode() {
 }
 
 ResidentNow resident_now() {
+  constexpr double kKiB = 1024.0;  // /proc gives kB
   ResidentNow r;
-  read_proc_kib("/proc/self/status", [&r](const std::string& key) {
-    return key == "VmRSS:"      ? &r.total
-           : key == "RssAnon:"  ? &r.anon
-           : key == "RssFile:"  ? &r.file
-           : key == "RssShmem:" ? &r.shmem
-                                : nullptr;
-  });
-  read_proc_kib("/proc/self/smaps_rollup", [&r](const std::string& key) {
-    return key == "AnonHugePages:" ? &r.huge : nullptr;
-  });
+  r.total = read_field("/proc/self/status", "VmRSS:") * kKiB;
+  r.anon = read_field("/proc/self/status", "RssAnon:") * kKiB;
+  r.file = read_field("/proc/self/status", "RssFile:") * kKiB;
+  r.shmem = read_field("/proc/self/status", "RssShmem:") * kKiB;
+  r.huge = read_field("/proc/self/smaps_rollup", "AnonHugePages:") * kKiB;
   return r;
 }
 

@@ -27,18 +27,6 @@ double read_number(const std::string& path) {
   return v;
 }
 
-// The value of `key` in a "key value" file (memory.stat, /proc/meminfo), or 0.
-double read_field(const std::string& path, const std::string& key) {
-  std::ifstream in(path);
-  std::string k;
-  double v = 0;
-  while (in >> k >> v) {
-    if (k == key) return v;
-    in.ignore(4096, '\n');
-  }
-  return 0;
-}
-
 // This process's cgroup path for `controller` ("" = the v2 unified hierarchy), or "" when none.
 std::string cgroup_path(const std::string& controller) {
   std::ifstream in("/proc/self/cgroup");
@@ -133,6 +121,18 @@ int source_code(const std::string& s) {
 }
 
 }  // namespace
+
+double read_field(const std::string& path, const std::string& key) {
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {  // by line: /proc/self/status has words as values too
+    std::istringstream fields(line);
+    std::string k;
+    double v = 0;
+    if (fields >> k && k == key && fields >> v) return v;
+  }
+  return 0;
+}
 
 std::int64_t parse_memory_limit(const std::string& flag, const std::string& text) {
   if (text.empty()) return 0;

@@ -28,6 +28,11 @@ struct MemoryNeed {
   double views = 0;
 };
 
+// The number after `key` on its line of a "key value [unit]" file (/proc/meminfo,
+// /proc/self/status, /proc/self/smaps_rollup, a cgroup's memory.stat), or 0 when absent. The
+// unit is the file's: kB in /proc, bytes in memory.stat.
+double read_field(const std::string& path, const std::string& key);
+
 // This process's resident set now (bytes; the peak is report/run_report.hpp's
 // peak_resident_bytes).
 double resident_bytes();
