@@ -22,9 +22,9 @@ namespace {
 constexpr int kBins = 16;
 constexpr Real kTraversalCost = 1;
 constexpr Real kTriangleCost = 1;
-// On ordinary meshes the SAH's triangle term counts a side's triangles in blocks of four, the
-// lanes of a compact leaf: the traversal tests a wide leaf's lanes at once, so one to four
-// triangles cost about the same. Cuts that leave a side just past a multiple of four then cost a
+// For the host's traversal (SahLeafCost::kBlocksOfFour), on ordinary meshes the SAH's triangle
+// term counts a side's triangles in blocks of four, the lanes of a compact leaf: the traversal
+// tests a wide leaf's lanes at once, so one to four triangles cost about the same. Cuts that leave a side just past a multiple of four then cost a
 // block more, and small ranges stay one leaf instead of being split to single triangles that the
 // collapse merges again: half the binary nodes, and the build's many small split_range calls
 // with them (results/bvh/README.md, branch cpu15). Answers do not depend on the tree (the closest
@@ -903,13 +903,14 @@ void place_fragments(const std::vector<const Fragment*>& fragments,
 // `root` is the range of all items with its bounds. With spatial splits, up to `budget`
 // references more than items.
 void build_tree(Items& items, Task root, TriangleSpan input, bool spatial, double budget,
-                HostBvh& out) {
+                SahLeafCost leaf_cost, HostBvh& out) {
   const int n = static_cast<int>(items.size());
   root.items = &items;
   out.bounds = root.box;
   if (n == 0) return;
   SpatialContext ctx;
-  if (!spatial && items.size() == input.size()) ctx.leaf_block = kLeafBlock;
+  if (leaf_cost == SahLeafCost::kBlocksOfFour && !spatial && items.size() == input.size())
+    ctx.leaf_block = kLeafBlock;
   if (spatial) {
     const Vec3 e = root.box.extent();
     ctx.input = &input;
@@ -975,7 +976,8 @@ bool uses_spatial_splits(TriangleSpan input, SpatialSplits s) {
   return s == SpatialSplits::kOn;
 }
 
-HostBvh build_sah_host(TriangleSpan input, double split_budget, SpatialSplits spatial_splits) {
+HostBvh build_sah_host(TriangleSpan input, double split_budget, SpatialSplits spatial_splits,
+                       SahLeafCost leaf_cost) {
   HostBvh out;
   const bool spatial = uses_spatial_splits(input, spatial_splits);
   Task root{};
@@ -983,7 +985,7 @@ HostBvh build_sah_host(TriangleSpan input, double split_budget, SpatialSplits sp
   const double per_triangle =
       is_auto_split_budget(split_budget) ? kSpatialSplitAutoBudget : split_budget;
   const double budget = per_triangle * double(input.size());
-  build_tree(items, root, input, spatial, budget, out);
+  build_tree(items, root, input, spatial, budget, leaf_cost, out);
   out.spatial_splits = spatial;
   return out;
 }

@@ -686,6 +686,24 @@ Aabb wide_child_box(const bvh::WideNode& n, int k) {
   return b;
 }
 
+// Devices traverse the binary tree one triangle at a time, so their SAH trees count single
+// triangles (SahLeafCost::kPerTriangle): on the bunny about twice the inner nodes of the host's
+// tree, whose SAH counts compact leaves' blocks of four. build() picks by the memory space.
+TEST(SahBuild, DeviceTreesCountSingleTriangles) {
+  const Mesh mesh = load_scene("stanford-bunny.obj");
+  const std::vector<Triangle> input = triangle_vector(mesh);
+  const bvh::HostBvh blocks = bvh::build_sah_host(input);
+  const bvh::HostBvh single =
+      bvh::build_sah_host(input, bvh::kDefaultSplitBudget, bvh::kDefaultSpatialSplits,
+                          bvh::SahLeafCost::kPerTriangle);
+  EXPECT_GT(single.nodes.size(), blocks.nodes.size() * 3 / 2);
+  const auto accel = bvh::build<TestExecSpace, TestMemSpace>(TestExecSpace(), upload_triangles(mesh),
+                                                             bvh::BuildQuality::kSah);
+  constexpr bool on_host =
+      Kokkos::SpaceAccessibility<Kokkos::HostSpace, TestMemSpace>::accessible;
+  EXPECT_EQ(accel.nodes.extent(0), on_host ? blocks.nodes.size() : single.nodes.size());
+}
+
 // The SAH-optimal 8-wide collapse (wide.cpp) lays every binary leaf slot out exactly once, in a
 // leaf of at most eight lanes (compact leaves of at most four in half a block), each wide node and
 // leaf referenced once, every child box enclosing what is under it (its leaf's triangles, or the

@@ -77,8 +77,10 @@ Bvh<MemorySpace> build_sah(Kokkos::View<const Triangle*, MemorySpace> tris, doub
   Kokkos::Profiling::pushRegion("rtmini::bvh::build_sah");
   // (host memory: the caller's view itself, read in place)
   auto host = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), tris);
-  const HostBvh h =
-      build_sah_host(TriangleSpan(host.data(), host.extent(0)), split_budget, spatial_splits);
+  constexpr bool on_host = Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemorySpace>::accessible;
+  const HostBvh h = build_sah_host(TriangleSpan(host.data(), host.extent(0)), split_budget,
+                                   spatial_splits,
+                                   on_host ? SahLeafCost::kBlocksOfFour : SahLeafCost::kPerTriangle);
   Bvh<MemorySpace> out = upload<MemorySpace>(h, BuildQuality::kSah);
   add_wide_nodes(out, h.nodes, h.tris.data(), h.prim.data());
   Kokkos::Profiling::popRegion();

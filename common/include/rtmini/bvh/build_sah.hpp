@@ -31,10 +31,19 @@ bool uses_spatial_splits(TriangleSpan input, SpatialSplits s);
 
 inline constexpr SpatialSplits kDefaultSpatialSplits = SpatialSplits::kAuto;
 
+// How the SAH's triangle term counts a leaf's triangles, after the traversal that will read the
+// tree. The host's 8-wide traversal tests a compact leaf's four lanes at once, so it counts them
+// in blocks of four (half the binary nodes, a faster build). A device's binary traversal tests
+// one triangle at a time: larger leaves cost it 17-29 % of its AO rate on the H200
+// (results/gpu/README.md, 2026-11-29), so it counts single triangles.
+enum class SahLeafCost { kBlocksOfFour, kPerTriangle };
+
 // split_budget: extra references allowed (pre-split parts, or those added by spatial splits), as
 // a fraction of the triangle count (0: never split), or kAutoSplitBudget (presplit.hpp).
+// Builds with split references always count single triangles (build_sah.cpp).
 HostBvh build_sah_host(TriangleSpan input, double split_budget = kDefaultSplitBudget,
-                       SpatialSplits spatial_splits = kDefaultSpatialSplits);
+                       SpatialSplits spatial_splits = kDefaultSpatialSplits,
+                       SahLeafCost leaf_cost = SahLeafCost::kBlocksOfFour);
 
 // compat::upload, except that host memory is filled by a plain copy: the Kokkos fill and
 // deep_copy are parallel regions whose spin-waits cost more than the copy itself when the
