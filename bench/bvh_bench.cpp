@@ -17,6 +17,7 @@
 #include "rtmini/geometry/offset.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/obj_reader.hpp"
+#include "rtmini/parallel/ray_loop.hpp"
 #include "rtmini/parallel/communicator.hpp"
 #include "rtmini/report/app_main.hpp"
 #include "rtmini/report/common_options.hpp"
@@ -359,7 +360,7 @@ void trace_packets(const bvh::Bvh<MemorySpace>& accel, const Kokkos::View<Ray*, 
     const Ray* all = rays.data();
     Kokkos::parallel_for(
         "rtmini::bench::trace_packets",
-        Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace>(0, (n + kSize - 1) / kSize),
+        RayLoopPolicy<Kokkos::DefaultHostExecutionSpace>(0, (n + kSize - 1) / kSize),
         [=](std::int64_t p) {
           const std::int64_t first = p * kSize;
           const int count = static_cast<int>(std::min(kSize, n - first));
@@ -824,7 +825,7 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
       trace_any(kernel, accel, rays, result, order);
     } else {
       Kokkos::parallel_for(
-          "rtmini::bench::trace_closest", Kokkos::RangePolicy<Exec>(0, nr),
+          "rtmini::bench::trace_closest", RayLoopPolicy<Exec>(0, nr),
           KOKKOS_LAMBDA(long long i) { result(i) = bvh::closest_hit(accel, rays(i)).prim; });
     }
     Kokkos::fence();

@@ -39,6 +39,7 @@
 #include <type_traits>
 
 #include "rtmini/bvh/traverse.hpp"
+#include "rtmini/parallel/ray_loop.hpp"
 
 namespace rtmini::bvh {
 
@@ -637,7 +638,7 @@ void any_hit_all(const ExecSpace& space, const BvhT& bvh, std::int64_t n, const 
     Kokkos::parallel_for(kLabel, Kokkos::RangePolicy<ExecSpace, Bounds>(space, 0, n),
                          detail::AnyHitEachRay<K, BvhT, RayOf, Store>{bvh, ray_of, store});
   } else {
-    Kokkos::parallel_for(kLabel, Kokkos::RangePolicy<ExecSpace>(space, 0, n),
+    Kokkos::parallel_for(kLabel, RayLoopPolicy<ExecSpace>(space, 0, n),
                          detail::AnyHitEachRay<K, BvhT, RayOf, Store>{bvh, ray_of, store});
   }
 }
