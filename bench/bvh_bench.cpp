@@ -9,12 +9,14 @@
 #include <thread>
 
 #include "ray_buffer.hpp"
+#include "workload_file.hpp"
 #include "rtmini/bvh/any_hit_gpu.hpp"
 #include "rtmini/bvh/build.hpp"
 #include "rtmini/bvh/gpu_compact.hpp"
 #include "rtmini/bvh/quality.hpp"
 #include "rtmini/bvh/traverse.hpp"
 #include "rtmini/geometry/offset.hpp"
+#include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/obj_reader.hpp"
 #include "rtmini/parallel/ray_loop.hpp"
@@ -43,6 +45,7 @@ struct Options {
   std::string workload = "ao";
   std::string quality = "sah";
   std::string peer;
+  std::string write_workload;
   std::string camera = "framed";
   std::string gpu_trace = "default";
   std::string ray_order = "ray";
@@ -159,6 +162,27 @@ class Peer {
   std::string version() const { return {}; }
 #endif
 };
+
+// --write-workload: the triangles, the rays and this run's answers, for a peer built elsewhere
+// (workload_file.hpp).
+void write_workload_file(const std::string& path, const Kokkos::View<Triangle*, Mem>& tris,
+                         const Kokkos::View<Ray*, Mem>& rays, const Kokkos::View<int*, Mem>& result,
+                         bool any) {
+  const auto ht = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), tris);
+  const auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rays);
+  const auto ha = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), result);
+  bench::WorkloadView w;
+  w.tris = ht.data();
+  w.num_tris = ht.extent(0);
+  w.rays = hr.data();
+  w.answers = ha.data();
+  w.num_rays = hr.extent(0);
+  w.any_hit = any;
+  bench::write_workload(path, w);
+  std::printf("workload written to %s (%llu triangles, %llu rays, %s answers)\n", path.c_str(),
+              static_cast<unsigned long long>(w.num_tris),
+              static_cast<unsigned long long>(w.num_rays), any ? "any-hit" : "closest-hit");
+}
 
 // A pinhole camera: rays from `eye` through a square image plane of half-width `tan_half`.
 struct Camera {
@@ -626,6 +650,8 @@ MemoryNeed bench_memory_need(const Mesh& mesh, const Options& o) {
                rays * ((secondary ? 2 : 1) * sizeof(Ray) + sizeof(int)) +
                (o.workload == "ao" ? static_cast<double>(nt) * sizeof(Real) : 0.0);
   if (!o.peer.empty()) need.host = rays * (sizeof(Ray) + sizeof(int));
+  // --write-workload: host copies of the rays and answers (the triangles are small beside them).
+  if (!o.write_workload.empty()) need.host = std::max(need.host, rays * (sizeof(Ray) + sizeof(int)));
   return need;
 }
 
@@ -635,6 +661,13 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
   report.timer.stop();
   const MemoryPeak peak = require_memory(comm, bench_memory_need(mesh, o), limit);
   report.scene["memory_estimate_bytes"] = comm.max(peak.host + peak.device);
+  if (!o.write_workload.empty()) {  // refused before any work, like every output
+    if (o.build_only) throw InputError("--write-workload: --build-only traces no rays");
+    const std::uint64_t nt = mesh.triangle_count();
+    const std::uint64_t nr = o.workload == "ao" ? nt * o.samples_per_face * o.rays
+                                                : std::uint64_t(o.width) * o.height;
+    check_output_place(o.write_workload, double(bench::workload_file_bytes(nt, nr)));
+  }
   bvh::BuildQuality quality;
   if (o.quality == "auto") {  // the rule of build_quality.hpp, for this workload's rays
     const double nt = static_cast<double>(mesh.triangle_count());
@@ -920,6 +953,7 @@ int run(const Options& o, RunReport& report, const Communicator& comm, std::int6
         median_of(sah_cpu) * 1e3, median_of(peer_build_cpu) * 1e3, median_of(build_cpu_ratio),
         best_of(build_cpu_ratio), worst_of(build_cpu_ratio));
   }
+  if (!o.write_workload.empty()) write_workload_file(o.write_workload, dm.tris, rays, result, any);
   std::printf("FOM %.3f Mrays/s (%s, %s) verification %s\n", mrays, o.workload.c_str(),
               bvh::to_string(quality), hash_hex(hash).c_str());
   report.fom_name = "traversal rate";
@@ -987,6 +1021,9 @@ int bench_main(Communicator& comm, int argc, char** argv) {
                  "(ray by ray); the answers are the same")
       ->capture_default_str();
   app.add_option("--peer", o.peer, "trace the identical rays with a peer: embree");
+  app.add_option("--write-workload", o.write_workload,
+                 "write the triangles, the rays and rtmini's answers to this file (flat binary, "
+                 "bench/workload_file.hpp) for a peer built outside rtmini");
   app.add_flag("--peer-packets", o.peer_packets,
                "the peer traces in packets of 8 consecutive rays (rtcIntersect8 / rtcOccluded8) "
                "instead of one by one");
@@ -1012,6 +1049,7 @@ int bench_main(Communicator& comm, int argc, char** argv) {
                        {"ray_order", o.ray_order},
                        {"packets", o.packets},
                        {"peer_packets", o.peer_packets},
+                       {"write_workload", o.write_workload},
                        {"seed", o.seed},
                        {"spatial_splits", o.spatial_splits},
                        {"split_budget", o.split_budget},
