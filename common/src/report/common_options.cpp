@@ -4,6 +4,8 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <regex>
+#include <string>
 
 #include "rtmini/io/error.hpp"
 #include "rtmini/kokkos_compat.hpp"
@@ -18,6 +20,27 @@ namespace {
 struct CallForKokkosHelp : CLI::Success {
   CallForKokkosHelp() : CLI::Success("kokkos help", CLI::ExitCodes::Success) {}
 };
+
+// Kokkos reads some KOKKOS_* variables itself. Kokkos 4 aborts every rank (a backtrace each)
+// on a value it cannot parse, where Kokkos 3.4 read "ON" as true and other words as false; the
+// first CUDA run of the fault tests met exactly that with KOKKOS_DISABLE_WARNINGS=ON. So the
+// values both versions read alike are checked before Kokkos starts, and anything else is bad
+// input: one line and exit 2 on every rank.
+void check_kokkos_environment() {
+  static const std::regex boolean("yes|true|1|no|false|0", std::regex::icase);
+  static const std::regex integer("-?[0-9]+");
+  const auto check = [](const char* name, const std::regex& form, const char* allowed) {
+    const char* value = std::getenv(name);
+    if (value && !std::regex_match(value, form))
+      throw InputError(std::string("environment: ") + name + "=" + value + ": Kokkos takes " +
+                       allowed);
+  };
+  for (const char* name :
+       {"KOKKOS_DISABLE_WARNINGS", "KOKKOS_PRINT_CONFIGURATION", "KOKKOS_TUNE_INTERNALS"})
+    check(name, boolean, "yes, true, 1, no, false or 0");
+  for (const char* name : {"KOKKOS_NUM_THREADS", "KOKKOS_DEVICE_ID"})
+    check(name, integer, "an integer");
+}
 
 }  // namespace
 
@@ -59,6 +82,7 @@ void start_kokkos(const CommonOptions& options) {
   if (!std::getenv("OMP_PROC_BIND") && !std::getenv("OMP_PLACES") &&
       !std::getenv("GOMP_CPU_AFFINITY"))
     setenv("OMP_PROC_BIND", "false", 0);
+  check_kokkos_environment();
   compat::initialize(options.threads);
 }
 

@@ -44,12 +44,14 @@ limit=25  # seconds a failing run may take; a hang is killed here and reported
 # Kokkos' multi-line oversubscription warning in pieces, and a piece can land inside another
 # rank's error line (faults.one_rank.bake.np4 failed ~1 run in 12 that way). The warning is
 # Kokkos', not the app's, and expected here, so it is switched off for every launch below.
-export KOKKOS_DISABLE_WARNINGS=ON
+export KOKKOS_DISABLE_WARNINGS=1  # the spelling Kokkos 3.4 and 4 both read (4 aborts on "ON")
 
 fail() {
   echo "FAIL: $*" >&2
   exit 1
 }
+
+have_h5py() { "$PY" -c "import h5py" 2>/dev/null; }  # false on a host without it (the CUDA one)
 
 # expect_one_line APP EXPECT_CODE PATTERN CMD...: runs CMD, which must exit EXPECT_CODE
 # within $limit seconds and leave exactly one line of APP's on stderr, matching PATTERN.
@@ -299,6 +301,7 @@ PYEOF
       expect_one_line "$app" 2 "$(basename "$f")" "${run[@]}" --restart "$f"
       [[ $(wc -l <err.txt) == 1 ]] || { cat err.txt >&2; fail "more than one line on stderr: $f"; }
     done
+    have_h5py || { echo "note: $PY has no h5py: the per-dataset bit flips are left out"; datasets=(); }
     for d in "${datasets[@]}"; do
       mutate ck.h5 bad.h5 flip "$d"
       expect_one_line "$app" 2 "bad.h5" "${run[@]}" --restart bad.h5
@@ -324,8 +327,10 @@ PYEOF
     echo "ok: 32 single-byte changes: $refused refused, $harmless harmless"
     if [[ $app == sketchtrace ]]; then
       "${run[@]}" --balance metric --cost-map cm.h5 >/dev/null
-      mutate cm.h5 bad_cm.h5 flip /cost
-      expect_one_line sketchtrace 2 "bad_cm.h5" "${run[@]}" --balance metric --cost-map bad_cm.h5
+      if have_h5py; then
+        mutate cm.h5 bad_cm.h5 flip /cost
+        expect_one_line sketchtrace 2 "bad_cm.h5" "${run[@]}" --balance metric --cost-map bad_cm.h5
+      fi
       mutate cm.h5 bad_cm.h5 truncate
       expect_one_line sketchtrace 2 "bad_cm.h5" "${run[@]}" --balance metric --cost-map bad_cm.h5
     fi

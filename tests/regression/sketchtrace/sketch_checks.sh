@@ -33,6 +33,8 @@ scene_args() {
   esac
 }
 
+have_h5py() { "$PY" -c "import h5py" 2>/dev/null; }  # false on a host without it (the CUDA one)
+
 launch() {  # launch NP ARGS...: the app on NP ranks (no MPI: NP must be 1)
   local np=$1
   shift
@@ -165,6 +167,7 @@ case $mode in
     for b in static metric chunks bargain queue steal; do
       launch "$np" "$@" --balance "$b" --timings "$work/$b.h5" > "$work/$b.txt"
       [[ $(hash_of "$work/$b.txt") == "$ref" ]] || { echo "--balance $b on $np ranks differs" >&2; exit 1; }
+      have_h5py || continue
       "$PY" -c "import h5py,sys; f=h5py.File(sys.argv[1]); s=f.attrs['strategy']; s=s.decode() if isinstance(s,bytes) else s; assert s==sys.argv[2], s; assert f['/chunks/work_units'][:].sum()==160*120" "$work/$b.h5" "$b"
     done
     for b in bargain steal; do  # the same without the communication thread (default on)
@@ -204,6 +207,7 @@ case $mode in
     # shellcheck disable=SC2046
     launch "$np" "$INPUTS/two_spheres/two_spheres.toml" $(scene_args two_spheres) --chunk-pixels 512 \
       --timings "$work/t.h5" --summary "$work/s.json" > "$work/out.txt"
+    have_h5py || { echo "skipped: the run passed; $PY has no h5py to read t.h5"; exit 77; }
     "$PY" - "$work/t.h5" "$work/s.json" "$np" <<'PYEOF'
 import json, sys
 import h5py
