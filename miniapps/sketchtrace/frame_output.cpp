@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/image.hpp"
 #include "rtmini/io/path.hpp"
 #include "rtmini/report/hash.hpp"
 
@@ -13,6 +14,11 @@
 
 namespace rtmini::sketch {
 namespace {
+
+// AOVs beside an 8-bit image go to "<stem>.aov.exr".
+std::string aov_path_of(const std::string& path) {
+  return path.substr(0, path.find_last_of('.')) + ".aov.exr";
+}
 
 std::uint64_t bits(float f) {
   std::uint32_t u;
@@ -83,10 +89,12 @@ std::uint64_t hash_pixels(const std::vector<PixelResult>& pixels, std::int64_t f
   return h;
 }
 
-void check_output_path(const std::string& path) {
+void check_output_path(const std::string& path, const RenderSettings& s) {
   const std::string e = lower_extension(path);
   if (e != ".ppm" && e != ".png" && e != ".exr")
     throw InputError(path + ": output must end in .ppm, .png or .exr");
+  require_image_format(path);
+  if (!s.aov.empty()) require_image_format(aov_path_of(path));
 }
 
 std::vector<std::string> write_frame(const std::string& path, const Frame& frame,
@@ -119,7 +127,7 @@ std::vector<std::string> write_frame(const std::string& path, const Frame& frame
   written.push_back(path);
   if (!layers.empty()) {
     // AOVs of an 8-bit output go next to it, with the unstyled linear colour.
-    const std::string aov_path = path.substr(0, path.find_last_of('.')) + ".aov.exr";
+    const std::string aov_path = aov_path_of(path);
     layers.insert(layers.begin(), {"", frame.color});
     write_exr_layers(aov_path, layers);
     written.push_back(aov_path);

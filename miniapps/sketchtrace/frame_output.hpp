@@ -25,8 +25,9 @@ Frame assemble_frame(const std::vector<PixelResult>& pixels, int width, int heig
 std::uint64_t hash_pixels(const std::vector<PixelResult>& pixels, std::int64_t first_index,
                           bool aov);
 
-// InputError unless the extension is .ppm, .png or .exr.
-void check_output_path(const std::string& path);
+// Before the render: InputError unless the extension is .ppm, .png or .exr; IoError for a format
+// this build cannot write, the output's or (AOVs beside an 8-bit image) the .aov.exr's.
+void check_output_path(const std::string& path, const RenderSettings& s);
 
 // Writes -o (styled when a style is set) and the AOV EXR when asked; returns the files written.
 std::vector<std::string> write_frame(const std::string& path, const Frame& frame,

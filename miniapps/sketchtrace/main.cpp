@@ -178,7 +178,8 @@ void read_inputs(RunState& r, const CliOverrides& cli) {
   }
   cli.apply(r.s);
   validate_settings(r.s, "command line");
-  if (!opt.output.empty()) check_output_path(opt.output);
+  if (!opt.output.empty()) check_output_path(opt.output, r.s);
+  if (!opt.reference.empty()) require_readable_image(opt.reference);
   // Every place the run will write, before anything is read or computed (IoError: exit 3).
   const double pixels = static_cast<double>(r.s.width) * r.s.height;
   check_output_places({{opt.output, pixels * 3},

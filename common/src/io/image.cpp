@@ -1,5 +1,7 @@
 #include "rtmini/io/image.hpp"
 
+#include <fstream>
+
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/path.hpp"
 
@@ -13,6 +15,30 @@ namespace {
 }
 
 }  // namespace
+
+void require_image_format(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".ppm") return;
+  if (ext == ".png") {
+#ifndef RTMINI_HAVE_PNG
+    throw IoError(path + ": built without PNG support (libpng not found at configure time)");
+#endif
+    return;
+  }
+  if (ext == ".exr") {
+#ifndef RTMINI_HAVE_EXR
+    throw IoError(path + ": built without OpenEXR support (use .png or .ppm, or rebuild with "
+                         "OpenEXR)");
+#endif
+    return;
+  }
+  unknown_extension(path);
+}
+
+void require_readable_image(const std::string& path) {
+  if (!std::ifstream(path)) throw InputError(path + ": cannot open the image");
+  require_image_format(path);
+}
 
 void check_image_size(const std::string& path, long width, long height) {
   if (width > 0 && height > 0 && width <= kMaxImagePixels / height) return;

@@ -13,6 +13,7 @@
 #include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/cli_values.hpp"
 #include "rtmini/io/error.hpp"
+#include "rtmini/io/image.hpp"
 #include "rtmini/io/path.hpp"
 #include "rtmini/io/scene_file.hpp"
 #include "rtmini/io/srgb.hpp"
@@ -142,6 +143,7 @@ Image as_8bit_display(const Image& linear) {
 int run_render_mode(Communicator& comm, RenderOptions o, const CLI::App& app) {
   validate(o, app);
   const bool root = comm.is_root();
+  if (!o.output.empty()) require_image_format(o.output);
   check_output_places(
       {{o.output, 3.0 * o.params.width * o.params.height}, {o.summary, 0}, {o.timings, 0}});
   o.params.lookup = o.lookup == "sf" ? bake::Lookup::kSphericalFibonacci : bake::Lookup::kKdTree;

@@ -10,6 +10,7 @@
 #include "hatching.hpp"
 #include "npr.hpp"
 #include "post_inputs.hpp"
+#include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/error.hpp"
 #include "rtmini/io/image.hpp"
 #include "rtmini/io/srgb.hpp"
@@ -176,6 +177,10 @@ int run(Communicator& comm, int argc, char** argv) {
   app.add_flag("--stats", o.stats, "measure tone fidelity and line quality against the render");
   if (const auto done = parse_command_line(app, argc, argv, common, comm.is_root())) return *done;
   o.summary = common.summary;
+  // Every file the run writes, checked before the input is read (the apps' one rule).
+  require_image_format(o.output);
+  if (!o.dump_bitmaps.empty()) require_image_format(o.dump_bitmaps + "0.png");
+  check_output_places({{o.output, 0}, {o.summary, 0}, {common.timings, 0}});
   c.style = parse_style(o.style);
   parse_passes(o.passes, c);
   validate(c);

@@ -8,6 +8,8 @@ set -euo pipefail
 bench=$1 mesh=$2 dir=$3
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 mkdir -p "$dir"
+/usr/bin/python3 -c "import numpy" 2>/dev/null ||
+  { echo "skipped: /usr/bin/python3 has no numpy for the brute-force check"; exit 77; }
 "$bench" "$mesh" --workload ao --samples-per-face 1 --rays 4 --repeats 1 --threads 2 \
   --write-workload "$dir/ao.rtmw" | grep '^workload written'
 "$bench" "$mesh" --workload primary --width 48 --height 48 --repeats 1 --threads 2 \

@@ -37,6 +37,13 @@ void check_image_size(const std::string& path, long width, long height);
 
 enum class ExrPixel { kHalf, kFloat };
 
+// Before any work, for an image a run will write (or, second form, read): InputError for an
+// extension that is no image format (or an input that cannot be opened), IoError (exit 3, what
+// the writer would raise at the end) for a format this build lacks (.png without libpng, .exr
+// without OpenEXR), so that a render is never computed for a file it cannot write.
+void require_image_format(const std::string& path);
+void require_readable_image(const std::string& path);
+
 // Dispatch on the extension (.ppm, .png, .exr; case-insensitive); InputError otherwise.
 void write_image(const std::string& path, const Image& image);
 Image read_image(const std::string& path);
