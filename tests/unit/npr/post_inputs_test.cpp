@@ -11,7 +11,7 @@
 namespace rtmini::npr {
 namespace {
 
-Image ramp(int w, int h, int channels, float scale) {
+[[maybe_unused]] Image ramp(int w, int h, int channels, float scale) {  // unused without OpenEXR
   Image img(w, h, channels);
   for (std::size_t i = 0; i < img.data.size(); ++i) img.data[i] = scale * float(i % 97);
   return img;
