@@ -4,6 +4,9 @@
 
 #include <cstdio>
 #include <cstdlib>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 #include <regex>
 #include <string>
 
@@ -72,7 +75,28 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
       ->group("Common");
 }
 
-void start_kokkos(const CommonOptions& options) {
+int host_thread_request(int threads_option, const char* kokkos_num_threads,
+                        const char* omp_num_threads, int available, int limit, bool* capped) {
+  *capped = false;
+  const auto refuse = [limit](const std::string& source) {
+    throw InputError(source + ": Kokkos' OpenMP backend runs at most " + std::to_string(limit) +
+                     " threads per process; run more ranks per node instead");
+  };
+  if (threads_option > limit) refuse("--threads " + std::to_string(threads_option));
+  if (threads_option > 0) return threads_option;
+  if (kokkos_num_threads && std::atoi(kokkos_num_threads) > limit)
+    refuse(std::string("KOKKOS_NUM_THREADS=") + kokkos_num_threads);
+  if (kokkos_num_threads) return 0;
+  // OMP_NUM_THREADS may be a list (nested levels): its first value is this level's.
+  if (omp_num_threads && std::atoi(omp_num_threads) > limit)
+    refuse(std::string("OMP_NUM_THREADS=") + omp_num_threads);
+  if (omp_num_threads && std::atoi(omp_num_threads) > 0) return 0;
+  if (available <= limit) return 0;
+  *capped = true;
+  return limit;
+}
+
+void start_kokkos(const CommonOptions& options, bool root) {
   if (Kokkos::is_initialized()) return;
   // Kokkos' OpenMP backend warns on every run when OMP_PROC_BIND is unset. The OpenMP runtime
   // has read its environment when the program was loaded, so saying "false" here changes no
@@ -83,7 +107,20 @@ void start_kokkos(const CommonOptions& options) {
       !std::getenv("GOMP_CPU_AFFINITY"))
     setenv("OMP_PROC_BIND", "false", 0);
   check_kokkos_environment();
-  compat::initialize(options.threads);
+  int threads = options.threads;
+#ifdef KOKKOS_ENABLE_OPENMP
+  constexpr int kOpenMPMaxThreads = 512;  // OpenMPTraits::MAX_THREAD_COUNT in 3.4 and 4.x
+  bool capped = false;
+  threads = host_thread_request(options.threads, std::getenv("KOKKOS_NUM_THREADS"),
+                                std::getenv("OMP_NUM_THREADS"), omp_get_max_threads(),
+                                kOpenMPMaxThreads, &capped);
+  if (capped && root)
+    std::fprintf(stderr,
+                 "note: %d hardware threads here; Kokkos' OpenMP backend runs at most %d per "
+                 "process, so this rank uses %d (more ranks per node use them all)\n",
+                 omp_get_max_threads(), kOpenMPMaxThreads, kOpenMPMaxThreads);
+#endif
+  compat::initialize(threads);
 }
 
 // Every rank parses the same argv and so takes the same branch: help and version are printed
@@ -105,7 +142,7 @@ std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv,
   } catch (const CLI::ParseError& e) {
     throw InputError(std::string(e.what()) + " (see --help)");
   }
-  start_kokkos(options);
+  start_kokkos(options, root);
   return std::nullopt;
 }
 
