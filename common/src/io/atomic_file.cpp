@@ -7,9 +7,11 @@
 #include <sys/statvfs.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 
 #include "rtmini/io/error.hpp"
 
@@ -72,6 +74,18 @@ void check_output_place(const std::string& path, double expected_bytes) {
 }
 
 void check_output_places(const std::vector<std::pair<std::string, double>>& outputs) {
+  // One file named for two outputs (-o out.bs --summary out.bs) ran to exit 0 with the second
+  // writer's bytes in it and the first output lost.
+  std::vector<std::filesystem::path> seen;
+  for (const auto& [path, bytes] : outputs) {
+    if (path.empty()) continue;
+    std::error_code ec;
+    const std::filesystem::path p =
+        std::filesystem::weakly_canonical(std::filesystem::absolute(path, ec), ec);
+    if (std::find(seen.begin(), seen.end(), p) != seen.end())
+      throw InputError(path + ": named for two outputs of this run; give each its own file");
+    seen.push_back(p);
+  }
   for (const auto& [path, bytes] : outputs)
     if (!path.empty()) check_output_place(path, bytes);
 }

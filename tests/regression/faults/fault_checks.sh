@@ -23,7 +23,8 @@
 #                        checkpointed run and the restart: exit 2 naming the file; unchanged:
 #                        the uninterrupted run's hash
 #   places APP           --checkpoint / -o into a missing directory and a read-only one: exit 3
-#                        and one line before anything is computed
+#                        and one line before anything is computed; -o and --summary naming one
+#                        file: exit 2, the same way
 #   signal APP           SIGINT during start-up: a clean stop (exit 4, a checkpoint written)
 #   corrupt APP          APP's checkpoint (and sketchtrace's cost map) with one bit flipped
 #                        in each dataset, truncated, and with single bytes changed across
@@ -451,6 +452,13 @@ PYEOF
         if grep -Eq "$computed" out.txt; then fail "$flag into $dir was refused only after computing"; fi
       done
     done
+    # One file named for two outputs (spelled two ways): exit 2 before anything is computed, and
+    # neither output written.
+    out=x.png
+    [[ $app == bake ]] && out=x.bs
+    expect_one_line "$app" 2 "two outputs" "${run[@]}" -o "$out" --summary "./$out"
+    if grep -Eq "$computed" out.txt; then fail "the shared output path was refused only after computing"; fi
+    [[ ! -e $out ]] || fail "$out was written although the run was refused"
     ;;
   signal)
     app=$1

@@ -32,7 +32,8 @@ void check_replaceable(const std::string& path);
 // replaceable, and the filesystem has `expected_bytes` free (statvfs; 0 = no size check).
 // IoError with one line naming the path otherwise (exit 3).
 void check_output_place(const std::string& path, double expected_bytes = 0);
-// check_output_place for each (path, expected bytes) whose path is not empty.
+// check_output_place for each (path, expected bytes) whose path is not empty; first an
+// InputError (exit 2) when two of them name the same file.
 void check_output_places(const std::vector<std::pair<std::string, double>>& outputs);
 
 // Removes "path.tmp.<pid>" files that killed runs left behind: regular files
