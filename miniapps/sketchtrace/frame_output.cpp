@@ -90,9 +90,6 @@ std::uint64_t hash_pixels(const std::vector<PixelResult>& pixels, std::int64_t f
 }
 
 void check_output_path(const std::string& path, const RenderSettings& s) {
-  const std::string e = lower_extension(path);
-  if (e != ".ppm" && e != ".png" && e != ".exr")
-    throw InputError(path + ": output must end in .ppm, .png or .exr");
   require_image_format(path);
   if (!s.aov.empty()) require_image_format(aov_path_of(path));
 }

@@ -16,19 +16,25 @@ namespace {
 
 }  // namespace
 
+void format_not_built(const std::string& path) {
+  const bool png = lower_extension(path) == ".png";
+  throw IoError(path + (png ? ": built without PNG support (libpng not found at configure time)"
+                            : ": built without OpenEXR support (OpenEXR not found at configure "
+                              "time)"));
+}
+
 void require_image_format(const std::string& path) {
   const std::string ext = lower_extension(path);
   if (ext == ".ppm") return;
   if (ext == ".png") {
 #ifndef RTMINI_HAVE_PNG
-    throw IoError(path + ": built without PNG support (libpng not found at configure time)");
+    format_not_built(path);
 #endif
     return;
   }
   if (ext == ".exr") {
 #ifndef RTMINI_HAVE_EXR
-    throw IoError(path + ": built without OpenEXR support (use .png or .ppm, or rebuild with "
-                         "OpenEXR)");
+    format_not_built(path);
 #endif
     return;
   }

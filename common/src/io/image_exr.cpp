@@ -177,17 +177,15 @@ Image read_exr(const std::string& path) {
 
 #else
 
-void write_exr(const std::string& path, const Image&, ExrPixel) {
-  throw IoError(path + ": built without OpenEXR support");
-}
+void write_exr(const std::string& path, const Image&, ExrPixel) { format_not_built(path); }
 void write_exr_layers(const std::string& path, const std::vector<std::pair<std::string, Image>>&,
                       ExrPixel) {
-  throw IoError(path + ": built without OpenEXR support");
+  format_not_built(path);
 }
 std::vector<std::pair<std::string, Image>> read_exr_layers(const std::string& path) {
-  throw IoError(path + ": built without OpenEXR support");
+  format_not_built(path);
 }
-Image read_exr(const std::string& path) { throw IoError(path + ": built without OpenEXR support"); }
+Image read_exr(const std::string& path) { format_not_built(path); }
 
 #endif
 

@@ -92,12 +92,8 @@ Image read_png_data(const std::string& path) {
 
 // Built without libpng: IoError (exit 3, a missing resource), not InputError, since the request
 // is valid; tests that need PNG are skipped in such builds.
-void write_png(const std::string& path, const Image&) {
-  throw IoError(path + ": built without PNG support (libpng not found at configure time)");
-}
-Image read_png(const std::string& path) {
-  throw IoError(path + ": built without PNG support (libpng not found at configure time)");
-}
+void write_png(const std::string& path, const Image&) { format_not_built(path); }
+Image read_png(const std::string& path) { format_not_built(path); }
 Image read_png_data(const std::string& path) { return read_png(path); }
 
 #endif

@@ -43,6 +43,9 @@ enum class ExrPixel { kHalf, kFloat };
 // without OpenEXR), so that a render is never computed for a file it cannot write.
 void require_image_format(const std::string& path);
 void require_readable_image(const std::string& path);
+// The IoError of a format this build lacks (the one message of the checks above and of the
+// writers' and readers' stand-ins in such a build).
+[[noreturn]] void format_not_built(const std::string& path);
 
 // Dispatch on the extension (.ppm, .png, .exr; case-insensitive); InputError otherwise.
 void write_image(const std::string& path, const Image& image);

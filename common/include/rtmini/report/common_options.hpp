@@ -45,8 +45,8 @@ void start_kokkos(const CommonOptions& options, bool root = true);
 // Kokkos' OpenMP backend (3.4 and 4.x alike) keeps its per-thread data in a fixed array of 512
 // and writes past its end with more threads: every rtmini program died of a segfault at
 // start-up with OMP_NUM_THREADS=600. The host threads a run asks Kokkos for, given what was
-// requested (--threads, else KOKKOS_NUM_THREADS, else OMP_NUM_THREADS: `explicit_request`) or,
-// with none, what the node offers (`available`): an explicit request above `limit` is bad input
+// requested (--threads, else KOKKOS_NUM_THREADS, else OMP_NUM_THREADS) or, with none, what the
+// node offers (`available`): an explicit request above `limit` is bad input
 // (InputError naming its source); the node's own count is capped at `limit` (*capped = true).
 // 0 = leave the choice to Kokkos.
 int host_thread_request(int threads_option, const char* kokkos_num_threads,
