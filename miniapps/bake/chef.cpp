@@ -809,4 +809,33 @@ std::int64_t Chef::bake_iteration(int it, std::int64_t begin, std::int64_t end,
                        next, hemisphere);
 }
 
+std::int64_t Chef::bake_iteration_of(const OwnerPart& part, int it, std::int64_t begin,
+                                     std::int64_t end, std::int64_t cache_offset,
+                                     HitCacheMode cache) {
+  const HemisphereMap hemisphere = hemisphere_map(scene_, config_, mirrored_);
+  if (config_.lookup == Lookup::kKdTree)
+    return run_iteration(scene_, config_, kdtree_, part.base, gather_, part.cache, part.traced,
+                         part.map_offset, part.sparse, FirstReads{}, order_, it, begin, end,
+                         cache_offset, cache, part.prev, part.next, hemisphere);
+  return run_iteration(scene_, config_, inverse_, part.base, gather_, part.cache, part.traced,
+                       part.map_offset, part.sparse, FirstReads{}, order_, it, begin, end,
+                       cache_offset, cache, part.prev, part.next, hemisphere);
+}
+
+OwnerPart Chef::own_part(HitCacheMode mode) const {
+  OwnerPart p;
+  p.base = base_;
+  if (mode == HitCacheMode::kUse) p.cache = cache_;
+  if (mode == HitCacheMode::kTraced) p.traced = traced_;
+  p.map_offset = map_offset_;
+  p.sparse = sparse_;
+  return p;
+}
+
+void Chef::adopt_part(const OwnerPart& shared) {
+  base_ = shared.base;
+  if (shared.cache.extent(0) > 0) cache_ = shared.cache;
+  if (shared.traced.extent(0) > 0) traced_ = shared.traced;
+}
+
 }  // namespace rtmini::bake

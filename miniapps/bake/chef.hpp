@@ -65,6 +65,19 @@ MirrorCostEstimate estimate_mirror_costs(const BakeSceneDevice& scene, const Bak
                                          std::int64_t begin, std::int64_t end, int samples,
                                          std::int64_t& rays);
 
+// The views one rank's iteration reads and writes (its part of the distributed map): base
+// colours, hit records (the float cache or the traced hits, whichever the iteration reads), the
+// map's offsets and sparse halo tables, the previous map and the next. A Chef bakes another
+// rank's pieces through them (node work sharing, node_share.hpp).
+struct OwnerPart {
+  Kokkos::View<Vec3*, MemSpace> base;
+  Kokkos::View<CachedHit*, MemSpace> cache;
+  Kokkos::View<TracedHit*, MemSpace> traced;
+  Kokkos::View<std::int64_t*, MemSpace> map_offset;
+  SparseColors sparse;  // with its halo
+  Kokkos::View<Vec3f*, MemSpace> prev, next;
+};
+
 class Chef {
  public:
   // local_items: colour entries over all of this rank's batches (sizes the hit cache).
@@ -128,6 +141,19 @@ class Chef {
                               std::int64_t cache_offset, HitCacheMode cache,
                               Kokkos::View<const Vec3f*, MemSpace> prev,
                               Kokkos::View<Vec3f*, MemSpace> next);
+
+  // bake_iteration of another rank's vertices, through that rank's part (node_share.hpp); the
+  // lookups, directions and scratch are this Chef's (the same on every rank). Not for the
+  // first mirror iteration of a fresh run (it plans the halo: FirstReads).
+  std::int64_t bake_iteration_of(const OwnerPart& part, int it, std::int64_t begin,
+                                 std::int64_t end, std::int64_t cache_offset,
+                                 HitCacheMode cache);
+  // This rank's part as an iteration of `mode` reads it (prev and next are the caller's; the
+  // halo is the sparse layout's).
+  OwnerPart own_part(HitCacheMode mode) const;
+  // Takes the shared copies of this rank's base colours and hit records (node_share.hpp): the
+  // Chef's own are freed.
+  void adopt_part(const OwnerPart& shared);
 
   // The traced reference (reference_tracer.hpp) of vertices [begin, end) into out (global item
   // order, by the map offset): config.iterations mirror iterations, no map lookups. Needs bake_base

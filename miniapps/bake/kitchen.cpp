@@ -7,6 +7,7 @@
 #endif
 
 #include <algorithm>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <fstream>
@@ -14,6 +15,7 @@
 #include <iterator>
 #include <memory>
 #include <sstream>
+#include <thread>
 
 #include "bakeshop_mpi_writer.hpp"
 #include "checkpoint.hpp"
@@ -21,6 +23,7 @@
 #include "iteration_eta.hpp"
 #include "map_errors.hpp"
 #include "map_exchange.hpp"
+#include "node_share.hpp"
 #include "rtmini/bvh/build_lbvh.hpp"
 #include "rtmini/io/atomic_file.hpp"
 #include "rtmini/io/error.hpp"
@@ -560,12 +563,6 @@ enum class Halo {
   kTraced,  // the vertices the traced mirror hits read
 };
 
-// One dispatch of an iteration: whole vertices [begin, end) of one of this rank's ranges, and
-// the hit-cache slot of their first colour entry.
-struct TracePiece {
-  std::int64_t begin = 0, end = 0, cache_offset = 0;
-};
-
 // One bake from reading the scene to the report: the state each phase hands the next.
 class BakeRun {
  public:
@@ -608,6 +605,10 @@ class BakeRun {
   HitCacheMode hit_mode(int it) const;
   std::vector<TracePiece> trace_pieces(bool progress) const;
   std::int64_t trace(int it, Kokkos::View<Vec3f*, MemSpace> out);
+  bool shares_iteration(int it);
+  void start_node_sharing(int it);
+  std::int64_t trace_shared(int it);
+  void report_node_sharing();
   void report_progress(int it, std::int64_t entries_done);
   void report_stopped(int it);
   void exchange(int it, IterationRecord& rec);
@@ -664,6 +665,10 @@ class BakeRun {
   std::unique_ptr<Chef> chef_;
   MapLayout layout_;
   std::unique_ptr<MapExchange> exchange_;
+  // --node-sharing: the node's ranks take each other's pieces in the cached iterations.
+  std::unique_ptr<NodeShare> share_;
+  int share_from_ = -1;  // the first shared iteration
+  std::int64_t stolen_items_ = 0, stolen_pieces_ = 0;  // computed here for other ranks
   // The fused halo plan between plan_map and the end of iteration 1 (fuses_halo_plan).
   struct PendingHalo {
     bool active = false;
@@ -864,7 +869,8 @@ nlohmann::json BakeRun::parameters() const {
           {"checkpoint", c_.checkpoint},
           {"restart", c_.restart},
           {"reference", c_.reference},
-          {"trace_reference", c_.trace_reference}};
+          {"trace_reference", c_.trace_reference},
+          {"node_sharing", c_.node_sharing}};
 }
 
 void BakeRun::print_banner(const MemoryEstimate& mem, double max_mem) const {
@@ -1530,6 +1536,104 @@ std::int64_t BakeRun::trace(int it, Kokkos::View<Vec3f*, MemSpace> out) {
   return rays;
 }
 
+// Whether iteration `it` shares its pieces between the ranks of a node (--node-sharing), and the
+// start of that sharing at the first such iteration. Only iterations whose layout and hit
+// records stay as they are share: those that read the float cache (or, without it, the traced
+// hits every time), after the first mirror iteration has planned the halo. Every rank decides
+// together (a rank that owns no vertex has no hits to tell its mode by).
+bool BakeRun::shares_iteration(int it) {
+  if (share_) return true;
+  if (!c_.node_sharing || comm_.node_size() < 2 || c_.trace_reference || it == 0) return false;
+  const HitCacheMode mode = hit_mode(it);
+  const bool fixed = mode == HitCacheMode::kUse ||
+                     (mode == HitCacheMode::kTraced && !chef_->caches_hits() && it > first_);
+  const bool ready = fixed && !pending_.active && my_items_ > 0;
+  if (comm_.min(ready ? 1.0 : 0.0) < 0.5) return false;
+  start_node_sharing(it);
+  return true;
+}
+
+// This rank's part of the map moves into its segment of the node's window, and the rank works
+// on the shared copies from now on (its own are freed: no memory is held twice but the small
+// tables the readers of the segment need).
+void BakeRun::start_node_sharing(int it) {
+  OwnerPart mine = chef_->own_part(hit_mode(it));
+  mine.prev = prev_;
+  mine.next = next_;
+  if (exchange_) mine.sparse.halo = exchange_->halo();
+  share_ = std::make_unique<NodeShare>(comm_, mine, pieces_, it, iterations_);
+  share_from_ = it;
+  const OwnerPart shared = share_->part(share_->node_rank(), it);
+  prev_ = shared.prev;
+  next_ = shared.next;
+  chef_->adopt_part(shared);
+  if (exchange_) exchange_->adopt_halo(share_->halo());
+  if (!layout_.sparse.empty()) layout_.sparse.halo = share_->halo();
+  chef_->set_map_offset(layout_.device, layout_.sparse);
+  if (root_)
+    std::printf("  node sharing from iteration %d: %d ranks on this node, %zu pieces each, "
+                "%.1f MiB shared by this rank\n",
+                it, share_->node_size(), pieces_.size(),
+                static_cast<double>(share_->segment_bytes()) / (1 << 20));
+}
+
+// Iteration `it` with the node's ranks sharing work: this rank claims its own pieces first, then
+// the unclaimed pieces of the others, from the next rank on (so that the ranks that finish early
+// spread over the late ones). A stolen piece reads its owner's previous map and halo and writes
+// its owner's next map: the same colours, bit for bit, as the owner would have written.
+std::int64_t BakeRun::trace_shared(int it) {
+  const HitCacheMode mode = hit_mode(it);
+  share_->open_iteration(comm_);
+  std::int64_t rays = 0, entries_done = 0;
+  const int me = share_->node_rank(), ranks = share_->node_size();
+  // Test hook: the node's first rank starts late, so that the others take its pieces for certain.
+  if (me == 0 && c_.share_test_delay > 0)
+    std::this_thread::sleep_for(std::chrono::duration<double>(c_.share_test_delay));
+  for (int k = 0; k < ranks; ++k) {
+    const int owner = (me + k) % ranks;
+    const OwnerPart part = k == 0 ? OwnerPart{} : share_->part(owner, it);
+    for (std::int64_t i = share_->claim(owner, it); i >= 0; i = share_->claim(owner, it)) {
+      const TracePiece& r = share_->piece(owner, i);
+      const double cs = timer_.now();
+      const std::int64_t crays =
+          k == 0 ? chef_->bake_iteration(it, r.begin, r.end, r.cache_offset, mode, prev_, next_)
+                 : chef_->bake_iteration_of(part, it, r.begin, r.end, r.cache_offset, mode);
+      Kokkos::fence();
+      const std::int64_t items = host_.color_offset[r.end] - host_.color_offset[r.begin];
+      chunks_.push_back({comm_.rank(), it, items, crays, cs, timer_.now()});
+      rays += crays;
+      totals_.work += items;
+      if (k > 0) {
+        stolen_items_ += items;
+        ++stolen_pieces_;
+        continue;
+      }
+      entries_done += items;
+      eta_.batch_done(timer_.now() - cs);
+      if (progress_line_->due()) report_progress(it, entries_done);
+    }
+  }
+  share_->close_iteration(comm_);
+  return rays;
+}
+
+// What the node sharing moved: the colour entries each rank computed for other ranks.
+void BakeRun::report_node_sharing() {
+  if (!c_.node_sharing) return;
+  nlohmann::json s;
+  s["from_iteration"] = share_from_;
+  s["ranks_per_node"] = comm_.node_size();
+  s["pieces_per_rank"] = pieces_.size();
+  s["stolen_items_per_rank"] =
+      comm_.allgatherv(std::vector<double>{static_cast<double>(stolen_items_)});
+  s["stolen_pieces_per_rank"] =
+      comm_.allgatherv(std::vector<double>{static_cast<double>(stolen_pieces_)});
+  s["segment_bytes_per_rank"] = comm_.allgatherv(
+      std::vector<double>{share_ ? static_cast<double>(share_->segment_bytes()) : 0.0});
+  report_.scene["node_shared_work"] = s;
+  params_["node_shared_work"] = s;
+}
+
 // The progress line during iteration `it`: entries done, ETA from the measured batch costs of
 // the last iteration of each hit-cache mode (iteration_eta.hpp).
 void BakeRun::report_progress(int it, std::int64_t entries_done) {
@@ -1598,13 +1702,16 @@ bool BakeRun::stop_after(int it, double t0) {
 int BakeRun::iterate() {
   const bool progress = c_.progress || ::isatty(2);
   progress_line_ = std::make_unique<ProgressLine>("bake", "colours", progress && root_);
-  pieces_ = trace_pieces(progress_line_->enabled());
+  // Shared work needs pieces to share: the progress line's cut.
+  pieces_ = trace_pieces(progress_line_->enabled() || c_.node_sharing);
   timer_.start("iterate");
   iterate_start_ = timer_.now();
   for (int it = first_; it <= iterations_; ++it) {
     IterationRecord rec;
     const double t0 = timer_.now();
-    totals_.rays += trace(it, next_);
+    // (Sharing starts by moving the maps into the node's window: next_ only then is the map to
+    // write.)
+    totals_.rays += shares_iteration(it) ? trace_shared(it) : trace(it, next_);
     const double t1 = timer_.now();
     if (pending_.active && it >= 1) mark_rss("iteration " + std::to_string(it) + " trace");
     rec.trace = t1 - t0;
@@ -1646,6 +1753,7 @@ void BakeRun::report_stopped(int it) {
 // output they were the run's peak, with the output's own buffers on top).
 void BakeRun::release_iteration_buffers() {
   report_exchange();
+  report_node_sharing();
   next_ = Kokkos::View<Vec3f*, MemSpace>();
   layout_.sparse = SparseColors{};
   chef_->set_map_offset(layout_.device);

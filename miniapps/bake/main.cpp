@@ -11,6 +11,7 @@
 #include "ao_mode.hpp"
 #include "bake_config.hpp"
 #include "kitchen.hpp"
+#include "node_share.hpp"
 #include "reference_tracer.hpp"
 #include "rtmini/io/cli_values.hpp"
 #include "rtmini/io/error.hpp"
@@ -52,6 +53,7 @@ std::string default_output(const std::string& input) {
 struct MapCli {
   std::string lookup = "kdtree", balance = "cost", bvh_kind = "lbvh", mode = "map";
   std::string exchange = "changed";
+  std::string node_sharing = "off";
   std::string directions = "sphere";
   std::string background;
   bool no_cache = false;
@@ -88,6 +90,10 @@ void MapCli::add_to(CLI::App& app, BakeConfig& c) {
   app.add_option("--exchange", exchange,
                  "halo exchanges after the first: changed (only colours that changed since the "
                  "last one; same output) or full (every halo colour every time)");
+  app.add_option("--node-sharing", node_sharing,
+                 "on: the ranks of a node take each other's unfinished pieces in the cached "
+                 "iterations, through MPI shared memory (host backends; same output); off "
+                 "(default)");
   app.add_option("--batch-size", c.batch_size, "vertices per batch (0 = vertices/ranks)");
   app.add_option("--max-colors", c.color_cap,
                  "most colours a batch (a rank) may own, as a multiple of the mean, under the "
@@ -109,6 +115,7 @@ void MapCli::add_to(CLI::App& app, BakeConfig& c) {
   app.add_flag("--all-view-dependent", c.all_view_dependent)->group("");
   app.add_option("--stop-after-iteration", c.stop_after_iteration)->group("");  // test hook
   app.add_option("--recut-test-skew", c.recut_test_skew)->group("");            // test hook
+  app.add_option("--share-test-delay", c.share_test_delay)->group("");          // test hook
 }
 
 // A hemisphere map relies on the fold of one-sided mirrors (a viewpoint behind a vertex has the
@@ -162,6 +169,13 @@ void MapCli::finish(BakeConfig& c) const {
     throw InputError("--bvh must be lbvh, ploc or sah (got '" + bvh_kind + "')");
   finish_directions(c);
   c.cache_hits = !no_cache;
+  if (node_sharing != "on" && node_sharing != "off")
+    throw InputError("--node-sharing must be on or off (got '" + node_sharing + "')");
+  c.node_sharing = node_sharing == "on";
+  if (c.node_sharing && !node_sharing_possible())
+    throw InputError(
+        "--node-sharing on needs a host backend: this build keeps the map in device memory (one "
+        "rank per GPU has nothing to share)");
   require_at_least("--viewpoints", c.viewpoints, 1);
   require_at_least("--iterations", c.iterations, 0);
   require_at_least("--shadow-samples", c.shadow_samples, 1);

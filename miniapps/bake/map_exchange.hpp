@@ -106,6 +106,9 @@ class MapExchange {
   // The halo's colours (layout.halo_colors, in halo order), as the last run left them: what
   // SparseColors::halo reads. A restart fills it before the first run.
   Kokkos::View<Vec3f*, MemSpace> halo() const { return recv_buf_; }
+  // Receives into `storage` from now on (node work sharing keeps the halo in a shared window,
+  // node_share.hpp), which holds the halo's colours already.
+  void adopt_halo(Kokkos::View<Vec3f*, MemSpace> storage) { recv_buf_ = storage; }
 
   // Refreshes the halo from the owners' colours in their `map` (collective); returns bytes
   // sent. `other`: the other of the two map buffers, the map of the iteration before, which the

@@ -171,10 +171,16 @@ case $case_name in
     run "$other" "${args[@]}" -o part.bs --checkpoint cp.h5 --restart cp.h5 --balance spatial \
       --progress >log4.txt 2>&1 || { cat log4.txt; fail "restart on $other ranks failed"; }
     cmp one.bs part.bs || fail "checkpoint of $ranks ranks restarted on $other (spatial) differs"
-    # The same restart with the default cut: it recuts after the trace and moves the hits.
-    run "$other" "${args[@]}" -o part2.bs --restart cp.h5 >log6.txt 2>&1 ||
+    # The same restart with the default cut: it recuts after the trace and moves the hits. With
+    # node work sharing, which starts at its second iteration (the first reads the traced hits).
+    run "$other" "${args[@]}" -o part2.bs --restart cp.h5 --node-sharing on >log6.txt 2>&1 ||
       { cat log6.txt; fail "restart on $other ranks (cost) failed"; }
     cmp one.bs part2.bs || fail "checkpoint of $ranks ranks restarted on $other (cost) differs"
+    # Node work sharing (--node-sharing on): the ranks take each other's pieces in the cached
+    # iterations; the node's first rank starts them 0.5 s late, so the others take its pieces.
+    run "$ranks" "${args[@]}" -o shared.bs --node-sharing on --share-test-delay 0.5 \
+      --summary shared.json >log10.txt 2>&1 || { cat log10.txt; fail "$ranks-rank shared bake failed"; }
+    cmp one.bs shared.bs || fail "--node-sharing on differs from 1 rank"
     /usr/bin/python3 - "$ranks" <<'PY' || fail "summary"
 import json, sys
 r = int(sys.argv[1])
@@ -211,6 +217,15 @@ for s in (w, wp):
 # several ranges, and the output above is the same for any of them.
 assert w["iteration_cost"]["max_over_mean"] <= 1.03, w["iteration_cost"]
 print("ranges per rank", many["scene"]["map"].get("ranges_per_rank"))
+# Node work sharing: from iteration 2 (after the halo plan), the late first rank's pieces taken
+# by the others, every colour entry computed once.
+if r > 1:
+    sh = json.load(open("shared.json"))["scene"]["node_shared_work"]
+    print("node sharing:", sh)
+    assert sh["from_iteration"] == 2 and sh["ranks_per_node"] == r, sh
+    stolen = sh["stolen_items_per_rank"]
+    assert stolen[0] == 0 and sum(stolen[1:]) > 0, sh
+    assert sum(stolen) <= 2 * colors, (stolen, colors)  # two shared iterations (2 and 3)
 # The skewed recut: rank r measured as 1 + r times its counted cost, so the cut gives the later
 # ranks less counted cost than the earlier ones and moves colours.
 if r > 1:

@@ -1,0 +1,106 @@
+#pragma once
+// Work sharing between the ranks of a node (bake --node-sharing on; host backends).
+//
+// The owner-computes cut is fixed for a run, so each iteration waits for its slowest rank. On
+// the lent 16-core hosts a rank's speed is a draw that drifts over seconds (about 7 % std; no cut
+// predicts it: results/bake/distributed.md, seventeenth and eighteenth rounds), so 16 x 1 paid
+// the slowest of 16 draws where 1 x 16's dynamic schedule paid their mean. Here the ranks of a
+// node put what an iteration of theirs reads and writes in one MPI shared-memory window (each
+// rank its own segment: its two map buffers, halo, hit records, base colours, map tables and
+// its pieces), and a rank that has finished its own pieces takes the unclaimed pieces of the
+// others, reading the owner's previous map and writing the owner's next one. A colour depends
+// only on its entry and the previous map, so the output is bit-identical whoever computes it.
+//
+// Each rank's pieces are claimed through one atomic counter per iteration in its segment: no
+// lock, no message. An iteration opens with a node barrier (every owner's exchange has filled
+// its halo and previous map) and closes with one (every stolen piece is written before the
+// owner exchanges or writes). Only the cached iterations share (a fixed layout, hits in place);
+// the mirror trace and the first mirror iteration, which plans the halo, stay per rank.
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+#include "chef.hpp"
+#include "rtmini/parallel/communicator.hpp"
+
+namespace rtmini::bake {
+
+// One dispatch of an iteration: whole vertices [begin, end) of one of a rank's ranges, and the
+// hit-cache slot of their first colour entry.
+struct TracePiece {
+  std::int64_t begin = 0, end = 0, cache_offset = 0;
+};
+
+// What a segment holds, in elements; the same on the rank that fills it and those that read it.
+struct SegmentSizes {
+  std::int64_t vertices = 0, map_colors = 0, halo_colors = 0;
+  std::int64_t cached_hits = 0, traced_hits = 0;  // one of them is 0 (the records the mode reads)
+  std::int64_t sparse = 0, sparse_map_colors = 0, mask_words = 0, kept_words = 0;
+  std::int64_t pieces = 0, iterations = 0;
+};
+
+// Whether this build can share work between a node's ranks: the map must live in host memory.
+constexpr bool node_sharing_possible() {
+  return Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpace>::accessible;
+}
+
+class NodeShare {
+ public:
+  // Collective over `comm` (every rank, whatever its node): creates the node's window and copies
+  // `mine` (this rank's part as it stands) and `pieces` into this rank's segment. Afterwards the
+  // rank's own views must be those of part(node_rank(), first_iteration) (adopt them): they are
+  // the shared copies. `first_iteration` is the iteration whose previous map is mine.prev.
+  NodeShare(const Communicator& comm, const OwnerPart& mine, const std::vector<TracePiece>& pieces,
+            int first_iteration, int iterations);
+  ~NodeShare();
+  NodeShare(const NodeShare&) = delete;
+  NodeShare& operator=(const NodeShare&) = delete;
+
+  int node_rank() const { return node_rank_; }
+  int node_size() const { return static_cast<int>(segments_.size()); }
+  std::int64_t segment_bytes() const { return my_bytes_; }
+
+  // Rank r's (node rank) part as iteration `it` reads and writes it: the two map buffers swap
+  // roles every iteration, as the owner's prev and next do.
+  OwnerPart part(int r, int it) const;
+  const TracePiece& piece(int r, std::int64_t i) const { return segments_[r].pieces[i]; }
+  // This rank's halo in its segment: the exchange receives into it (MapExchange::adopt_halo).
+  Kokkos::View<Vec3f*, MemSpace> halo() const;
+  // The next unclaimed piece of rank r in iteration `it`, or -1 once all are claimed.
+  std::int64_t claim(int r, int it) const;
+
+  // Node barriers around an iteration's pieces, with the memory synchronisation of the window.
+  void open_iteration(const Communicator& comm) const { node_barrier(comm); }
+  void close_iteration(const Communicator& comm) const { node_barrier(comm); }
+
+ private:
+  // Claim counters a cache line apart: every rank of the node hits them while the owner computes.
+  struct alignas(64) PaddedCounter {
+    std::atomic<std::int64_t> value;
+  };
+  struct Segment {
+    SegmentSizes sizes;
+    PaddedCounter* counters = nullptr;  // one per iteration
+    TracePiece* pieces = nullptr;
+    Vec3* base = nullptr;
+    std::int64_t *map_offset = nullptr, *start = nullptr, *mask_at = nullptr;
+    std::uint64_t* mask = nullptr;
+    std::int32_t* kept = nullptr;
+    CachedHit* cached = nullptr;
+    TracedHit* traced = nullptr;
+    Vec3f *buffer[2] = {nullptr, nullptr}, *halo = nullptr;
+  };
+  static std::size_t carve(char* at, const SegmentSizes& s, Segment* out);
+  void node_barrier(const Communicator& comm) const;
+
+  int node_rank_ = 0;
+  int first_iteration_ = 0;
+  std::int64_t my_bytes_ = 0;
+  std::vector<Segment> segments_;
+#ifdef RTMINI_HAVE_MPI
+  MPI_Comm node_ = MPI_COMM_NULL;
+  MPI_Win win_ = MPI_WIN_NULL;
+#endif
+};
+
+}  // namespace rtmini::bake
