@@ -607,6 +607,7 @@ class BakeRun {
   std::int64_t trace(int it, Kokkos::View<Vec3f*, MemSpace> out);
   bool shares_iteration(int it);
   void start_node_sharing(int it);
+  SegmentSizes node_share_room() const;
   std::int64_t trace_shared(int it);
   void report_node_sharing();
   void report_progress(int it, std::int64_t entries_done);
@@ -1010,7 +1011,6 @@ void BakeRun::plan_map() {
     start_fused_plan(own);
   } else if (comm_.size() == 1 || halo_ == Halo::kOwned) {
     layout_ = make_map_layout(host_, halo_ == Halo::kAll ? std::vector<char>(own.size(), 1) : own);
-    plan_exchange();
   } else {
     // Several ranks: diffuse gather rays read any vertex, all its colours; a restart's traced
     // lookups, the colours they read (read_items).
@@ -1019,16 +1019,48 @@ void BakeRun::plan_map() {
         halo_ == Halo::kTraced ? read_items(remote) : std::vector<char>();
     layout_ =
         make_halo_layout(host_, remote, read.empty() ? nullptr : read.data(), owner_, comm_.rank());
-    plan_exchange();
   }
-  prev_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_prev", layout_.colors());
-  next_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_next", layout_.colors());
+  if (c_.node_sharing && comm_.size() > 1 && !c_.trace_reference && iterations_ >= 2 &&
+      halo_ != Halo::kOwned)
+    share_ = std::make_unique<NodeShare>(comm_, node_share_room());
+  if (!pending_.active) plan_exchange();
+  prev_ = share_ ? share_->map_buffer(0)
+                 : Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_prev", layout_.colors());
+  next_ = share_ ? share_->map_buffer(1)
+                 : Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_next", layout_.colors());
   timer_.stop();
+}
+
+// The room this rank's segment of the node's window needs (node_share.hpp): the maps and the
+// exchange's halo are made there; the hits, base colours and tables are copied in when sharing
+// starts. Before a fused first iteration the halo is not planned yet: its room is every colour
+// of the remote vertices read, of which it keeps a part.
+SegmentSizes BakeRun::node_share_room() const {
+  SegmentSizes room;
+  room.vertices = host_.vertices();
+  room.map_colors = layout_.colors();
+  room.hits = my_items_;
+  room.sparse = 1;
+  room.pieces = static_cast<std::int64_t>(trace_pieces(true).size());
+  room.iterations = iterations_ + 1;
+  if (!pending_.active) {
+    room.halo_colors = layout_.halo_colors;
+    room.mask_words = static_cast<std::int64_t>(layout_.mask.size());
+  } else {
+    room.halo_colors = pending_.remote.colors();
+    for (std::int64_t v = 0; v < host_.vertices(); ++v)
+      if (pending_.remote.in_map(v) && host_.color_count(v) > 1)
+        room.mask_words += (host_.color_count(v) + 63) / 64;  // make_halo_layout's words
+  }
+  room.kept_words = room.mask_words;
+  return room;
 }
 
 // The exchange of layout_'s halo, whose receive buffer the Chef's reads of the halo then see.
 void BakeRun::plan_exchange() {
-  exchange_ = std::make_unique<MapExchange>(comm_, host_, layout_, c_.changed_exchanges);
+  exchange_ = std::make_unique<MapExchange>(
+      comm_, host_, layout_, c_.changed_exchanges,
+      share_ ? share_->halo(layout_.halo_colors) : Kokkos::View<Vec3f*, MemSpace>());
   if (!layout_.sparse.empty()) layout_.sparse.halo = exchange_->halo();
   chef_->set_map_offset(layout_.device, layout_.sparse);
   report_map_plan();
@@ -1542,8 +1574,8 @@ std::int64_t BakeRun::trace(int it, Kokkos::View<Vec3f*, MemSpace> out) {
 // hits every time), after the first mirror iteration has planned the halo. Every rank decides
 // together (a rank that owns no vertex has no hits to tell its mode by).
 bool BakeRun::shares_iteration(int it) {
-  if (share_) return true;
-  if (!c_.node_sharing || comm_.node_size() < 2 || c_.trace_reference || it == 0) return false;
+  if (!share_ || it == 0) return false;
+  if (share_->published()) return true;
   const HitCacheMode mode = hit_mode(it);
   const bool fixed = mode == HitCacheMode::kUse ||
                      (mode == HitCacheMode::kTraced && !chef_->caches_hits() && it > first_);
@@ -1553,23 +1585,17 @@ bool BakeRun::shares_iteration(int it) {
   return true;
 }
 
-// This rank's part of the map moves into its segment of the node's window, and the rank works
-// on the shared copies from now on (its own are freed: no memory is held twice but the small
-// tables the readers of the segment need).
+// This rank's part is published in its segment of the node's window (the maps and the halo are
+// there already; the hits and base colours move in, and the rank's own copies are freed; the
+// small tables the readers need are copied), and the rank works on the shared part from now on.
 void BakeRun::start_node_sharing(int it) {
   OwnerPart mine = chef_->own_part(hit_mode(it));
   mine.prev = prev_;
   mine.next = next_;
-  if (exchange_) mine.sparse.halo = exchange_->halo();
-  share_ = std::make_unique<NodeShare>(comm_, mine, pieces_, it, iterations_);
+  mine.sparse.halo = exchange_->halo();
+  share_->publish(comm_, mine, pieces_, it, iterations_);
   share_from_ = it;
-  const OwnerPart shared = share_->part(share_->node_rank(), it);
-  prev_ = shared.prev;
-  next_ = shared.next;
-  chef_->adopt_part(shared);
-  if (exchange_) exchange_->adopt_halo(share_->halo());
-  if (!layout_.sparse.empty()) layout_.sparse.halo = share_->halo();
-  chef_->set_map_offset(layout_.device, layout_.sparse);
+  chef_->adopt_part(share_->part(share_->node_rank(), it));
   if (root_)
     std::printf("  node sharing from iteration %d: %d ranks on this node, %zu pieces each, "
                 "%.1f MiB shared by this rank\n",

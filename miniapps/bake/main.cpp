@@ -172,6 +172,10 @@ void MapCli::finish(BakeConfig& c) const {
   if (node_sharing != "on" && node_sharing != "off")
     throw InputError("--node-sharing must be on or off (got '" + node_sharing + "')");
   c.node_sharing = node_sharing == "on";
+  if (c.node_sharing && c.balance == Balance::kMeasured)
+    throw InputError(
+        "--node-sharing on takes no --balance measured: the recut moves vertices between ranks "
+        "after iteration 1, where node sharing balances within each iteration instead");
   if (c.node_sharing && !node_sharing_possible())
     throw InputError(
         "--node-sharing on needs a host backend: this build keeps the map in device memory (one "

@@ -345,7 +345,8 @@ std::vector<Vec3f> fetch_vertex_colors(const Communicator& comm, const std::vect
 }
 
 MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
-                         const MapLayout& layout, bool changed_only)
+                         const MapLayout& layout, bool changed_only,
+                         Kokkos::View<Vec3f*, MemSpace> halo_storage)
     : changed_only_(changed_only) {
   const int ranks = comm.size();
   // Requests: the halo entries, which are grouped by owner already (the halo's order). The
@@ -382,7 +383,11 @@ MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
   std::vector<std::int64_t> first_entry(send_displs_.begin(), send_displs_.end());
   first_entry.push_back(static_cast<std::int64_t>(sent));
   first_entry_ = upload("rtmini::bake::exchange_first_entry", first_entry);
-  recv_buf_ = Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::halo", received);
+  recv_buf_ = halo_storage.data()
+                  ? halo_storage
+                  : Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::halo", received);
+  if (recv_buf_.extent(0) != received)
+    throw std::logic_error("bake: the halo's storage does not match the exchange's plan");
   direct_ = mpi_takes_map_memory();
 }
 

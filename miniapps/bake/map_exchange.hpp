@@ -99,16 +99,15 @@ class MapExchange {
  public:
   // Plans the exchange (collective) for `layout`'s halo (make_halo_layout): remote_entries(scene,
   // layout), the colours (global entry numbers, scene.color_offset) this rank reads but does not
-  // own, all of a vertex's or only those its lookups read, asked of their owners.
+  // own, all of a vertex's or only those its lookups read, asked of their owners. The halo is
+  // received into `halo_storage` (layout.halo_colors entries, zeros) when given (node work
+  // sharing keeps it in the node's window, node_share.hpp), else into a view of its own.
   MapExchange(const Communicator& comm, const BakeSceneHost& scene, const MapLayout& layout,
-              bool changed_only);
+              bool changed_only, Kokkos::View<Vec3f*, MemSpace> halo_storage = {});
 
   // The halo's colours (layout.halo_colors, in halo order), as the last run left them: what
   // SparseColors::halo reads. A restart fills it before the first run.
   Kokkos::View<Vec3f*, MemSpace> halo() const { return recv_buf_; }
-  // Receives into `storage` from now on (node work sharing keeps the halo in a shared window,
-  // node_share.hpp), which holds the halo's colours already.
-  void adopt_halo(Kokkos::View<Vec3f*, MemSpace> storage) { recv_buf_ = storage; }
 
   // Refreshes the halo from the owners' colours in their `map` (collective); returns bytes
   // sent. `other`: the other of the two map buffers, the map of the iteration before, which the

@@ -1,7 +1,9 @@
 #include "node_share.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <new>
+#include <stdexcept>
 #include <string>
 
 #include "rtmini/io/error.hpp"
@@ -15,28 +17,30 @@ static_assert(std::atomic<std::int64_t>::is_always_lock_free,
               "lock-free (address-free) atomics");
 
 constexpr std::size_t kAlign = 64;
+constexpr std::size_t kHitBytes = std::max(sizeof(CachedHit), sizeof(TracedHit));
+
 std::size_t aligned(std::size_t n) { return (n + kAlign - 1) / kAlign * kAlign; }
 
 // Hands out aligned regions of one segment in a fixed order (at == nullptr: sizes only).
 class Carver {
  public:
-  explicit Carver(char* at) : at_(at) {}
+  explicit Carver(unsigned char* at) : at_(at) {}
   template <class T>
-  T* take(std::int64_t count) {
+  T* take(std::int64_t count, std::size_t bytes_each = sizeof(T)) {
     T* p = at_ ? reinterpret_cast<T*>(at_ + used_) : nullptr;
-    used_ += aligned(static_cast<std::size_t>(count) * sizeof(T));
+    used_ += aligned(static_cast<std::size_t>(count) * bytes_each);
     return p;
   }
   std::size_t used() const { return used_; }
 
  private:
-  char* at_;
+  unsigned char* at_;
   std::size_t used_ = 0;
 };
 
 template <class T>
 void copy_into(T* to, const T* from, std::int64_t count) {
-  if (count > 0) std::memcpy(to, from, static_cast<std::size_t>(count) * sizeof(T));
+  if (count > 0 && to != from) std::memcpy(to, from, static_cast<std::size_t>(count) * sizeof(T));
 }
 
 template <class View>
@@ -44,28 +48,43 @@ std::int64_t extent(const View& v) {
   return static_cast<std::int64_t>(v.extent(0));
 }
 
-SegmentSizes sizes_of(const OwnerPart& p, std::int64_t pieces, int iterations) {
+template <class T>
+Kokkos::View<T*, MemSpace> view_of(T* at, std::int64_t n) {
+  return Kokkos::View<T*, MemSpace>(at, static_cast<std::size_t>(n));
+}
+
+// What `mine` uses of a segment's room; throws if it does not fit (a planning error).
+SegmentSizes used_by(const OwnerPart& p, const SegmentSizes& room, std::int64_t pieces,
+                     int first_iteration, int iterations, int first_prev) {
   SegmentSizes s;
   s.vertices = extent(p.base);
   s.map_colors = extent(p.prev);
   s.halo_colors = extent(p.sparse.halo);
-  s.cached_hits = extent(p.cache);
-  s.traced_hits = extent(p.traced);
+  s.traced = extent(p.traced) > 0 ? 1 : 0;
+  s.hits = s.traced ? extent(p.traced) : extent(p.cache);
   s.sparse = p.sparse.empty() ? 0 : 1;
   s.sparse_map_colors = p.sparse.map_colors;
   s.mask_words = extent(p.sparse.mask);
   s.kept_words = extent(p.sparse.kept);
   s.pieces = pieces;
   s.iterations = iterations + 1;
+  s.first_prev = first_prev;
+  s.first_iteration = first_iteration;
+  const bool fits = s.vertices <= room.vertices && s.map_colors == room.map_colors &&
+                    s.halo_colors <= room.halo_colors && s.hits <= room.hits &&
+                    s.sparse <= room.sparse && s.mask_words <= room.mask_words &&
+                    s.kept_words <= room.kept_words && s.pieces <= room.pieces &&
+                    s.iterations <= room.iterations;
+  if (!fits) throw std::logic_error("bake: node sharing: a rank's part outgrew its segment");
   return s;
 }
 
 }  // namespace
 
-std::size_t NodeShare::carve(char* at, const SegmentSizes& s, Segment* out) {
+std::size_t NodeShare::carve(unsigned char* at, const SegmentSizes& s, Segment* out) {
   Carver c(at);
   Segment seg;
-  c.take<SegmentSizes>(1);
+  c.take<SegmentSizes>(2);  // room, used
   seg.counters = c.take<PaddedCounter>(s.iterations);
   seg.pieces = c.take<TracePiece>(s.pieces);
   seg.base = c.take<Vec3>(s.vertices);
@@ -74,86 +93,102 @@ std::size_t NodeShare::carve(char* at, const SegmentSizes& s, Segment* out) {
   seg.mask_at = c.take<std::int64_t>(s.sparse ? s.vertices : 0);
   seg.mask = c.take<std::uint64_t>(s.mask_words);
   seg.kept = c.take<std::int32_t>(s.kept_words);
-  seg.cached = c.take<CachedHit>(s.cached_hits);
-  seg.traced = c.take<TracedHit>(s.traced_hits);
+  seg.hits = c.take<unsigned char>(s.hits, kHitBytes);
   seg.buffer[0] = c.take<Vec3f>(s.map_colors);
   seg.buffer[1] = c.take<Vec3f>(s.map_colors);
   seg.halo = c.take<Vec3f>(s.halo_colors);
-  seg.sizes = s;
+  seg.room = s;
   if (out) *out = seg;
   return c.used();
 }
 
+Kokkos::View<Vec3f*, MemSpace> NodeShare::map_buffer(int which) const {
+  return view_of(my_segment_.buffer[which], my_segment_.room.map_colors);
+}
+
+Kokkos::View<Vec3f*, MemSpace> NodeShare::halo(std::int64_t colors) const {
+  if (colors > my_segment_.room.halo_colors)
+    throw std::logic_error("bake: node sharing: the halo outgrew its room");
+  return view_of(my_segment_.halo, colors);
+}
+
 #ifdef RTMINI_HAVE_MPI
 
-NodeShare::NodeShare(const Communicator& comm, const OwnerPart& mine,
-                     const std::vector<TracePiece>& pieces, int first_iteration, int iterations)
-    : first_iteration_(first_iteration) {
-  const SegmentSizes sizes = sizes_of(mine, static_cast<std::int64_t>(pieces.size()), iterations);
-  my_bytes_ = static_cast<std::int64_t>(carve(nullptr, sizes, nullptr));
+NodeShare::NodeShare(const Communicator& comm, const SegmentSizes& room) {
+  room_bytes_ = carve(nullptr, room, nullptr);
   // Every rank is alive here (a failed peer ends this barrier with PeerFailure): the blocking
   // window calls below cannot wait on a rank that has gone.
   comm.barrier();
   MPI_Comm_split_type(comm.native(), MPI_COMM_TYPE_SHARED, comm.rank(), MPI_INFO_NULL, &node_);
   MPI_Comm_set_errhandler(node_, MPI_ERRORS_RETURN);
-  int size = 1;
   MPI_Comm_rank(node_, &node_rank_);
-  MPI_Comm_size(node_, &size);
+  MPI_Comm_size(node_, &node_size_);
   MPI_Info info = MPI_INFO_NULL;
   MPI_Info_create(&info);
-  // Each rank's segment on its own pages, first touched (below) by the rank that computes it.
+  // Each rank's segment on its own pages, first touched by the rank that computes it.
   MPI_Info_set(info, "alloc_shared_noncontig", "true");
-  char* mine_at = nullptr;
-  const int rc = MPI_Win_allocate_shared(static_cast<MPI_Aint>(my_bytes_), 1, info, node_,
-                                         &mine_at, &win_);
+  const int rc = MPI_Win_allocate_shared(static_cast<MPI_Aint>(room_bytes_), 1, info, node_,
+                                         &mine_, &win_);
   MPI_Info_free(&info);
   if (rc != MPI_SUCCESS)
     throw IoError("bake --node-sharing: an MPI shared-memory window of " +
-                  std::to_string(my_bytes_) +
+                  std::to_string(room_bytes_) +
                   " bytes could not be allocated (is the node's shared memory, e.g. /dev/shm, "
                   "large enough?)");
   MPI_Win_lock_all(MPI_MODE_NOCHECK, win_);
-
-  Segment seg;
-  carve(mine_at, sizes, &seg);
-  std::memcpy(mine_at, &sizes, sizeof sizes);
-  for (std::int64_t i = 0; i < sizes.iterations; ++i) {
-    new (&seg.counters[i]) PaddedCounter;
-    seg.counters[i].value.store(0);
-  }
-  copy_into(seg.pieces, pieces.data(), sizes.pieces);
-  copy_into(seg.base, mine.base.data(), sizes.vertices);
-  copy_into(seg.map_offset, mine.map_offset.data(), sizes.vertices + 1);
-  if (sizes.sparse) {
-    copy_into(seg.start, mine.sparse.start.data(), sizes.vertices);
-    copy_into(seg.mask_at, mine.sparse.mask_at.data(), sizes.vertices);
-  }
-  copy_into(seg.mask, mine.sparse.mask.data(), sizes.mask_words);
-  copy_into(seg.kept, mine.sparse.kept.data(), sizes.kept_words);
-  copy_into(seg.cached, mine.cache.data(), sizes.cached_hits);
-  copy_into(seg.traced, mine.traced.data(), sizes.traced_hits);
-  copy_into(seg.buffer[0], mine.prev.data(), sizes.map_colors);
-  copy_into(seg.buffer[1], mine.next.data(), sizes.map_colors);
-  copy_into(seg.halo, mine.sparse.halo.data(), sizes.halo_colors);
-
-  // Every segment is complete before anyone reads another's sizes.
-  node_barrier(comm);
-  segments_.resize(static_cast<std::size_t>(size));
-  for (int r = 0; r < size; ++r) {
-    MPI_Aint bytes = 0;
-    int disp = 1;
-    char* at = nullptr;
-    MPI_Win_shared_query(win_, r, &bytes, &disp, &at);
-    SegmentSizes s;
-    std::memcpy(&s, at, sizeof s);
-    carve(at, s, &segments_[static_cast<std::size_t>(r)]);
-  }
+  carve(mine_, room, &my_segment_);
+  std::memcpy(mine_, &room, sizeof room);
 }
 
 NodeShare::~NodeShare() {
   // Not MPI_Win_free: it is collective, and a destructor may run on one rank's error path while
   // the others wait elsewhere (they would hang). The window goes with MPI_Finalize.
   if (win_ != MPI_WIN_NULL) MPI_Win_unlock_all(win_);
+}
+
+void NodeShare::publish(const Communicator& comm, const OwnerPart& mine,
+                        const std::vector<TracePiece>& pieces, int first_iteration,
+                        int iterations) {
+  Segment& seg = my_segment_;
+  const int first_prev = mine.prev.data() == seg.buffer[0] ? 0 : 1;
+  if (mine.prev.data() != seg.buffer[first_prev] || mine.next.data() != seg.buffer[1 - first_prev])
+    throw std::logic_error("bake: node sharing: the maps are not the segment's");
+  const SegmentSizes used = used_by(mine, seg.room, static_cast<std::int64_t>(pieces.size()),
+                                    first_iteration, iterations, first_prev);
+  std::memcpy(mine_ + sizeof(SegmentSizes), &used, sizeof used);
+  for (std::int64_t i = 0; i < used.iterations; ++i) {
+    new (&seg.counters[i]) PaddedCounter;
+    seg.counters[i].value.store(0);
+  }
+  copy_into(seg.pieces, pieces.data(), used.pieces);
+  copy_into(seg.base, mine.base.data(), used.vertices);
+  copy_into(seg.map_offset, mine.map_offset.data(), used.vertices + 1);
+  if (used.sparse) {
+    copy_into(seg.start, mine.sparse.start.data(), used.vertices);
+    copy_into(seg.mask_at, mine.sparse.mask_at.data(), used.vertices);
+  }
+  copy_into(seg.mask, mine.sparse.mask.data(), used.mask_words);
+  copy_into(seg.kept, mine.sparse.kept.data(), used.kept_words);
+  if (used.traced)
+    copy_into(reinterpret_cast<TracedHit*>(seg.hits), mine.traced.data(), used.hits);
+  else
+    copy_into(reinterpret_cast<CachedHit*>(seg.hits), mine.cache.data(), used.hits);
+  copy_into(seg.halo, mine.sparse.halo.data(), used.halo_colors);
+
+  // Every segment is complete before anyone reads another's sizes.
+  node_barrier(comm);
+  segments_.resize(static_cast<std::size_t>(node_size_));
+  for (int r = 0; r < node_size_; ++r) {
+    MPI_Aint bytes = 0;
+    int disp = 1;
+    void* at = nullptr;
+    MPI_Win_shared_query(win_, r, &bytes, &disp, &at);
+    SegmentSizes header[2];  // room, used
+    std::memcpy(header, at, sizeof header);
+    Segment& s = segments_[static_cast<std::size_t>(r)];
+    carve(static_cast<unsigned char*>(at), header[0], &s);
+    s.used = header[1];
+  }
 }
 
 void NodeShare::node_barrier(const Communicator& comm) const {
@@ -166,11 +201,12 @@ void NodeShare::node_barrier(const Communicator& comm) const {
 
 #else
 
-NodeShare::NodeShare(const Communicator&, const OwnerPart&, const std::vector<TracePiece>&, int,
-                     int) {
+NodeShare::NodeShare(const Communicator&, const SegmentSizes&) {
   throw InputError("bake --node-sharing needs a build with MPI");
 }
 NodeShare::~NodeShare() = default;
+void NodeShare::publish(const Communicator&, const OwnerPart&, const std::vector<TracePiece>&, int,
+                        int) {}
 void NodeShare::node_barrier(const Communicator&) const {}
 
 #endif
@@ -178,33 +214,29 @@ void NodeShare::node_barrier(const Communicator&) const {}
 std::int64_t NodeShare::claim(int r, int it) const {
   const Segment& s = segments_[static_cast<std::size_t>(r)];
   const std::int64_t i = s.counters[it].value.fetch_add(1, std::memory_order_relaxed);
-  return i < s.sizes.pieces ? i : -1;
-}
-
-Kokkos::View<Vec3f*, MemSpace> NodeShare::halo() const {
-  const Segment& s = segments_[static_cast<std::size_t>(node_rank_)];
-  return Kokkos::View<Vec3f*, MemSpace>(s.halo, static_cast<std::size_t>(s.sizes.halo_colors));
+  return i < s.used.pieces ? i : -1;
 }
 
 OwnerPart NodeShare::part(int r, int it) const {
   const Segment& s = segments_[static_cast<std::size_t>(r)];
-  const SegmentSizes& n = s.sizes;
-  const auto count = [](std::int64_t c) { return static_cast<std::size_t>(c); };
+  const SegmentSizes& n = s.used;
   OwnerPart p;
-  p.base = Kokkos::View<Vec3*, MemSpace>(s.base, count(n.vertices));
-  p.map_offset = Kokkos::View<std::int64_t*, MemSpace>(s.map_offset, count(n.vertices + 1));
-  p.cache = Kokkos::View<CachedHit*, MemSpace>(s.cached, count(n.cached_hits));
-  p.traced = Kokkos::View<TracedHit*, MemSpace>(s.traced, count(n.traced_hits));
-  const int which = (it - first_iteration_) % 2;
-  p.prev = Kokkos::View<Vec3f*, MemSpace>(s.buffer[which], count(n.map_colors));
-  p.next = Kokkos::View<Vec3f*, MemSpace>(s.buffer[1 - which], count(n.map_colors));
+  p.base = view_of(s.base, n.vertices);
+  p.map_offset = view_of(s.map_offset, n.vertices + 1);
+  if (n.traced)
+    p.traced = view_of(reinterpret_cast<TracedHit*>(s.hits), n.hits);
+  else
+    p.cache = view_of(reinterpret_cast<CachedHit*>(s.hits), n.hits);
+  const int prev = static_cast<int>((n.first_prev + (it - n.first_iteration)) % 2);
+  p.prev = view_of(s.buffer[prev], n.map_colors);
+  p.next = view_of(s.buffer[1 - prev], n.map_colors);
   if (n.sparse) {
-    p.sparse.start = Kokkos::View<const std::int64_t*, MemSpace>(s.start, count(n.vertices));
-    p.sparse.mask_at = Kokkos::View<const std::int64_t*, MemSpace>(s.mask_at, count(n.vertices));
-    p.sparse.mask = Kokkos::View<const std::uint64_t*, MemSpace>(s.mask, count(n.mask_words));
-    p.sparse.kept = Kokkos::View<const std::int32_t*, MemSpace>(s.kept, count(n.kept_words));
+    p.sparse.start = view_of<const std::int64_t>(s.start, n.vertices);
+    p.sparse.mask_at = view_of<const std::int64_t>(s.mask_at, n.vertices);
+    p.sparse.mask = view_of<const std::uint64_t>(s.mask, n.mask_words);
+    p.sparse.kept = view_of<const std::int32_t>(s.kept, n.kept_words);
     p.sparse.map_colors = n.sparse_map_colors;
-    p.sparse.halo = Kokkos::View<const Vec3f*, MemSpace>(s.halo, count(n.halo_colors));
+    p.sparse.halo = view_of<const Vec3f>(s.halo, n.halo_colors);
   }
   return p;
 }

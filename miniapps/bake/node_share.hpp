@@ -5,7 +5,7 @@
 // the lent 16-core hosts a rank's speed is a draw that drifts over seconds (about 7 % std; no cut
 // predicts it: results/bake/distributed.md, seventeenth and eighteenth rounds), so 16 x 1 paid
 // the slowest of 16 draws where 1 x 16's dynamic schedule paid their mean. Here the ranks of a
-// node put what an iteration of theirs reads and writes in one MPI shared-memory window (each
+// node keep what an iteration of theirs reads and writes in one MPI shared-memory window (each
 // rank its own segment: its two map buffers, halo, hit records, base colours, map tables and
 // its pieces), and a rank that has finished its own pieces takes the unclaimed pieces of the
 // others, reading the owner's previous map and writing the owner's next one. A colour depends
@@ -16,6 +16,11 @@
 // its halo and previous map) and closes with one (every stolen piece is written before the
 // owner exchanges or writes). Only the cached iterations share (a fixed layout, hits in place);
 // the mirror trace and the first mirror iteration, which plans the halo, stay per rank.
+//
+// The maps and the halo live in the window from their allocation (map_buffer, halo): on the
+// lent hosts first touching a page costs about 4 ms per MiB, so copying them in at the first
+// shared iteration cost 0.12-0.25 s per run. What is copied in when sharing starts (publish) is
+// the rest: hit records, base colours and the halo's tables, about a third of a segment.
 #include <atomic>
 #include <cstdint>
 #include <vector>
@@ -31,12 +36,16 @@ struct TracePiece {
   std::int64_t begin = 0, end = 0, cache_offset = 0;
 };
 
-// What a segment holds, in elements; the same on the rank that fills it and those that read it.
+// What a segment holds, in elements: the room reserved when the window is made, then what is
+// used of it once published.
 struct SegmentSizes {
   std::int64_t vertices = 0, map_colors = 0, halo_colors = 0;
-  std::int64_t cached_hits = 0, traced_hits = 0;  // one of them is 0 (the records the mode reads)
+  std::int64_t hits = 0;  // hit records (the float cache or the traced hits: the larger size)
   std::int64_t sparse = 0, sparse_map_colors = 0, mask_words = 0, kept_words = 0;
   std::int64_t pieces = 0, iterations = 0;
+  std::int64_t traced = 0;      // the hits are TracedHit (else CachedHit)
+  std::int64_t first_prev = 0;  // which map buffer is the previous map at the first shared iteration
+  std::int64_t first_iteration = 0;
 };
 
 // Whether this build can share work between a node's ranks: the map must live in host memory.
@@ -46,26 +55,33 @@ constexpr bool node_sharing_possible() {
 
 class NodeShare {
  public:
-  // Collective over `comm` (every rank, whatever its node): creates the node's window and copies
-  // `mine` (this rank's part as it stands) and `pieces` into this rank's segment. Afterwards the
-  // rank's own views must be those of part(node_rank(), first_iteration) (adopt them): they are
-  // the shared copies. `first_iteration` is the iteration whose previous map is mine.prev.
-  NodeShare(const Communicator& comm, const OwnerPart& mine, const std::vector<TracePiece>& pieces,
-            int first_iteration, int iterations);
+  // Collective over `comm` (every rank, whatever its node): makes the node's window with `room`
+  // in this rank's segment (pages are taken only when touched).
+  NodeShare(const Communicator& comm, const SegmentSizes& room);
   ~NodeShare();
   NodeShare(const NodeShare&) = delete;
   NodeShare& operator=(const NodeShare&) = delete;
 
+  // This rank's two map buffers (room.map_colors each) and its halo (the first `colors` of
+  // room.halo_colors): zeros until written, like a fresh Kokkos view.
+  Kokkos::View<Vec3f*, MemSpace> map_buffer(int which) const;
+  Kokkos::View<Vec3f*, MemSpace> halo(std::int64_t colors) const;
+
+  // Collective over `comm`: this rank's part from iteration `first_iteration` on (its prev and
+  // next must be the map buffers, its halo the segment's), the rest of it copied into the
+  // segment, and its pieces. Afterwards the rank works on part(node_rank(), it) (adopt it).
+  void publish(const Communicator& comm, const OwnerPart& mine,
+               const std::vector<TracePiece>& pieces, int first_iteration, int iterations);
+  bool published() const { return !segments_.empty(); }
+
   int node_rank() const { return node_rank_; }
-  int node_size() const { return static_cast<int>(segments_.size()); }
-  std::int64_t segment_bytes() const { return my_bytes_; }
+  int node_size() const { return node_size_; }
+  std::int64_t segment_bytes() const { return static_cast<std::int64_t>(room_bytes_); }
 
   // Rank r's (node rank) part as iteration `it` reads and writes it: the two map buffers swap
   // roles every iteration, as the owner's prev and next do.
   OwnerPart part(int r, int it) const;
   const TracePiece& piece(int r, std::int64_t i) const { return segments_[r].pieces[i]; }
-  // This rank's halo in its segment: the exchange receives into it (MapExchange::adopt_halo).
-  Kokkos::View<Vec3f*, MemSpace> halo() const;
   // The next unclaimed piece of rank r in iteration `it`, or -1 once all are claimed.
   std::int64_t claim(int r, int it) const;
 
@@ -79,24 +95,25 @@ class NodeShare {
     std::atomic<std::int64_t> value;
   };
   struct Segment {
-    SegmentSizes sizes;
+    SegmentSizes room, used;
     PaddedCounter* counters = nullptr;  // one per iteration
     TracePiece* pieces = nullptr;
     Vec3* base = nullptr;
     std::int64_t *map_offset = nullptr, *start = nullptr, *mask_at = nullptr;
     std::uint64_t* mask = nullptr;
     std::int32_t* kept = nullptr;
-    CachedHit* cached = nullptr;
-    TracedHit* traced = nullptr;
+    unsigned char* hits = nullptr;
     Vec3f *buffer[2] = {nullptr, nullptr}, *halo = nullptr;
   };
-  static std::size_t carve(char* at, const SegmentSizes& s, Segment* out);
+  // The regions of a segment at `at` with room `s` (at == nullptr: its size only).
+  static std::size_t carve(unsigned char* at, const SegmentSizes& s, Segment* out);
   void node_barrier(const Communicator& comm) const;
 
-  int node_rank_ = 0;
-  int first_iteration_ = 0;
-  std::int64_t my_bytes_ = 0;
-  std::vector<Segment> segments_;
+  int node_rank_ = 0, node_size_ = 1;
+  std::size_t room_bytes_ = 0;
+  unsigned char* mine_ = nullptr;
+  Segment my_segment_;
+  std::vector<Segment> segments_;  // every rank's of the node, once published
 #ifdef RTMINI_HAVE_MPI
   MPI_Comm node_ = MPI_COMM_NULL;
   MPI_Win win_ = MPI_WIN_NULL;

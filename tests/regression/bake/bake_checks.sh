@@ -181,6 +181,15 @@ case $case_name in
     run "$ranks" "${args[@]}" -o shared.bs --node-sharing on --share-test-delay 0.5 \
       --summary shared.json >log10.txt 2>&1 || { cat log10.txt; fail "$ranks-rank shared bake failed"; }
     cmp one.bs shared.bs || fail "--node-sharing on differs from 1 rank"
+    # Bad input before any work: an unknown value, and the measured recut (it moves vertices
+    # between ranks after iteration 1, node sharing balances within each iteration).
+    for bad in "--node-sharing yes" "--node-sharing on --balance measured"; do
+      # shellcheck disable=SC2086
+      run "$ranks" "${args[@]}" -o bad.bs $bad >/dev/null 2>bad_err.txt
+      rc=$?
+      [ $rc -eq 2 ] || { cat bad_err.txt; fail "$bad exited $rc, expected 2"; }
+      [ "$(grep -c '^bake: ' bad_err.txt)" -eq 1 ] || { cat bad_err.txt; fail "$bad: not one line"; }
+    done
     /usr/bin/python3 - "$ranks" <<'PY' || fail "summary"
 import json, sys
 r = int(sys.argv[1])
