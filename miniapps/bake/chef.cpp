@@ -815,10 +815,10 @@ std::int64_t Chef::bake_iteration_of(const OwnerPart& part, int it, std::int64_t
   const HemisphereMap hemisphere = hemisphere_map(scene_, config_, mirrored_);
   if (config_.lookup == Lookup::kKdTree)
     return run_iteration(scene_, config_, kdtree_, part.base, gather_, part.cache, part.traced,
-                         part.map_offset, part.sparse, FirstReads{}, order_, it, begin, end,
+                         part.map_offset, part.sparse, part.first_reads, order_, it, begin, end,
                          cache_offset, cache, part.prev, part.next, hemisphere);
   return run_iteration(scene_, config_, inverse_, part.base, gather_, part.cache, part.traced,
-                       part.map_offset, part.sparse, FirstReads{}, order_, it, begin, end,
+                       part.map_offset, part.sparse, part.first_reads, order_, it, begin, end,
                        cache_offset, cache, part.prev, part.next, hemisphere);
 }
 
@@ -829,6 +829,7 @@ OwnerPart Chef::own_part(HitCacheMode mode) const {
   if (mode == HitCacheMode::kTraced) p.traced = traced_;
   p.map_offset = map_offset_;
   p.sparse = sparse_;
+  p.first_reads = first_reads_;
   return p;
 }
 

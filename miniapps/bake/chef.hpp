@@ -75,6 +75,7 @@ struct OwnerPart {
   Kokkos::View<TracedHit*, MemSpace> traced;
   Kokkos::View<std::int64_t*, MemSpace> map_offset;
   SparseColors sparse;  // with its halo
+  FirstReads first_reads;  // the fused first mirror iteration only
   Kokkos::View<Vec3f*, MemSpace> prev, next;
 };
 
@@ -143,8 +144,7 @@ class Chef {
                               Kokkos::View<Vec3f*, MemSpace> next);
 
   // bake_iteration of another rank's vertices, through that rank's part (node_share.hpp); the
-  // lookups, directions and scratch are this Chef's (the same on every rank). Not for the
-  // first mirror iteration of a fresh run (it plans the halo: FirstReads).
+  // lookups, directions and scratch are this Chef's (the same on every rank).
   std::int64_t bake_iteration_of(const OwnerPart& part, int it, std::int64_t begin,
                                  std::int64_t end, std::int64_t cache_offset,
                                  HitCacheMode cache);

@@ -607,6 +607,7 @@ class BakeRun {
   std::int64_t trace(int it, Kokkos::View<Vec3f*, MemSpace> out);
   bool shares_iteration(int it);
   void start_node_sharing(int it);
+  void make_node_share();
   SegmentSizes node_share_room() const;
   std::int64_t trace_shared(int it);
   void report_node_sharing();
@@ -669,6 +670,8 @@ class BakeRun {
   // --node-sharing: the node's ranks take each other's pieces in the cached iterations.
   std::unique_ptr<NodeShare> share_;
   int share_from_ = -1;  // the first shared iteration
+  HitCacheMode shared_mode_ = HitCacheMode::kOff;  // the hit records published
+  bool share_stale_ = false;  // the part changed since it was published
   std::int64_t stolen_items_ = 0, stolen_pieces_ = 0;  // computed here for other ranks
   // The fused halo plan between plan_map and the end of iteration 1 (fuses_halo_plan).
   struct PendingHalo {
@@ -1020,10 +1023,10 @@ void BakeRun::plan_map() {
     layout_ =
         make_halo_layout(host_, remote, read.empty() ? nullptr : read.data(), owner_, comm_.rank());
   }
-  if (c_.node_sharing && comm_.size() > 1 && !c_.trace_reference && iterations_ >= 2 &&
-      halo_ != Halo::kOwned)
-    share_ = std::make_unique<NodeShare>(comm_, node_share_room());
-  if (!pending_.active) plan_exchange();
+  if (!pending_.active) {
+    make_node_share();
+    plan_exchange();
+  }
   prev_ = share_ ? share_->map_buffer(0)
                  : Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_prev", layout_.colors());
   next_ = share_ ? share_->map_buffer(1)
@@ -1048,6 +1051,7 @@ SegmentSizes BakeRun::node_share_room() const {
     room.mask_words = static_cast<std::int64_t>(layout_.mask.size());
   } else {
     room.halo_colors = pending_.remote.colors();
+    room.read_flags = pending_.remote.colors();
     for (std::int64_t v = 0; v < host_.vertices(); ++v)
       if (pending_.remote.in_map(v) && host_.color_count(v) > 1)
         room.mask_words += (host_.color_count(v) + 63) / 64;  // make_halo_layout's words
@@ -1083,8 +1087,12 @@ void BakeRun::start_fused_plan(const std::vector<char>& own) {
   mark_dense(layout_);  // the readers take colour counts from the scene, not from this layout
   chef_->set_map_offset(layout_.device, layout_.sparse);
   pending_.remote = remote_layout(own);
-  pending_.flags = Kokkos::View<char*, MemSpace>(
-      "rtmini::bake::read_items", static_cast<std::size_t>(pending_.remote.colors()));
+  pending_.active = true;
+  make_node_share();
+  pending_.flags = share_ ? share_->read_flags()
+                          : Kokkos::View<char*, MemSpace>(
+                                "rtmini::bake::read_items",
+                                static_cast<std::size_t>(pending_.remote.colors()));
   std::vector<std::int64_t> remote;
   for (std::int64_t v = 0; v < host_.vertices(); ++v)
     if (pending_.remote.in_map(v)) remote.push_back(v);
@@ -1103,7 +1111,6 @@ void BakeRun::start_fused_plan(const std::vector<char>& own) {
   first.at = pending_.remote.device;
   first.flags = pending_.flags;
   chef_->set_first_reads(first);
-  pending_.active = true;
 }
 
 // After the fused first iteration: the halo from what it read and the exchange plan. The map
@@ -1119,6 +1126,10 @@ void BakeRun::finish_fused_plan(int it) {
     layout_ = make_halo_layout(host_, pending_.remote, read.data(), owner_, comm_.rank());
   }
   pending_ = PendingHalo{};
+  if (share_) {
+    share_->release_read_flags();
+    share_stale_ = true;  // the halo's tables are new: published again before the next iteration
+  }
   mark_rss("iteration " + std::to_string(it) + " halo layout");
   // A measured recut changed this rank's share (next_ moved with it); prev_ follows.
   if (static_cast<std::int64_t>(prev_.extent(0)) != layout_.colors())
@@ -1575,14 +1586,24 @@ std::int64_t BakeRun::trace(int it, Kokkos::View<Vec3f*, MemSpace> out) {
 // together (a rank that owns no vertex has no hits to tell its mode by).
 bool BakeRun::shares_iteration(int it) {
   if (!share_ || it == 0) return false;
-  if (share_->published()) return true;
   const HitCacheMode mode = hit_mode(it);
-  const bool fixed = mode == HitCacheMode::kUse ||
-                     (mode == HitCacheMode::kTraced && !chef_->caches_hits() && it > first_);
-  const bool ready = fixed && !pending_.active && my_items_ > 0;
+  if (share_->published() && mode == shared_mode_ && !share_stale_) return true;
+  // Mirror iterations whose hits are in place (traced, or the float cache): not one that fills
+  // the cache as it goes (without traced hits), whose records appear only as it runs.
+  const bool ready =
+      (mode == HitCacheMode::kUse || mode == HitCacheMode::kTraced) && my_items_ > 0;
   if (comm_.min(ready ? 1.0 : 0.0) < 0.5) return false;
   start_node_sharing(it);
   return true;
+}
+
+// The node's window, where the maps, the halo and the first iteration's read flags are made
+// (collective; once, when the layout of this rank's map is known). Not for the traced
+// reference or a run without mirror iterations to share.
+void BakeRun::make_node_share() {
+  if (c_.node_sharing && comm_.size() > 1 && !c_.trace_reference && iterations_ >= 1 &&
+      halo_ != Halo::kOwned)
+    share_ = std::make_unique<NodeShare>(comm_, node_share_room());
 }
 
 // This rank's part is published in its segment of the node's window (the maps and the halo are
@@ -1592,10 +1613,14 @@ void BakeRun::start_node_sharing(int it) {
   OwnerPart mine = chef_->own_part(hit_mode(it));
   mine.prev = prev_;
   mine.next = next_;
-  mine.sparse.halo = exchange_->halo();
+  if (exchange_) mine.sparse.halo = exchange_->halo();  // none before the fused plan
+  const bool first = !share_->published();
   share_->publish(comm_, mine, pieces_, it, iterations_);
-  share_from_ = it;
+  shared_mode_ = hit_mode(it);
+  share_stale_ = false;
   chef_->adopt_part(share_->part(share_->node_rank(), it));
+  if (!first) return;
+  share_from_ = it;
   if (root_)
     std::printf("  node sharing from iteration %d: %d ranks on this node, %zu pieces each, "
                 "%.1f MiB shared by this rank\n",
@@ -1640,6 +1665,10 @@ std::int64_t BakeRun::trace_shared(int it) {
     }
   }
   share_->close_iteration(comm_);
+  // As in trace(): the traced hits have served their one iteration once the float cache takes
+  // over (the same records when Real is float: the window's).
+  if (mode == HitCacheMode::kTraced && chef_->caches_hits() && it < iterations_)
+    chef_->release_traced_hits();
   return rays;
 }
 

@@ -1,8 +1,10 @@
 #include "node_share.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <new>
+#include <sys/mman.h>
 #include <stdexcept>
 #include <string>
 
@@ -66,6 +68,8 @@ SegmentSizes used_by(const OwnerPart& p, const SegmentSizes& room, std::int64_t 
   s.sparse_map_colors = p.sparse.map_colors;
   s.mask_words = extent(p.sparse.mask);
   s.kept_words = extent(p.sparse.kept);
+  s.first_reads = extent(p.first_reads.owned) > 0 ? 1 : 0;
+  s.read_flags = extent(p.first_reads.flags);
   s.pieces = pieces;
   s.iterations = iterations + 1;
   s.first_prev = first_prev;
@@ -74,6 +78,7 @@ SegmentSizes used_by(const OwnerPart& p, const SegmentSizes& room, std::int64_t 
                     s.halo_colors <= room.halo_colors && s.hits <= room.hits &&
                     s.sparse <= room.sparse && s.mask_words <= room.mask_words &&
                     s.kept_words <= room.kept_words && s.pieces <= room.pieces &&
+                    s.read_flags <= room.read_flags &&
                     s.iterations <= room.iterations;
   if (!fits) throw std::logic_error("bake: node sharing: a rank's part outgrew its segment");
   return s;
@@ -93,6 +98,12 @@ std::size_t NodeShare::carve(unsigned char* at, const SegmentSizes& s, Segment* 
   seg.mask_at = c.take<std::int64_t>(s.sparse ? s.vertices : 0);
   seg.mask = c.take<std::uint64_t>(s.mask_words);
   seg.kept = c.take<std::int32_t>(s.kept_words);
+  const std::int64_t first_reads_vertices = s.read_flags > 0 ? s.vertices : 0;
+  seg.owned = c.take<char>(first_reads_vertices);
+  seg.remote_base = c.take<Vec3f>(first_reads_vertices);
+  seg.read_at = c.take<std::int64_t>(first_reads_vertices > 0 ? first_reads_vertices + 1 : 0);
+  // The flags last, on pages of their own: release_read_flags gives them back.
+  seg.flags = c.take<char>(s.read_flags > 0 ? s.read_flags + 4096 : 0);
   seg.hits = c.take<unsigned char>(s.hits, kHitBytes);
   seg.buffer[0] = c.take<Vec3f>(s.map_colors);
   seg.buffer[1] = c.take<Vec3f>(s.map_colors);
@@ -100,6 +111,23 @@ std::size_t NodeShare::carve(unsigned char* at, const SegmentSizes& s, Segment* 
   seg.room = s;
   if (out) *out = seg;
   return c.used();
+}
+
+// The flags start on a page boundary, so that their pages can be given back alone.
+static char* page_aligned(char* p) {
+  const std::uintptr_t a = reinterpret_cast<std::uintptr_t>(p);
+  return reinterpret_cast<char*>((a + 4095) & ~std::uintptr_t(4095));
+}
+
+Kokkos::View<char*, MemSpace> NodeShare::read_flags() const {
+  return view_of(page_aligned(my_segment_.flags), my_segment_.room.read_flags);
+}
+
+void NodeShare::release_read_flags() {
+  if (my_segment_.room.read_flags <= 0) return;
+  const std::size_t bytes = static_cast<std::size_t>(my_segment_.room.read_flags) / 4096 * 4096;
+  // On shared memory MADV_REMOVE frees the pages themselves, not only this process's mapping.
+  if (bytes > 0) madvise(page_aligned(my_segment_.flags), bytes, MADV_REMOVE);
 }
 
 Kokkos::View<Vec3f*, MemSpace> NodeShare::map_buffer(int which) const {
@@ -156,10 +184,11 @@ void NodeShare::publish(const Communicator& comm, const OwnerPart& mine,
   const SegmentSizes used = used_by(mine, seg.room, static_cast<std::int64_t>(pieces.size()),
                                     first_iteration, iterations, first_prev);
   std::memcpy(mine_ + sizeof(SegmentSizes), &used, sizeof used);
-  for (std::int64_t i = 0; i < used.iterations; ++i) {
-    new (&seg.counters[i]) PaddedCounter;
-    seg.counters[i].value.store(0);
-  }
+  if (segments_.empty())  // the first publication: no counter is in use yet
+    for (std::int64_t i = 0; i < used.iterations; ++i) {
+      new (&seg.counters[i]) PaddedCounter;
+      seg.counters[i].value.store(0);
+    }
   copy_into(seg.pieces, pieces.data(), used.pieces);
   copy_into(seg.base, mine.base.data(), used.vertices);
   copy_into(seg.map_offset, mine.map_offset.data(), used.vertices + 1);
@@ -169,6 +198,13 @@ void NodeShare::publish(const Communicator& comm, const OwnerPart& mine,
   }
   copy_into(seg.mask, mine.sparse.mask.data(), used.mask_words);
   copy_into(seg.kept, mine.sparse.kept.data(), used.kept_words);
+  if (used.first_reads) {
+    copy_into(seg.owned, mine.first_reads.owned.data(), used.vertices);
+    copy_into(seg.remote_base, mine.first_reads.base.data(), used.vertices);
+    copy_into(seg.read_at, mine.first_reads.at.data(), used.vertices + 1);
+    if (mine.first_reads.flags.data() != page_aligned(seg.flags))
+      throw std::logic_error("bake: node sharing: the read flags are not the segment's");
+  }
   if (used.traced)
     copy_into(reinterpret_cast<TracedHit*>(seg.hits), mine.traced.data(), used.hits);
   else
@@ -237,6 +273,12 @@ OwnerPart NodeShare::part(int r, int it) const {
     p.sparse.kept = view_of<const std::int32_t>(s.kept, n.kept_words);
     p.sparse.map_colors = n.sparse_map_colors;
     p.sparse.halo = view_of<const Vec3f>(s.halo, n.halo_colors);
+  }
+  if (n.first_reads) {
+    p.first_reads.owned = view_of<const char>(s.owned, n.vertices);
+    p.first_reads.base = view_of<const Vec3f>(s.remote_base, n.vertices);
+    p.first_reads.at = view_of<const std::int64_t>(s.read_at, n.vertices + 1);
+    p.first_reads.flags = view_of(page_aligned(s.flags), n.read_flags);
   }
   return p;
 }

@@ -14,8 +14,10 @@
 // Each rank's pieces are claimed through one atomic counter per iteration in its segment: no
 // lock, no message. An iteration opens with a node barrier (every owner's exchange has filled
 // its halo and previous map) and closes with one (every stolen piece is written before the
-// owner exchanges or writes). Only the cached iterations share (a fixed layout, hits in place);
-// the mirror trace and the first mirror iteration, which plans the halo, stay per rank.
+// owner exchanges or writes). Every mirror iteration shares, the first one too: there a stolen
+// piece also flags, in the owner's flags, the remote colours its lookups read (FirstReads),
+// from which the owner plans its halo; the part is published again after that plan. The
+// mirror trace before the iterations stays per rank (its cost is balanced to 3 % by the cut).
 //
 // The maps and the halo live in the window from their allocation (map_buffer, halo): on the
 // lent hosts first touching a page costs about 4 ms per MiB, so copying them in at the first
@@ -43,6 +45,8 @@ struct SegmentSizes {
   std::int64_t hits = 0;  // hit records (the float cache or the traced hits: the larger size)
   std::int64_t sparse = 0, sparse_map_colors = 0, mask_words = 0, kept_words = 0;
   std::int64_t pieces = 0, iterations = 0;
+  std::int64_t read_flags = 0;  // FirstReads' flags (a fused first iteration); 0: none
+  std::int64_t first_reads = 0;  // FirstReads published (owned, base, at, flags)
   std::int64_t traced = 0;      // the hits are TracedHit (else CachedHit)
   std::int64_t first_prev = 0;  // which map buffer is the previous map at the first shared iteration
   std::int64_t first_iteration = 0;
@@ -66,10 +70,16 @@ class NodeShare {
   // room.halo_colors): zeros until written, like a fresh Kokkos view.
   Kokkos::View<Vec3f*, MemSpace> map_buffer(int which) const;
   Kokkos::View<Vec3f*, MemSpace> halo(std::int64_t colors) const;
+  // This rank's FirstReads flags (room.read_flags, zeros): the fused first iteration's readers,
+  // the owner and those that take its pieces, flag what they read in them.
+  Kokkos::View<char*, MemSpace> read_flags() const;
+  // Gives the flags' pages back once the halo is planned (they are not read again).
+  void release_read_flags();
 
   // Collective over `comm`: this rank's part from iteration `first_iteration` on (its prev and
-  // next must be the map buffers, its halo the segment's), the rest of it copied into the
-  // segment, and its pieces. Afterwards the rank works on part(node_rank(), it) (adopt it).
+  // next must be the map buffers, its halo and flags the segment's), the rest of it copied into
+  // the segment, and its pieces. Afterwards the rank works on part(node_rank(), it) (adopt it).
+  // Published again when the part changes (the halo planned after a fused first iteration).
   void publish(const Communicator& comm, const OwnerPart& mine,
                const std::vector<TracePiece>& pieces, int first_iteration, int iterations);
   bool published() const { return !segments_.empty(); }
@@ -102,6 +112,9 @@ class NodeShare {
     std::int64_t *map_offset = nullptr, *start = nullptr, *mask_at = nullptr;
     std::uint64_t* mask = nullptr;
     std::int32_t* kept = nullptr;
+    char *owned = nullptr, *flags = nullptr;  // FirstReads
+    Vec3f* remote_base = nullptr;
+    std::int64_t* read_at = nullptr;
     unsigned char* hits = nullptr;
     Vec3f *buffer[2] = {nullptr, nullptr}, *halo = nullptr;
   };
