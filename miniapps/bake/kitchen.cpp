@@ -1538,7 +1538,8 @@ std::vector<TracePiece> BakeRun::trace_pieces(bool progress) const {
                host_.color_offset[end] - host_.color_offset[begin] < piece_items)
           ++end;
       }
-      pieces.push_back({begin, end, my_cache_offset_[k] + host_.color_offset[begin] - first_item});
+      pieces.push_back({begin, end, my_cache_offset_[k] + host_.color_offset[begin] - first_item,
+                        static_cast<std::int64_t>(k)});
       begin = end;
     }
   }
@@ -1643,25 +1644,32 @@ std::int64_t BakeRun::trace_shared(int it) {
   for (int k = 0; k < ranks; ++k) {
     const int owner = (me + k) % ranks;
     const OwnerPart part = k == 0 ? OwnerPart{} : share_->part(owner, it);
-    for (std::int64_t i = share_->claim(owner, it); i >= 0; i = share_->claim(owner, it)) {
-      const TracePiece& r = share_->piece(owner, i);
-      const double cs = timer_.now();
-      const std::int64_t crays =
-          k == 0 ? chef_->bake_iteration(it, r.begin, r.end, r.cache_offset, mode, prev_, next_)
-                 : chef_->bake_iteration_of(part, it, r.begin, r.end, r.cache_offset, mode);
-      Kokkos::fence();
-      const std::int64_t items = host_.color_offset[r.end] - host_.color_offset[r.begin];
-      chunks_.push_back({comm_.rank(), it, items, crays, cs, timer_.now()});
-      rays += crays;
-      totals_.work += items;
-      if (k > 0) {
-        stolen_items_ += items;
-        ++stolen_pieces_;
-        continue;
+    std::int64_t first = 0, end = 0;
+    while (share_->claim(owner, it, first, end)) {
+      while (first < end) {
+        std::int64_t pieces = 0;
+        const TracePiece r = share_->next_run(owner, first, end, pieces);
+        const double cs = timer_.now();
+        const std::int64_t crays =
+            k == 0 ? chef_->bake_iteration(it, r.begin, r.end, r.cache_offset, mode, prev_, next_)
+                   : chef_->bake_iteration_of(part, it, r.begin, r.end, r.cache_offset, mode);
+        Kokkos::fence();
+        const double seconds = timer_.now() - cs;
+        const std::int64_t items = host_.color_offset[r.end] - host_.color_offset[r.begin];
+        chunks_.push_back({comm_.rank(), it, items, crays, cs, cs + seconds});
+        rays += crays;
+        totals_.work += items;
+        if (k > 0) {
+          stolen_items_ += items;
+          stolen_pieces_ += pieces;
+          continue;
+        }
+        entries_done += items;
+        // The ETA compares iterations piece by piece: a merged run counts as its pieces.
+        for (std::int64_t p = 0; p < pieces; ++p)
+          eta_.batch_done(seconds / static_cast<double>(pieces));
+        if (progress_line_->due()) report_progress(it, entries_done);
       }
-      entries_done += items;
-      eta_.batch_done(timer_.now() - cs);
-      if (progress_line_->due()) report_progress(it, entries_done);
     }
   }
   share_->close_iteration(comm_);

@@ -32,10 +32,10 @@
 
 namespace rtmini::bake {
 
-// One dispatch of an iteration: whole vertices [begin, end) of one of a rank's ranges, and the
-// hit-cache slot of their first colour entry.
+// One dispatch of an iteration: whole vertices [begin, end) of one of a rank's ranges (the
+// range-th), and the hit-cache slot of their first colour entry.
 struct TracePiece {
-  std::int64_t begin = 0, end = 0, cache_offset = 0;
+  std::int64_t begin = 0, end = 0, cache_offset = 0, range = 0;
 };
 
 // What a segment holds, in elements: the room reserved when the window is made, then what is
@@ -91,9 +91,15 @@ class NodeShare {
   // Rank r's (node rank) part as iteration `it` reads and writes it: the two map buffers swap
   // roles every iteration, as the owner's prev and next do.
   OwnerPart part(int r, int it) const;
-  const TracePiece& piece(int r, std::int64_t i) const { return segments_[r].pieces[i]; }
-  // The next unclaimed piece of rank r in iteration `it`, or -1 once all are claimed.
-  std::int64_t claim(int r, int it) const;
+  // Claims the next pieces [first, end) of rank r in iteration `it`; false once all are claimed.
+  // Guided self-scheduling: a claim takes a share of what is left (1 / (2 x the node's ranks),
+  // at least one piece), so that a rank of several threads runs few, long dispatches (each
+  // piece ends in a tail where its threads wait for the last vertex) and the last claims, the
+  // ones that even out the ranks, are single pieces.
+  bool claim(int r, int it, std::int64_t& first, std::int64_t& end) const;
+  // The pieces from `first` on (before `end`) that continue one vertex range of rank r, merged
+  // into one dispatch; `first` moves past them, `pieces` is how many they were.
+  TracePiece next_run(int r, std::int64_t& first, std::int64_t end, std::int64_t& pieces) const;
 
   // Node barriers around an iteration's pieces, with the memory synchronisation of the window.
   void open_iteration(const Communicator& comm) const { node_barrier(comm); }
