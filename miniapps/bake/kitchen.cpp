@@ -59,8 +59,12 @@ double peak_rss_bytes() {
 // `huge` is the part of the heap on transparent huge pages (AnonHugePages): where the kernel
 // backs a large array with them only when a 2 MiB page happens to be free, ranks of one job can
 // get different shares, and a rank on 4 KiB pages pays page walks on every random read.
+// `pss` is the proportional set size: each page divided by the processes that map it. With
+// node sharing (--node-sharing on) a rank maps the pages of the other ranks' segments that its
+// stolen pieces read, which its RSS counts in full and every rank's RSS again: the node's memory
+// is the sum of the ranks' PSS, not of their RSS.
 struct ResidentNow {
-  double total = 0, anon = 0, file = 0, shmem = 0, huge = 0;
+  double total = 0, anon = 0, file = 0, shmem = 0, huge = 0, pss = 0;
 };
 
 // The kernel's transparent-huge-page policy (the bracketed word of
@@ -83,6 +87,7 @@ ResidentNow resident_now() {
   r.file = read_field("/proc/self/status", "RssFile:") * kKiB;
   r.shmem = read_field("/proc/self/status", "RssShmem:") * kKiB;
   r.huge = read_field("/proc/self/smaps_rollup", "AnonHugePages:") * kKiB;
+  r.pss = read_field("/proc/self/smaps_rollup", "Pss:") * kKiB;
   return r;
 }
 
@@ -1903,9 +1908,10 @@ void BakeRun::report_results() {
     marks.push_back(m.now.total);
     marks.push_back(m.now.shmem);
     marks.push_back(m.now.huge);
+    marks.push_back(m.now.pss);
   }
   report_.scene["transparent_huge_pages"] = transparent_huge_page_mode();
-  constexpr std::size_t kPerMark = 4;
+  constexpr std::size_t kPerMark = 5;
   const std::vector<std::vector<double>> per_rank = gather_fields(comm_, marks);
   for (std::size_t i = 0; i < rss_marks_.size(); ++i) {
     const std::string& step = rss_marks_[i].step;
@@ -1913,7 +1919,14 @@ void BakeRun::report_results() {
     report_.scene["rss_after_bytes_per_rank"][step] = per_rank[kPerMark * i + 1];
     report_.scene["rss_shmem_after_bytes_per_rank"][step] = per_rank[kPerMark * i + 2];
     report_.scene["rss_huge_after_bytes_per_rank"][step] = per_rank[kPerMark * i + 3];
+    report_.scene["pss_after_bytes_per_rank"][step] = per_rank[kPerMark * i + 4];
   }
+  // The largest PSS a rank had after any step: its share of the node's memory (ResidentNow).
+  std::vector<double> max_pss(static_cast<std::size_t>(comm_.size()), 0.0);
+  for (std::size_t i = 0; i < rss_marks_.size(); ++i)
+    for (std::size_t r = 0; r < max_pss.size(); ++r)
+      max_pss[r] = std::max(max_pss[r], per_rank[kPerMark * i + 4][r]);
+  report_.scene["max_pss_after_step_bytes_per_rank"] = max_pss;
   report_resident_buffers();
   if (!c_.timings.empty())
     write_timings_file(comm_, c_, timer_,

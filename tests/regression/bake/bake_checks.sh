@@ -235,6 +235,10 @@ if r > 1:
     stolen = sh["stolen_items_per_rank"]
     assert stolen[0] == 0 and sum(stolen[1:]) > 0, sh
     assert sum(stolen) <= 3 * colors, (stolen, colors)  # three shared iterations (1 to 3)
+    # Each rank's share of the node's memory (PSS), where its RSS also counts the pages of other
+    # ranks' segments that it read.
+    pss = json.load(open("shared.json"))["scene"]["max_pss_after_step_bytes_per_rank"]
+    assert len(pss) == r and min(pss) > 0, pss
 # The skewed recut: rank r measured as 1 + r times its counted cost, so the cut gives the later
 # ranks less counted cost than the earlier ones and moves colours.
 if r > 1:
