@@ -16,6 +16,8 @@
 #                     RTMINI_BOUNCES RTMINI_BALANCE (unset = app default)
 #   bake:             RTMINI_VIEWPOINTS (100) RTMINI_ITERATIONS (4)
 #                     RTMINI_SHADOW_SAMPLES RTMINI_GATHER_RAYS RTMINI_SEED RTMINI_BALANCE
+#                     RTMINI_NODE_SHARING (on: the ranks of a node take each other's work;
+#                     for several ranks per node on CPUs)
 #   RTMINI_EXTRA_ARGS extra app arguments, split on whitespace
 #   RTMINI_ENV_HOOK   a bash file sourced by rtmini_init before anything runs: the site's
 #                     `module load` lines (compiler, MPI, HDF5, CUDA, Kokkos) (default: none)
@@ -89,6 +91,7 @@ rtmini_app_args() {
       --iterations "${RTMINI_ITERATIONS:-4}")
     [ -n "${RTMINI_GATHER_RAYS:-}" ] && RTMINI_ARGS+=(--gather-rays "$RTMINI_GATHER_RAYS")
     [ -n "${RTMINI_SEED:-}" ] && RTMINI_ARGS+=(--seed "$RTMINI_SEED")
+    [ -n "${RTMINI_NODE_SHARING:-}" ] && RTMINI_ARGS+=(--node-sharing "$RTMINI_NODE_SHARING")
   else
     RTMINI_ARGS+=(-o "$stem.${RTMINI_IMAGE_EXT:-png}")
     [ -n "${RTMINI_WIDTH:-}" ] && RTMINI_ARGS+=(--width "$RTMINI_WIDTH")

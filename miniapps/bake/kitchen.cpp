@@ -901,6 +901,11 @@ void BakeRun::print_banner(const MemoryEstimate& mem, double max_mem) const {
     std::printf("  note: no reflective vertex and no gather rays: iterations 1..%d skipped\n",
                 c_.iterations);
   if (host_.lights.empty()) std::printf("  note: no emissive faces: no shadow rays\n");
+  // (Rank 0's node stands for the others: a job places ranks alike.)
+  if (!c_.node_sharing && node_sharing_possible() && comm_.node_size() >= 4 && needs_iterations_)
+    std::printf("  note: %d ranks share this node; --node-sharing on lets them take each other's "
+                "unfinished work (README: ranks and threads on a node)\n",
+                comm_.node_size());
   std::printf(
       "  memory estimate (max over ranks): %s peak resident (scene %s, maps %s, hit cache %s, "
       "host %s)%s\n",
