@@ -48,8 +48,8 @@ struct BakeConfig {
   bool progress = false;
   // --node-sharing: the ranks of a node take each other's unfinished pieces (node_share.hpp)
   bool node_sharing = false;
-  double share_test_delay = 0;  // hidden test hook: the node's first rank starts each shared
-                                // iteration this many seconds late
+  double share_test_delay = 0;    // hidden test hook: the node's first rank starts each shared
+                                  // iteration this many seconds late
   int stop_after_iteration = -1;  // hidden test hook: checkpoint, then exit 4
   // Hidden test hook of --balance measured: rank r's measured time is taken as its counted cost
   // x (1 + recut_test_skew x r), so the recut moves work deterministically (0: measured).

@@ -74,7 +74,7 @@ struct OwnerPart {
   Kokkos::View<CachedHit*, MemSpace> cache;
   Kokkos::View<TracedHit*, MemSpace> traced;
   Kokkos::View<std::int64_t*, MemSpace> map_offset;
-  SparseColors sparse;  // with its halo
+  SparseColors sparse;     // with its halo
   FirstReads first_reads;  // the fused first mirror iteration only
   Kokkos::View<Vec3f*, MemSpace> prev, next;
 };
@@ -146,8 +146,7 @@ class Chef {
   // bake_iteration of another rank's vertices, through that rank's part (node_share.hpp); the
   // lookups, directions and scratch are this Chef's (the same on every rank).
   std::int64_t bake_iteration_of(const OwnerPart& part, int it, std::int64_t begin,
-                                 std::int64_t end, std::int64_t cache_offset,
-                                 HitCacheMode cache);
+                                 std::int64_t end, std::int64_t cache_offset, HitCacheMode cache);
   // This rank's part as an iteration of `mode` reads it (prev and next are the caller's; the
   // halo is the sparse layout's).
   OwnerPart own_part(HitCacheMode mode) const;

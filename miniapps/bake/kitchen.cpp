@@ -672,11 +672,11 @@ class BakeRun {
   std::unique_ptr<Chef> chef_;
   MapLayout layout_;
   std::unique_ptr<MapExchange> exchange_;
-  // --node-sharing: the node's ranks take each other's pieces in the cached iterations.
+  // --node-sharing: the node's ranks take each other's pieces in the mirror iterations.
   std::unique_ptr<NodeShare> share_;
-  int share_from_ = -1;  // the first shared iteration
-  HitCacheMode shared_mode_ = HitCacheMode::kOff;  // the hit records published
-  bool share_stale_ = false;  // the part changed since it was published
+  int share_from_ = -1;                                // the first shared iteration
+  HitCacheMode shared_mode_ = HitCacheMode::kOff;      // the hit records published
+  bool share_stale_ = false;                           // the part changed since it was published
   std::int64_t stolen_items_ = 0, stolen_pieces_ = 0;  // computed here for other ranks
   // The fused halo plan between plan_map and the end of iteration 1 (fuses_halo_plan).
   struct PendingHalo {
@@ -903,9 +903,10 @@ void BakeRun::print_banner(const MemoryEstimate& mem, double max_mem) const {
   if (host_.lights.empty()) std::printf("  note: no emissive faces: no shadow rays\n");
   // (Rank 0's node stands for the others: a job places ranks alike.)
   if (!c_.node_sharing && node_sharing_possible() && comm_.node_size() >= 4 && needs_iterations_)
-    std::printf("  note: %d ranks share this node; --node-sharing on lets them take each other's "
-                "unfinished work (README: ranks and threads on a node)\n",
-                comm_.node_size());
+    std::printf(
+        "  note: %d ranks share this node; --node-sharing on lets them take each other's "
+        "unfinished work (README: ranks and threads on a node)\n",
+        comm_.node_size());
   std::printf(
       "  memory estimate (max over ranks): %s peak resident (scene %s, maps %s, hit cache %s, "
       "host %s)%s\n",
@@ -1099,10 +1100,10 @@ void BakeRun::start_fused_plan(const std::vector<char>& own) {
   pending_.remote = remote_layout(own);
   pending_.active = true;
   make_node_share();
-  pending_.flags = share_ ? share_->read_flags()
-                          : Kokkos::View<char*, MemSpace>(
-                                "rtmini::bake::read_items",
-                                static_cast<std::size_t>(pending_.remote.colors()));
+  pending_.flags =
+      share_ ? share_->read_flags()
+             : Kokkos::View<char*, MemSpace>("rtmini::bake::read_items",
+                                             static_cast<std::size_t>(pending_.remote.colors()));
   std::vector<std::int64_t> remote;
   for (std::int64_t v = 0; v < host_.vertices(); ++v)
     if (pending_.remote.in_map(v)) remote.push_back(v);
@@ -1591,18 +1592,17 @@ std::int64_t BakeRun::trace(int it, Kokkos::View<Vec3f*, MemSpace> out) {
 }
 
 // Whether iteration `it` shares its pieces between the ranks of a node (--node-sharing), and the
-// start of that sharing at the first such iteration. Only iterations whose layout and hit
-// records stay as they are share: those that read the float cache (or, without it, the traced
-// hits every time), after the first mirror iteration has planned the halo. Every rank decides
-// together (a rank that owns no vertex has no hits to tell its mode by).
+// publication of this rank's part where it starts or changes (the first iteration's part is
+// published again once its halo is planned, and when the float cache replaces the traced hits).
+// Every rank decides together (a rank that owns no vertex has no hits to tell its mode by, and
+// then nobody shares).
 bool BakeRun::shares_iteration(int it) {
   if (!share_ || it == 0) return false;
   const HitCacheMode mode = hit_mode(it);
   if (share_->published() && mode == shared_mode_ && !share_stale_) return true;
   // Mirror iterations whose hits are in place (traced, or the float cache): not one that fills
   // the cache as it goes (without traced hits), whose records appear only as it runs.
-  const bool ready =
-      (mode == HitCacheMode::kUse || mode == HitCacheMode::kTraced) && my_items_ > 0;
+  const bool ready = (mode == HitCacheMode::kUse || mode == HitCacheMode::kTraced) && my_items_ > 0;
   if (comm_.min(ready ? 1.0 : 0.0) < 0.5) return false;
   start_node_sharing(it);
   return true;
@@ -1633,10 +1633,11 @@ void BakeRun::start_node_sharing(int it) {
   if (!first) return;
   share_from_ = it;
   if (root_)
-    std::printf("  node sharing from iteration %d: %d ranks on this node, %zu pieces each, "
-                "%.1f MiB shared by this rank\n",
-                it, share_->node_size(), pieces_.size(),
-                static_cast<double>(share_->segment_bytes()) / (1 << 20));
+    std::printf(
+        "  node sharing from iteration %d: %d ranks on this node, %zu pieces each, "
+        "%.1f MiB shared by this rank\n",
+        it, share_->node_size(), pieces_.size(),
+        static_cast<double>(share_->segment_bytes()) / (1 << 20));
 }
 
 // Iteration `it` with the node's ranks sharing work: this rank claims its own pieces first, then
@@ -1696,7 +1697,7 @@ void BakeRun::report_node_sharing() {
   nlohmann::json s;
   s["from_iteration"] = share_from_;
   s["ranks_per_node"] = comm_.node_size();
-  s["pieces_per_rank"] = pieces_.size();
+  s["pieces_per_rank"] = comm_.allgatherv(std::vector<double>{static_cast<double>(pieces_.size())});
   s["stolen_items_per_rank"] =
       comm_.allgatherv(std::vector<double>{static_cast<double>(stolen_items_)});
   s["stolen_pieces_per_rank"] =
@@ -1782,8 +1783,6 @@ int BakeRun::iterate() {
   for (int it = first_; it <= iterations_; ++it) {
     IterationRecord rec;
     const double t0 = timer_.now();
-    // (Sharing starts by moving the maps into the node's window: next_ only then is the map to
-    // write.)
     totals_.rays += shares_iteration(it) ? trace_shared(it) : trace(it, next_);
     const double t1 = timer_.now();
     if (pending_.active && it >= 1) mark_rss("iteration " + std::to_string(it) + " trace");

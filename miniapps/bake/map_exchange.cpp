@@ -383,9 +383,8 @@ MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
   std::vector<std::int64_t> first_entry(send_displs_.begin(), send_displs_.end());
   first_entry.push_back(static_cast<std::int64_t>(sent));
   first_entry_ = upload("rtmini::bake::exchange_first_entry", first_entry);
-  recv_buf_ = halo_storage.data()
-                  ? halo_storage
-                  : Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::halo", received);
+  recv_buf_ = halo_storage.data() ? halo_storage
+                                  : Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::halo", received);
   if (recv_buf_.extent(0) != received)
     throw std::logic_error("bake: the halo's storage does not match the exchange's plan");
   direct_ = mpi_takes_map_memory();

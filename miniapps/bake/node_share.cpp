@@ -1,10 +1,11 @@
 #include "node_share.hpp"
 
+#include <sys/mman.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <new>
-#include <sys/mman.h>
 #include <stdexcept>
 #include <string>
 
@@ -48,7 +49,8 @@ void copy_into(T* to, const T* from, std::int64_t count) {
   if (count > 0 && to != from)
     Kokkos::deep_copy(
         Kokkos::View<T*, Kokkos::HostSpace, Unmanaged>(to, static_cast<std::size_t>(count)),
-        Kokkos::View<const T*, Kokkos::HostSpace, Unmanaged>(from, static_cast<std::size_t>(count)));
+        Kokkos::View<const T*, Kokkos::HostSpace, Unmanaged>(from,
+                                                             static_cast<std::size_t>(count)));
 }
 
 template <class View>
@@ -84,8 +86,7 @@ SegmentSizes used_by(const OwnerPart& p, const SegmentSizes& room, std::int64_t 
                     s.halo_colors <= room.halo_colors && s.hits <= room.hits &&
                     s.sparse <= room.sparse && s.mask_words <= room.mask_words &&
                     s.kept_words <= room.kept_words && s.pieces <= room.pieces &&
-                    s.read_flags <= room.read_flags &&
-                    s.iterations <= room.iterations;
+                    s.read_flags <= room.read_flags && s.iterations <= room.iterations;
   if (!fits) throw std::logic_error("bake: node sharing: a rank's part outgrew its segment");
   return s;
 }
@@ -161,8 +162,8 @@ NodeShare::NodeShare(const Communicator& comm, const SegmentSizes& room) {
   MPI_Info_create(&info);
   // Each rank's segment on its own pages, first touched by the rank that computes it.
   MPI_Info_set(info, "alloc_shared_noncontig", "true");
-  const int rc = MPI_Win_allocate_shared(static_cast<MPI_Aint>(room_bytes_), 1, info, node_,
-                                         &mine_, &win_);
+  const int rc =
+      MPI_Win_allocate_shared(static_cast<MPI_Aint>(room_bytes_), 1, info, node_, &mine_, &win_);
   MPI_Info_free(&info);
   if (rc != MPI_SUCCESS)
     throw IoError("bake --node-sharing: an MPI shared-memory window of " +
@@ -270,8 +271,7 @@ TracePiece NodeShare::next_run(int r, std::int64_t& first, std::int64_t end,
   TracePiece run = p[first];
   pieces = 1;
   // Consecutive pieces of one range: their vertices and hit slots continue the run's.
-  for (++first; first < end && p[first].range == run.range && p[first].begin == run.end;
-       ++first) {
+  for (++first; first < end && p[first].range == run.range && p[first].begin == run.end; ++first) {
     run.end = p[first].end;
     ++pieces;
   }

@@ -45,10 +45,11 @@ struct SegmentSizes {
   std::int64_t hits = 0;  // hit records (the float cache or the traced hits: the larger size)
   std::int64_t sparse = 0, sparse_map_colors = 0, mask_words = 0, kept_words = 0;
   std::int64_t pieces = 0, iterations = 0;
-  std::int64_t read_flags = 0;  // FirstReads' flags (a fused first iteration); 0: none
+  std::int64_t read_flags = 0;   // FirstReads' flags (a fused first iteration); 0: none
   std::int64_t first_reads = 0;  // FirstReads published (owned, base, at, flags)
-  std::int64_t traced = 0;      // the hits are TracedHit (else CachedHit)
-  std::int64_t first_prev = 0;  // which map buffer is the previous map at the first shared iteration
+  std::int64_t traced = 0;       // the hits are TracedHit (else CachedHit)
+  std::int64_t first_prev =
+      0;  // which map buffer is the previous map at the first shared iteration
   std::int64_t first_iteration = 0;
 };
 
