@@ -177,8 +177,8 @@ case $case_name in
       { cat log6.txt; fail "restart on $other ranks (cost) failed"; }
     cmp one.bs part2.bs || fail "checkpoint of $ranks ranks restarted on $other (cost) differs"
     # Node work sharing (--node-sharing on): the ranks take each other's pieces in the cached
-    # iterations; the node's first rank starts them 0.5 s late, so the others take its pieces.
-    run "$ranks" "${args[@]}" -o shared.bs --node-sharing on --share-test-delay 0.5 \
+    # iterations; the node's first rank starts them 0.3 s late, so the others take its pieces.
+    run "$ranks" "${args[@]}" -o shared.bs --node-sharing on --share-test-delay 0.3 \
       --summary shared.json >log10.txt 2>&1 || { cat log10.txt; fail "$ranks-rank shared bake failed"; }
     cmp one.bs shared.bs || fail "--node-sharing on differs from 1 rank"
     # Bad input before any work: an unknown value, and the measured recut (it moves vertices
