@@ -46,8 +46,9 @@ struct BakeConfig {
   bool changed_exchanges = true;
   bool two_sided = false;  // mirrors reflect on both sides (README: why one-sided is the default)
   bool progress = false;
-  // --node-sharing: the ranks of a node take each other's unfinished pieces (node_share.hpp)
-  bool node_sharing = false;
+  // --node-sharing (node_share.hpp): the ranks of a node read one copy of the scene (scene, on)
+  // and take each other's unfinished pieces (work, on)
+  bool share_scene = false, share_work = false;
   double share_test_delay = 0;    // hidden test hook: the node's first rank starts each shared
                                   // iteration this many seconds late
   int stop_after_iteration = -1;  // hidden test hook: checkpoint, then exit 4

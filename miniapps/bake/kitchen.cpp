@@ -674,7 +674,8 @@ class BakeRun {
   std::unique_ptr<MapExchange> exchange_;
   // --node-sharing: the node's ranks take each other's pieces in the mirror iterations.
   std::unique_ptr<NodeShare> share_;
-  int share_from_ = -1;                                // the first shared iteration
+  std::unique_ptr<NodeScene> node_scene_;  // the node's one copy of the scene (--node-sharing)
+  int share_from_ = -1;                    // the first shared iteration
   HitCacheMode shared_mode_ = HitCacheMode::kOff;      // the hit records published
   bool share_stale_ = false;                           // the part changed since it was published
   std::int64_t stolen_items_ = 0, stolen_pieces_ = 0;  // computed here for other ranks
@@ -879,7 +880,7 @@ nlohmann::json BakeRun::parameters() const {
           {"restart", c_.restart},
           {"reference", c_.reference},
           {"trace_reference", c_.trace_reference},
-          {"node_sharing", c_.node_sharing}};
+          {"node_sharing", node_sharing_name(c_)}};
 }
 
 void BakeRun::print_banner(const MemoryEstimate& mem, double max_mem) const {
@@ -902,7 +903,7 @@ void BakeRun::print_banner(const MemoryEstimate& mem, double max_mem) const {
                 c_.iterations);
   if (host_.lights.empty()) std::printf("  note: no emissive faces: no shadow rays\n");
   // (Rank 0's node stands for the others: a job places ranks alike.)
-  if (!c_.node_sharing && node_sharing_possible() && comm_.node_size() >= 4 && needs_iterations_)
+  if (!c_.share_work && node_sharing_possible() && comm_.node_size() >= 4 && needs_iterations_)
     std::printf(
         "  note: %d ranks share this node; --node-sharing on lets them take each other's "
         "unfinished work (README: ranks and threads on a node)\n",
@@ -955,6 +956,7 @@ void BakeRun::setup() {
   if (!c_.reference.empty()) reference_ = read_reference_map(c_.reference, mesh_);
   scene_ =
       std::make_unique<BakeSceneDevice>(upload_bake_scene(mesh_, host_, c_.viewpoints, c_.bvh));
+  if (c_.share_scene && comm_.size() > 1) node_scene_ = std::make_unique<NodeScene>(comm_, *scene_);
   scene_rss_bytes_ = peak_rss_bytes();
   if (halo_ == Halo::kTraced && (counts_traced_cost() || c_.balance == Balance::kPilot))
     balance_by_pilot();
@@ -1612,7 +1614,7 @@ bool BakeRun::shares_iteration(int it) {
 // (collective; once, when the layout of this rank's map is known). Not for the traced
 // reference or a run without mirror iterations to share.
 void BakeRun::make_node_share() {
-  if (c_.node_sharing && comm_.size() > 1 && !c_.trace_reference && iterations_ >= 1 &&
+  if (c_.share_work && comm_.size() > 1 && !c_.trace_reference && iterations_ >= 1 &&
       halo_ != Halo::kOwned)
     share_ = std::make_unique<NodeShare>(comm_, node_share_room());
 }
@@ -1691,19 +1693,24 @@ std::int64_t BakeRun::trace_shared(int it) {
   return rays;
 }
 
-// What the node sharing moved: the colour entries each rank computed for other ranks.
+// What the node sharing moved: the scene's bytes, the colour entries each rank computed for
+// other ranks.
 void BakeRun::report_node_sharing() {
-  if (!c_.node_sharing) return;
+  if (!c_.share_work && !c_.share_scene) return;
   nlohmann::json s;
-  s["from_iteration"] = share_from_;
   s["ranks_per_node"] = comm_.node_size();
-  s["pieces_per_rank"] = comm_.allgatherv(std::vector<double>{static_cast<double>(pieces_.size())});
-  s["stolen_items_per_rank"] =
-      comm_.allgatherv(std::vector<double>{static_cast<double>(stolen_items_)});
-  s["stolen_pieces_per_rank"] =
-      comm_.allgatherv(std::vector<double>{static_cast<double>(stolen_pieces_)});
-  s["segment_bytes_per_rank"] = comm_.allgatherv(
-      std::vector<double>{share_ ? static_cast<double>(share_->segment_bytes()) : 0.0});
+  s["scene_bytes_per_node"] = node_scene_ ? node_scene_->bytes() : 0;
+  if (c_.share_work) {
+    s["from_iteration"] = share_from_;
+    s["pieces_per_rank"] =
+        comm_.allgatherv(std::vector<double>{static_cast<double>(pieces_.size())});
+    s["stolen_items_per_rank"] =
+        comm_.allgatherv(std::vector<double>{static_cast<double>(stolen_items_)});
+    s["stolen_pieces_per_rank"] =
+        comm_.allgatherv(std::vector<double>{static_cast<double>(stolen_pieces_)});
+    s["segment_bytes_per_rank"] = comm_.allgatherv(
+        std::vector<double>{share_ ? static_cast<double>(share_->segment_bytes()) : 0.0});
+  }
   report_.scene["node_shared_work"] = s;
   params_["node_shared_work"] = s;
 }
@@ -1777,7 +1784,7 @@ int BakeRun::iterate() {
   const bool progress = c_.progress || ::isatty(2);
   progress_line_ = std::make_unique<ProgressLine>("bake", "colours", progress && root_);
   // Shared work needs pieces to share: the progress line's cut.
-  pieces_ = trace_pieces(progress_line_->enabled() || c_.node_sharing);
+  pieces_ = trace_pieces(progress_line_->enabled() || c_.share_work);
   timer_.start("iterate");
   iterate_start_ = timer_.now();
   for (int it = first_; it <= iterations_; ++it) {

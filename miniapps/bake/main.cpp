@@ -91,9 +91,9 @@ void MapCli::add_to(CLI::App& app, BakeConfig& c) {
                  "halo exchanges after the first: changed (only colours that changed since the "
                  "last one; same output) or full (every halo colour every time)");
   app.add_option("--node-sharing", node_sharing,
-                 "on: the ranks of a node take each other's unfinished pieces in the cached "
-                 "iterations, through MPI shared memory (host backends; same output); off "
-                 "(default)");
+                 "what the ranks of a node share through MPI shared memory (host backends; same "
+                 "output): scene (one copy of the mesh and BVH per node), work (each other's "
+                 "unfinished pieces of the mirror iterations), on (both) or off (default)");
   app.add_option("--batch-size", c.batch_size, "vertices per batch (0 = vertices/ranks)");
   app.add_option("--max-colors", c.color_cap,
                  "most colours a batch (a rank) may own, as a multiple of the mean, under the "
@@ -169,17 +169,19 @@ void MapCli::finish(BakeConfig& c) const {
     throw InputError("--bvh must be lbvh, ploc or sah (got '" + bvh_kind + "')");
   finish_directions(c);
   c.cache_hits = !no_cache;
-  if (node_sharing != "on" && node_sharing != "off")
-    throw InputError("--node-sharing must be on or off (got '" + node_sharing + "')");
-  c.node_sharing = node_sharing == "on";
-  if (c.node_sharing && c.balance == Balance::kMeasured)
-    throw InputError(
-        "--node-sharing on takes no --balance measured: the recut moves vertices between ranks "
-        "after iteration 1, where node sharing balances within each iteration instead");
-  if (c.node_sharing && !node_sharing_possible())
-    throw InputError(
-        "--node-sharing on needs a host backend: this build keeps the map in device memory (one "
-        "rank per GPU has nothing to share)");
+  if (node_sharing != "on" && node_sharing != "off" && node_sharing != "scene" &&
+      node_sharing != "work")
+    throw InputError("--node-sharing must be off, scene, work or on (got '" + node_sharing + "')");
+  c.share_scene = node_sharing == "scene" || node_sharing == "on";
+  c.share_work = node_sharing == "work" || node_sharing == "on";
+  if (c.share_work && c.balance == Balance::kMeasured)
+    throw InputError("--node-sharing " + node_sharing +
+                     " takes no --balance measured: the recut moves vertices between ranks after "
+                     "iteration 1, where shared work balances within each iteration instead");
+  if ((c.share_scene || c.share_work) && !node_sharing_possible())
+    throw InputError("--node-sharing " + node_sharing +
+                     " needs a host backend: this build keeps the scene and the map in device "
+                     "memory (one rank per GPU has nothing to share)");
   require_at_least("--viewpoints", c.viewpoints, 1);
   require_at_least("--iterations", c.iterations, 0);
   require_at_least("--shadow-samples", c.shadow_samples, 1);

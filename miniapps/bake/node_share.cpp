@@ -8,6 +8,7 @@
 #include <new>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "rtmini/io/error.hpp"
 
@@ -45,12 +46,9 @@ class Carver {
 // its hits into the segment 8 times faster than one memcpy.
 template <class T>
 void copy_into(T* to, const T* from, std::int64_t count) {
-  using Unmanaged = Kokkos::MemoryTraits<Kokkos::Unmanaged>;
+  const std::size_t n = static_cast<std::size_t>(count);
   if (count > 0 && to != from)
-    Kokkos::deep_copy(
-        Kokkos::View<T*, Kokkos::HostSpace, Unmanaged>(to, static_cast<std::size_t>(count)),
-        Kokkos::View<const T*, Kokkos::HostSpace, Unmanaged>(from,
-                                                             static_cast<std::size_t>(count)));
+    Kokkos::deep_copy(compat::host_view(to, n), compat::host_view(from, n));
 }
 
 template <class View>
@@ -89,6 +87,43 @@ SegmentSizes used_by(const OwnerPart& p, const SegmentSizes& room, std::int64_t 
                     s.read_flags <= room.read_flags && s.iterations <= room.iterations;
   if (!fits) throw std::logic_error("bake: node sharing: a rank's part outgrew its segment");
   return s;
+}
+
+// Calls f on every array of the scene (all only read once uploaded). An array added to the
+// scene and not listed here still works; each rank keeps its own copy of it.
+template <class F>
+void for_each_scene_array(BakeSceneDevice& s, F&& f) {
+  DeviceMesh<MemSpace>& m = s.mesh;
+  f(m.positions);
+  f(m.tris);
+  f(m.tri_vertices);
+  f(m.tri_face);
+  f(m.tri_material);
+  f(m.tri_object);
+  f(m.materials);
+  bvh::Bvh<MemSpace>& b = m.accel;
+  f(b.nodes);
+  f(b.wide);
+  f(b.leaves);
+  f(b.qwide);
+  f(b.qwide_tris);
+  f(b.qwide_prim);
+  f(b.compact);
+  f(b.tris);
+  f(b.prim);
+  f(s.normal);
+  f(s.diffuse);
+  f(s.reflective);
+  f(s.emissive);
+  f(s.color_offset);
+  f(s.lights);
+  f(s.viewpoints);
+}
+
+template <class View>
+std::size_t bytes_of(const View& v) {
+  if (!v.span_is_contiguous()) throw std::logic_error("bake: node sharing: a scene array has gaps");
+  return v.span() * sizeof(typename View::value_type);
 }
 
 }  // namespace
@@ -149,37 +184,62 @@ Kokkos::View<Vec3f*, MemSpace> NodeShare::halo(std::int64_t colors) const {
 
 #ifdef RTMINI_HAVE_MPI
 
-NodeShare::NodeShare(const Communicator& comm, const SegmentSizes& room) {
-  room_bytes_ = carve(nullptr, room, nullptr);
+namespace {
+
+// Collective over `comm`: the node's communicator and an MPI shared-memory window with `bytes`
+// in this rank's segment (each segment on its own pages), open for load/store access until
+// MPI_Finalize. Returns this rank's segment. `what` names the window in the error (IoError).
+unsigned char* open_node_window(const Communicator& comm, std::size_t bytes, const char* what,
+                                MPI_Comm& node, MPI_Win& win) {
   // Every rank is alive here (a failed peer ends this barrier with PeerFailure): the blocking
   // window calls below cannot wait on a rank that has gone.
   comm.barrier();
-  MPI_Comm_split_type(comm.native(), MPI_COMM_TYPE_SHARED, comm.rank(), MPI_INFO_NULL, &node_);
-  MPI_Comm_set_errhandler(node_, MPI_ERRORS_RETURN);
-  MPI_Comm_rank(node_, &node_rank_);
-  MPI_Comm_size(node_, &node_size_);
+  MPI_Comm_split_type(comm.native(), MPI_COMM_TYPE_SHARED, comm.rank(), MPI_INFO_NULL, &node);
+  MPI_Comm_set_errhandler(node, MPI_ERRORS_RETURN);
   MPI_Info info = MPI_INFO_NULL;
   MPI_Info_create(&info);
-  // Each rank's segment on its own pages, first touched by the rank that computes it.
+  // Each rank's segment on its own pages, first touched by the rank that writes it.
   MPI_Info_set(info, "alloc_shared_noncontig", "true");
-  const int rc =
-      MPI_Win_allocate_shared(static_cast<MPI_Aint>(room_bytes_), 1, info, node_, &mine_, &win_);
+  unsigned char* mine = nullptr;
+  const int rc = MPI_Win_allocate_shared(static_cast<MPI_Aint>(bytes), 1, info, node, &mine, &win);
   MPI_Info_free(&info);
   if (rc != MPI_SUCCESS)
-    throw IoError("bake --node-sharing: an MPI shared-memory window of " +
-                  std::to_string(room_bytes_) +
+    throw IoError(std::string("bake --node-sharing: an MPI shared-memory window for ") + what +
+                  " of " + std::to_string(bytes) +
                   " bytes could not be allocated (is the node's shared memory, e.g. /dev/shm, "
                   "large enough?)");
-  MPI_Win_lock_all(MPI_MODE_NOCHECK, win_);
+  MPI_Win_lock_all(MPI_MODE_NOCHECK, win);
+  return mine;
+}
+
+// Node barrier with the window's memory synchronisation: afterwards every rank of the node sees
+// what every other wrote to the window before it.
+void node_window_barrier(const Communicator& comm, MPI_Comm node, MPI_Win win) {
+  MPI_Win_sync(win);  // this rank's writes to the window are visible ...
+  MPI_Request req = MPI_REQUEST_NULL;
+  MPI_Ibarrier(node, &req);
+  comm.wait(req);     // ... once every rank of the node has made them so (or a peer failed)
+  MPI_Win_sync(win);  // and this rank sees theirs
+}
+
+// Not MPI_Win_free: it is collective, and a destructor may run on one rank's error path while
+// the others wait elsewhere (they would hang). The window goes with MPI_Finalize.
+void close_node_window(MPI_Win win) {
+  if (win != MPI_WIN_NULL) MPI_Win_unlock_all(win);
+}
+
+}  // namespace
+
+NodeShare::NodeShare(const Communicator& comm, const SegmentSizes& room) {
+  room_bytes_ = carve(nullptr, room, nullptr);
+  mine_ = open_node_window(comm, room_bytes_, "the maps", node_, win_);
+  MPI_Comm_rank(node_, &node_rank_);
+  MPI_Comm_size(node_, &node_size_);
   carve(mine_, room, &my_segment_);
   std::memcpy(mine_, &room, sizeof room);
 }
 
-NodeShare::~NodeShare() {
-  // Not MPI_Win_free: it is collective, and a destructor may run on one rank's error path while
-  // the others wait elsewhere (they would hang). The window goes with MPI_Finalize.
-  if (win_ != MPI_WIN_NULL) MPI_Win_unlock_all(win_);
-}
+NodeShare::~NodeShare() { close_node_window(win_); }
 
 void NodeShare::publish(const Communicator& comm, const OwnerPart& mine,
                         const std::vector<TracePiece>& pieces, int first_iteration,
@@ -235,12 +295,39 @@ void NodeShare::publish(const Communicator& comm, const OwnerPart& mine,
 }
 
 void NodeShare::node_barrier(const Communicator& comm) const {
-  MPI_Win_sync(win_);  // this rank's writes to the window are visible ...
-  MPI_Request req = MPI_REQUEST_NULL;
-  MPI_Ibarrier(node_, &req);
-  comm.wait(req);      // ... once every rank of the node has made them so (or a peer failed)
-  MPI_Win_sync(win_);  // and this rank sees theirs
+  node_window_barrier(comm, node_, win_);
 }
+
+NodeScene::NodeScene(const Communicator& comm, BakeSceneDevice& scene) {
+  for_each_scene_array(scene, [&](auto& v) { bytes_ += aligned(bytes_of(v)); });
+  const bool first = comm.node_rank() == 0;
+  unsigned char* mine = open_node_window(comm, first ? bytes_ : 0, "the scene", node_, win_);
+  if (first) {
+    std::size_t at = 0;
+    for_each_scene_array(scene, [&](auto& v) {
+      copy_into(mine + at, reinterpret_cast<const unsigned char*>(v.data()),
+                static_cast<std::int64_t>(bytes_of(v)));
+      at += aligned(bytes_of(v));
+    });
+  }
+  node_window_barrier(comm, node_, win_);
+  MPI_Aint size = 0;
+  int disp = 1;
+  unsigned char* shared = nullptr;
+  MPI_Win_shared_query(win_, 0, &size, &disp, &shared);
+  std::size_t at = 0;
+  for_each_scene_array(scene, [&](auto& v) {
+    using View = std::decay_t<decltype(v)>;
+    const std::size_t bytes = bytes_of(v);
+    // Same type, same layout, now not owning its memory: the rank's own copy is freed here.
+    if (bytes > 0) v = View(reinterpret_cast<typename View::pointer_type>(shared + at), v.layout());
+    at += aligned(bytes);
+  });
+  // The builder's one allocation behind nodes, tris and prim (bvh.hpp), no longer viewed.
+  scene.mesh.accel.storage = {};
+}
+
+NodeScene::~NodeScene() { close_node_window(win_); }
 
 #else
 
@@ -248,6 +335,10 @@ NodeShare::NodeShare(const Communicator&, const SegmentSizes&) {
   throw InputError("bake --node-sharing needs a build with MPI");
 }
 NodeShare::~NodeShare() = default;
+NodeScene::NodeScene(const Communicator&, BakeSceneDevice&) {
+  throw InputError("bake --node-sharing needs a build with MPI");
+}
+NodeScene::~NodeScene() = default;
 void NodeShare::publish(const Communicator&, const OwnerPart&, const std::vector<TracePiece>&, int,
                         int) {}
 void NodeShare::node_barrier(const Communicator&) const {}

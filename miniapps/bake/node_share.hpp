@@ -27,6 +27,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "bake_scene.hpp"
 #include "chef.hpp"
 #include "rtmini/parallel/communicator.hpp"
 
@@ -57,6 +58,39 @@ struct SegmentSizes {
 constexpr bool node_sharing_possible() {
   return Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpace>::accessible;
 }
+
+// The --node-sharing value that gives `c`'s choices.
+inline const char* node_sharing_name(const BakeConfig& c) {
+  if (c.share_scene) return c.share_work ? "on" : "scene";
+  return c.share_work ? "work" : "off";
+}
+
+// One copy of the scene per node (--node-sharing scene or on; host backends). Every rank reads
+// the whole mesh, BVH and per-vertex tables on every ray, and without sharing each of a node's
+// ranks holds its own copy: 16 ranks of a 16-core node cycle 16 copies of the BVH through the
+// shared last-level cache where 16 threads of one rank share one. Here the node's first rank
+// copies the scene's arrays into one MPI shared-memory window and every rank's views are
+// pointed into it; the ranks' own copies are freed. The arrays are only read from then on.
+// (The window's pages are first touched by that rank: on a node of several sockets they sit on
+// its socket.)
+class NodeScene {
+ public:
+  // Collective over `comm` (every rank, whatever its node). Every rank of a node must have
+  // uploaded the same scene: the copies are interchangeable, so which one is kept does not
+  // change an answer.
+  NodeScene(const Communicator& comm, BakeSceneDevice& scene);
+  ~NodeScene();
+  NodeScene(const NodeScene&) = delete;
+  NodeScene& operator=(const NodeScene&) = delete;
+  std::int64_t bytes() const { return static_cast<std::int64_t>(bytes_); }
+
+ private:
+  std::size_t bytes_ = 0;
+#ifdef RTMINI_HAVE_MPI
+  MPI_Comm node_ = MPI_COMM_NULL;
+  MPI_Win win_ = MPI_WIN_NULL;
+#endif
+};
 
 class NodeShare {
  public:

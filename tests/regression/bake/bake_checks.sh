@@ -158,9 +158,11 @@ case $case_name in
       >log9.txt 2>&1 || { cat log9.txt; fail "$ranks-rank bake with full exchanges failed"; }
     cmp one.bs full.bs || fail "--exchange full differs from 1 rank"
     # The measured recut after iteration 1, from a skew that makes it move work for certain
-    # (rank r taken as 1 + r times slower than counted), and from the measured times.
+    # (rank r taken as 1 + r times slower than counted), and from the measured times. The first
+    # reads the node's one copy of the scene (--node-sharing scene, which allows the recut).
     run "$ranks" "${args[@]}" -o skew.bs --balance measured --recut-test-skew 1 --summary skew.json \
-      >log7.txt 2>&1 || { cat log7.txt; fail "$ranks-rank bake with a skewed measured recut failed"; }
+      --node-sharing scene >log7.txt 2>&1 ||
+      { cat log7.txt; fail "$ranks-rank bake with a skewed measured recut failed"; }
     cmp one.bs skew.bs || fail "--balance measured (skewed recut) differs from 1 rank"
     grep -E "measured recut" log7.txt
     run "$ranks" "${args[@]}" -o measured.bs --balance measured >log8.txt 2>&1 ||
@@ -176,14 +178,15 @@ case $case_name in
     run "$other" "${args[@]}" -o part2.bs --restart cp.h5 --node-sharing on >log6.txt 2>&1 ||
       { cat log6.txt; fail "restart on $other ranks (cost) failed"; }
     cmp one.bs part2.bs || fail "checkpoint of $ranks ranks restarted on $other (cost) differs"
-    # Node work sharing (--node-sharing on): the ranks take each other's pieces in the cached
-    # iterations; the node's first rank starts them 0.3 s late, so the others take its pieces.
+    # Node sharing (--node-sharing on): one copy of the scene, and the ranks take each other's
+    # pieces in the cached iterations; the node's first rank starts them 0.3 s late, so the
+    # others take its pieces.
     run "$ranks" "${args[@]}" -o shared.bs --node-sharing on --share-test-delay 0.3 \
       --summary shared.json >log10.txt 2>&1 || { cat log10.txt; fail "$ranks-rank shared bake failed"; }
     cmp one.bs shared.bs || fail "--node-sharing on differs from 1 rank"
     # Bad input before any work: an unknown value, and the measured recut (it moves vertices
     # between ranks after iteration 1, node sharing balances within each iteration).
-    for bad in "--node-sharing yes" "--node-sharing on --balance measured"; do
+    for bad in "--node-sharing yes" "--node-sharing work --balance measured"; do
       # shellcheck disable=SC2086
       run "$ranks" "${args[@]}" -o bad.bs $bad >/dev/null 2>bad_err.txt
       rc=$?
@@ -239,6 +242,9 @@ if r > 1:
     # ranks' segments that it read.
     pss = json.load(open("shared.json"))["scene"]["max_pss_after_step_bytes_per_rank"]
     assert len(pss) == r and min(pss) > 0, pss
+    # One copy of the scene per node, with the work sharing and alone.
+    scene = json.load(open("skew.json"))["scene"]["node_shared_work"]
+    assert sh["scene_bytes_per_node"] > 0 and scene["scene_bytes_per_node"] == sh["scene_bytes_per_node"], (sh, scene)
 # The skewed recut: rank r measured as 1 + r times its counted cost, so the cut gives the later
 # ranks less counted cost than the earlier ones and moves colours.
 if r > 1:
