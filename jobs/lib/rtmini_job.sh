@@ -16,8 +16,9 @@
 #                     RTMINI_BOUNCES RTMINI_BALANCE (unset = app default)
 #   bake:             RTMINI_VIEWPOINTS (100) RTMINI_ITERATIONS (4)
 #                     RTMINI_SHADOW_SAMPLES RTMINI_GATHER_RAYS RTMINI_SEED RTMINI_BALANCE
-#                     RTMINI_NODE_SHARING (on: the ranks of a node take each other's work;
-#                     for several ranks per node on CPUs)
+#                     RTMINI_NODE_SHARING (on: the ranks of a node read one copy of the
+#                     scene and take each other's work; scene, work: one of the two; for
+#                     several ranks per node on CPUs)
 #   RTMINI_EXTRA_ARGS extra app arguments, split on whitespace
 #   RTMINI_ENV_HOOK   a bash file sourced by rtmini_init before anything runs: the site's
 #                     `module load` lines (compiler, MPI, HDF5, CUDA, Kokkos) (default: none)
