@@ -138,7 +138,7 @@ def recut_table(out):
               f"{f('bytes', 1e-6, '{:.2f}')} | {f('seconds')} | {' '.join(sorted(set(x['hash'] for x in r)))} |")
 
 
-def busy_table(out, weak, weakspatial, prefix="busy", scene="the 1-rank scene"):
+def busy_table(out, weak, weakspatial, prefix="busy", scene="the 1-rank scene", other="weakspatial"):
     """P concurrent 1-rank bakes of the 1-rank scene (PREFIX_P_i): the node as full as a P-rank run
     without communication. Their mean bake time is what a P-rank run's ranks would take if the
     distributed map cost nothing; weak_P against it is the distributed map's own efficiency."""
@@ -156,7 +156,7 @@ def busy_table(out, weak, weakspatial, prefix="busy", scene="the 1-rank scene"):
     print(f"\n### Weak scaling against the node as full without communication ({prefix}_P: "
           f"P concurrent 1 x 1 bakes of {scene})\n")
     print("| P | P concurrent 1 x 1: bake time mean / max (s) | vs weak_1 alone | weak_P (s) | "
-          "weak_P vs busy mean | weakspatial_P (s) | weakspatial_P vs busy mean |")
+          f"weak_P vs busy mean | {other}_P (s) | {other}_P vs busy mean |")
     print("|---|---|---|---|---|---|---|")
     for np_ in sorted(groups):
         t = groups[np_]
@@ -283,7 +283,7 @@ if pilot:
     table("Strong scaling, --balance pilot (the cut before the recount; against strong_1x1)",
           strong[:1] + pilot, False)
 balance(out, ["strong", "scaling", "pilot", "spatial", "weak", "weakspatial", "weakmeasured", "weakrooms",
-              "weakroomssah"])
+              "weakroomssah", "weakshare"])
 weak = rows(out, "weak")
 table("Weak scaling (two sheets, side 150 sqrt(P), N=200, K=3)", weak, True)
 weakspatial = rows(out, "weakspatial")
@@ -298,7 +298,9 @@ weakrooms = rows(out, "weakrooms")
 table("Weak scaling on closed rooms (P rooms, make_rooms_scene.py, N=200, K=3)", weakrooms, True)
 weakroomssah = rows(out, "weakroomssah")
 table("Weak scaling on closed rooms, --bvh sah", weakroomssah, True)
-busy_table(out, weakrooms, [], "busyrooms", "the 1-room scene")
+weakshare = rows(out, "weakshare")
+table("Weak scaling on closed rooms, --node-sharing on", weakshare, True)
+busy_table(out, weakrooms, weakshare, "busyrooms", "the 1-room scene", "weakshare")
 exchange_table(out)
 table("1M vertices, N=1000, K=2", rows(out, "big"), True)
 scaling_table(out)

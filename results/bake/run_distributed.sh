@@ -23,7 +23,7 @@
 #   one bake that does not fit replicated: 1,008,204 vertices (side 710) at N=1000 K=2 on 16x1.
 # Every run writes its summary (verification hash, peak RSS per rank, map statistics) and
 # timings (.h5) to OUT_DIR; table.md collects them. Usage (from the repository root, build/ built):
-#   results/bake/run_distributed.sh OUT_DIR [strong|scaling|weak|weakrooms|exchange|big|all]
+#   results/bake/run_distributed.sh OUT_DIR [strong|scaling|weak|weakrooms|weakshare|exchange|big|all]
 # BAKE=path runs another build's bake (a baseline in the same call), on the same inputs;
 # MPI_ARGS="..." adds mpirun options to every run (e.g. another MPI transport).
 set -eu
@@ -121,6 +121,20 @@ if [ "$what" = weakrooms ] || [ "$what" = all ]; then
     rm -f "$out/rooms_$np.bs"
     busy busyrooms "$np" "$out/rooms_1.bs" --viewpoints 200 --iterations 3
   done
+  rm -f "$out/rooms_1.bs" "$out/weakrooms.bsb"
+fi
+if [ "$what" = weakshare ]; then
+  # The rooms with and without node sharing (--node-sharing on: one copy of the scene per node,
+  # work taken between ranks), alternated per P, and 16 concurrent 1-room bakes.
+  for np in 1 2 4 8 16; do
+    python3 "$src/results/bake/make_rooms_scene.py" "$np" "$out/rooms_$np.bs"
+    run "weakrooms_$np" "$np" 1 "$out/rooms_$np.bs" -o "$out/weakrooms.bsb" --viewpoints 200 \
+      --iterations 3
+    run "weakshare_$np" "$np" 1 "$out/rooms_$np.bs" -o "$out/weakrooms.bsb" --viewpoints 200 \
+      --iterations 3 --node-sharing on
+    [ "$np" -eq 1 ] || rm -f "$out/rooms_$np.bs"
+  done
+  busy busyrooms 16 "$out/rooms_1.bs" --viewpoints 200 --iterations 3
   rm -f "$out/rooms_1.bs" "$out/weakrooms.bsb"
 fi
 if [ "$what" = exchange ] || [ "$what" = all ]; then
