@@ -564,7 +564,8 @@ std::int64_t MapExchange::run_changed(const Communicator& comm, Kokkos::View<Vec
   const std::int64_t bit_words = mask_words(n);
   auto send_items = send_items_;
   auto first_entry = first_entry_;
-  if (static_cast<std::int64_t>(changed_bits_.extent(0)) != bit_words) {
+  // (The counts have bit_words + 1 entries: a rank that sends nothing still scans one.)
+  if (static_cast<std::int64_t>(changed_words_before_.extent(0)) != bit_words + 1) {
     changed_bits_ = Words(
         Kokkos::view_alloc(Kokkos::WithoutInitializing, "rtmini::bake::exchange_changed_bits"),
         static_cast<std::size_t>(bit_words));

@@ -22,6 +22,29 @@ run() {  # run N ARGS...: bake on N ranks
   fi
 }
 
+# Two copies of the seed's closed cube (8 vertices, the ceiling a light), 10 apart along x, with
+# mirror walls (Kr 0.3): no ray leaves its cube.
+two_cubes() {
+  local dx
+  for dx in 0 10; do
+    for v in "-1 -1 -1" "1 -1 -1" "-1 1 -1" "1 1 -1" "-1 -1 1" "1 -1 1" "-1 1 1" "1 1 1"; do
+      read -r x y z <<<"$v"
+      echo "$((x + dx)) $y $z"
+    done
+  done
+  printf '\n: 0.6 0.6 0.6  0.3 0.3 0.3  0 0 0\n: 0 0 0  0 0 0  1 1 1\n\n'
+  local o
+  for o in 0 8; do
+    echo "$((0 + o)) $((1 + o)) $((3 + o)) $((2 + o)) 0"
+    echo "$((4 + o)) $((6 + o)) $((7 + o)) $((5 + o)) 0"
+    echo "$((0 + o)) $((4 + o)) $((5 + o)) $((1 + o)) 0"
+    echo "$((2 + o)) $((3 + o)) $((7 + o)) $((6 + o)) 1"
+    echo "$((0 + o)) $((2 + o)) $((6 + o)) $((4 + o)) 0"
+    echo "$((1 + o)) $((5 + o)) $((7 + o)) $((3 + o)) 0"
+  done
+  echo "!"
+}
+
 fail() {
   echo "FAIL: $*" >&2
   exit 1
@@ -149,6 +172,14 @@ case $case_name in
       { cat log2.txt; fail "$ranks-rank bake failed"; }
     cmp one.bs many.bs || fail "outputs differ between 1 and $ranks ranks"
     grep -E "map per rank|work per rank" log2.txt
+    # Two closed mirror cubes apart, a cube's vertices per rank at 2 ranks: a rank whose colours
+    # no other rank reads sends nothing in the changed-only exchanges (it once crashed there).
+    two_cubes >cubes.bs
+    run 1 cubes.bs --viewpoints 20 --iterations 4 -o cubes1.bs >log11.txt 2>&1 ||
+      { cat log11.txt; fail "1-rank bake of two cubes failed"; }
+    run "$ranks" cubes.bs --viewpoints 20 --iterations 4 -o cubes.out.bs >log12.txt 2>&1 ||
+      { cat log12.txt; fail "$ranks-rank bake of two cubes failed"; }
+    cmp cubes1.bs cubes.out.bs || fail "two cubes: outputs differ between 1 and $ranks ranks"
     # The pilot's cut (no recut after the trace, no hits moved) gives the same bytes.
     run "$ranks" "${args[@]}" -o pilot.bs --balance pilot --summary pilot.json >log5.txt 2>&1 ||
       { cat log5.txt; fail "$ranks-rank bake with --balance pilot failed"; }
