@@ -283,7 +283,7 @@ if pilot:
     table("Strong scaling, --balance pilot (the cut before the recount; against strong_1x1)",
           strong[:1] + pilot, False)
 balance(out, ["strong", "scaling", "pilot", "spatial", "weak", "weakspatial", "weakmeasured", "weakrooms",
-              "weakroomssah", "weakshare"])
+              "weakroomssah", "weakshare", "weaksharesah"])
 weak = rows(out, "weak")
 table("Weak scaling (two sheets, side 150 sqrt(P), N=200, K=3)", weak, True)
 weakspatial = rows(out, "weakspatial")
@@ -300,6 +300,7 @@ weakroomssah = rows(out, "weakroomssah")
 table("Weak scaling on closed rooms, --bvh sah", weakroomssah, True)
 weakshare = rows(out, "weakshare")
 table("Weak scaling on closed rooms, --node-sharing on", weakshare, True)
+table("Weak scaling on closed rooms, --node-sharing on --bvh sah", rows(out, "weaksharesah"), True)
 busy_table(out, weakrooms, weakshare, "busyrooms", "the 1-room scene", "weakshare")
 exchange_table(out)
 table("1M vertices, N=1000, K=2", rows(out, "big"), True)

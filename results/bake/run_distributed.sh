@@ -125,13 +125,18 @@ if [ "$what" = weakrooms ] || [ "$what" = all ]; then
 fi
 if [ "$what" = weakshare ]; then
   # The rooms with and without node sharing (--node-sharing on: one copy of the scene per node,
-  # work taken between ranks), alternated per P, and 16 concurrent 1-room bakes.
+  # work taken between ranks), alternated per P (at P = 1 and 16 also with the SAH tree), and
+  # 16 concurrent 1-room bakes.
   for np in 1 2 4 8 16; do
     python3 "$src/results/bake/make_rooms_scene.py" "$np" "$out/rooms_$np.bs"
     run "weakrooms_$np" "$np" 1 "$out/rooms_$np.bs" -o "$out/weakrooms.bsb" --viewpoints 200 \
       --iterations 3
     run "weakshare_$np" "$np" 1 "$out/rooms_$np.bs" -o "$out/weakrooms.bsb" --viewpoints 200 \
       --iterations 3 --node-sharing on
+    if [ "$np" -eq 1 ] || [ "$np" -eq 16 ]; then  # the SAH tree over the building, shared
+      run "weaksharesah_$np" "$np" 1 "$out/rooms_$np.bs" -o "$out/weakrooms.bsb" --viewpoints 200 \
+        --iterations 3 --node-sharing on --bvh sah
+    fi
     [ "$np" -eq 1 ] || rm -f "$out/rooms_$np.bs"
   done
   busy busyrooms 16 "$out/rooms_1.bs" --viewpoints 200 --iterations 3
