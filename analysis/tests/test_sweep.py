@@ -7,7 +7,9 @@ import stat
 from conftest import run_tool
 from rtmini_analysis.io import load_sweep
 
-FAKE = """#!/usr/bin/env python3
+# The stand-ins run Debian's /usr/bin/python3 (the suite's Python): a python3 found on PATH may be
+# a version manager's shim, 0.5 s a start on the CI machine, and the bake sweep starts 53.
+FAKE = """#!/usr/bin/python3
 import json, sys
 args = sys.argv[1:]
 def opt(name, default=None):
@@ -64,7 +66,7 @@ def test_unknown_knob_is_bad_input(tmp_path):
 
 # A stand-in bake: its error falls with N and shadow samples; it refuses a reference that is not
 # the dense (N = 700) one and records every command line it ran.
-FAKE_BAKE = """#!/usr/bin/env python3
+FAKE_BAKE = """#!/usr/bin/python3
 import json, os, sys
 args = sys.argv[1:]
 def opt(name, default=None):

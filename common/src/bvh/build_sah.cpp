@@ -20,16 +20,18 @@ namespace rtmini::bvh {
 namespace {
 
 constexpr int kBins = 16;
-constexpr Real kTraversalCost = 1;
-constexpr Real kTriangleCost = 1;
+// (Named apart from build_lbvh.hpp's subtree_cost constants: clang.syntax batches see both.)
+constexpr Real kSahTraversalCost = 1;
+constexpr Real kSahTriangleCost = 1;
 // For the host's traversal (SahLeafCost::kBlocksOfFour), on ordinary meshes the SAH's triangle
 // term counts a side's triangles in blocks of four, the lanes of a compact leaf: the traversal
-// tests a wide leaf's lanes at once, so one to four triangles cost about the same. Cuts that leave a side just past a multiple of four then cost a
-// block more, and small ranges stay one leaf instead of being split to single triangles that the
-// collapse merges again: half the binary nodes, and the build's many small split_range calls
-// with them (results/bvh/README.md, branch cpu15). Answers do not depend on the tree (the closest
-// hit's tie-break is by triangle id). Builds with split references (pre-split or spatial
-// splits) count single triangles, as before: larger leaves would hold more parts of one sliver.
+// tests a wide leaf's lanes at once, so one to four triangles cost about the same. Cuts that leave
+// a side just past a multiple of four then cost a block more, and small ranges stay one leaf
+// instead of being split to single triangles that the collapse merges again: half the binary nodes,
+// and the build's many small split_range calls with them (results/bvh/README.md, branch cpu15).
+// Answers do not depend on the tree (the closest hit's tie-break is by triangle id). Builds with
+// split references (pre-split or spatial splits) count single triangles, as before: larger leaves
+// would hold more parts of one sliver.
 constexpr int kLeafBlock = 4;
 constexpr int kMaxDepth = kStackSize - 2;
 // Subtrees of at most max(kMinFragment, n / kFragmentShare) items are built in parallel.
@@ -383,8 +385,8 @@ SpatialSplit find_spatial_split(const SpatialContext& ctx, const Task& t, Real b
       const int nr = right_count[k + 1];
       if (cnt == 0 || nr == 0 || cnt + nr - count > t.budget) continue;
       const Real c =
-          kTraversalCost * parent_area +
-          kTriangleCost * (cnt * acc.surface_area() + nr * right_box[k + 1].surface_area());
+          kSahTraversalCost * parent_area +
+          kSahTriangleCost * (cnt * acc.surface_area() + nr * right_box[k + 1].surface_area());
       if (c < best) {
         best = c;
         best_split.axis = axis;
@@ -502,7 +504,7 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
   const int count = e - b;
   const Aabb& cb = t.centroids;
   const Real parent_area = t.box.surface_area();
-  const Real leaf_cost = kTriangleCost * triangle_term(ctx, count) * parent_area;
+  const Real leaf_cost = kSahTriangleCost * triangle_term(ctx, count) * parent_area;
   Real best = leaf_cost;
   int best_axis = -1, best_bin = -1;
   const Vec3 ext = cb.extent();
@@ -553,8 +555,8 @@ bool split_range(const SpatialContext& ctx, const Task& t, ItemLists& lists, Spl
       acc.expand(bins[axis][k]);
       cnt += counts[axis][k];
       const Real c =
-          kTraversalCost * parent_area +
-          kTriangleCost * (triangle_term(ctx, cnt) * acc.surface_area() + right_cost[next]);
+          kSahTraversalCost * parent_area +
+          kSahTriangleCost * (triangle_term(ctx, cnt) * acc.surface_area() + right_cost[next]);
       // Kept without a branch (whether a candidate improves is hard to predict); the winner's
       // boxes are merged again below.
       const bool better = c < best;
