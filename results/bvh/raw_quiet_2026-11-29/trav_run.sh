@@ -2,9 +2,10 @@
 # Issue 22's traversal rows on a quiet machine (2026-11-29): main's bench alone, the issue's
 # command five times per mesh and workload (runs outermost), as raw_cputrav2/run.sh does for one
 # binary. AO at the dev size (--samples-per-face 1 --rays 16), as there.
-# Usage: BENCH=/path/to/rtmini-bvh-bench results/bvh/raw_quiet_2026-11-29/trav_run.sh
+# Usage: BENCH=/path/to/rtmini-bvh-bench [TRAV_OUT=trav2] results/bvh/raw_quiet_2026-11-29/trav_run.sh
 cd "$(dirname "$0")/../../.."
-out=results/bvh/raw_quiet_2026-11-29/trav
+out=results/bvh/raw_quiet_2026-11-29/${TRAV_OUT:-trav}
+mkdir -p "$out"
 export OMP_NUM_THREADS=2 OMP_PROC_BIND=false
 for i in 1 2 3 4 5; do
   for m in dragon stanford-bunny; do
