@@ -98,7 +98,7 @@ def main():
         print("FAIL: no rtmini translation units in compile_commands.json")
         return 1
 
-    batch_dir = os.path.join(build, "clang_syntax")
+    batch_dir = os.path.join(os.path.realpath(build), "clang_syntax")
     os.makedirs(batch_dir, exist_ok=True)
 
     def check_batch(numbered):
