@@ -7,7 +7,7 @@
 #                                    fuzz TARGET from its seeds: new inputs go to WORK_DIR/corpus,
 #                                    anything found to WORK_DIR/ (crash-*, leak-*, timeout-*, oom-*);
 #                                    exit 1 on a finding
-# Env: CLANGXX (default clang++), CLANGC (default clang).
+# Env: CLANGXX (default clang++), CLANGC (default clang), RTMINI_FUZZ_OPT (default -O1).
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -23,7 +23,8 @@ case $mode in
       launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
     if [[ ! -f $build/CMakeCache.txt ]]; then
       cmake -S "$here/targets" -B "$build" "${generator[@]}" "${launcher[@]}" \
-        -DCMAKE_CXX_COMPILER="${CLANGXX:-clang++}" -DCMAKE_C_COMPILER="${CLANGC:-clang}" >/dev/null
+        -DCMAKE_CXX_COMPILER="${CLANGXX:-clang++}" -DCMAKE_C_COMPILER="${CLANGC:-clang}" \
+        -DRTMINI_FUZZ_OPT="${RTMINI_FUZZ_OPT:--O1}" >/dev/null
     fi
     cmake --build "$build" -j "${RTMINI_JOBS:-2}"
     ;;
