@@ -1249,24 +1249,13 @@ inline void traverse_packet_by(const BvhT& bvh, PacketRays& p, int live, Hit* hi
   }
 }
 
-// The packet traversal of rays [0, n) (n <= kPacketSize) with the FMA box test where every ray
-// can take it (both tests are conservative; the choice is speed only).
-template <class BvhT, bool kAnyHit>
-inline void traverse_packet(const BvhT& bvh, const Ray* rays, int n, Hit* hits, bool* found) {
-  PacketRays p;
-  p.rays = rays;
-#if RTMINI_FMA_BOX_TEST
-  if (n == kPacketSize) {  // the common case: its setup eight lanes at a time
-    bool fma = false;
-    const int live = fill_full_packet(p, rays, hits, found, fma);
-    if (live == 0 || bvh.num_prims == 0) return;
-    const bool shared = shares_origin(rays, n);
-    if (fma) return traverse_packet_by<BvhT, kAnyHit, true>(bvh, p, live, hits, found, shared);
-    return traverse_packet_by<BvhT, kAnyHit, false>(bvh, p, live, hits, found, shared);
-  }
-#endif
+// A packet's per-ray constants ray by ray, for any n <= kPacketSize (the partial packet at the end
+// of a batch, hosts without the FMA test; fill_full_packet's reference): WideRay, WatertightRay,
+// tmax, and the FMA lanes where `fma` (every ray may take the FMA test). Returns the live rays.
+inline int fill_packet_ray_by_ray(PacketRays& p, const Ray* rays, int n, Hit* hits, bool* found,
+                                  bool& fma) {
   int live = 0;
-  bool fma = true;
+  fma = true;
   for (int r = 0; r < n; ++r) {
     hits[r] = Hit();
     hits[r].t = rays[r].tmax;
@@ -1283,15 +1272,33 @@ inline void traverse_packet(const BvhT& bvh, const Ray* rays, int n, Hit* hits, 
 #endif
   }
   for (int r = n; r < kPacketSize; ++r) p.tmax[r] = Real(0);
-  if (live == 0 || bvh.num_prims == 0) return;
 #if RTMINI_FMA_BOX_TEST
   if (fma) fill_packet_lanes(p, n);
+#else
+  fma = false;
 #endif
+  return live;
+}
+
+// The packet traversal of rays [0, n) (n <= kPacketSize) with the FMA box test where every ray
+// can take it (both tests are conservative; the choice is speed only).
+template <class BvhT, bool kAnyHit>
+inline void traverse_packet(const BvhT& bvh, const Ray* rays, int n, Hit* hits, bool* found) {
+  PacketRays p;
+  p.rays = rays;
+  bool fma = false;
+#if RTMINI_FMA_BOX_TEST
+  // A full packet, the common case, is set up eight lanes at a time.
+  const int live = n == kPacketSize ? fill_full_packet(p, rays, hits, found, fma)
+                                    : fill_packet_ray_by_ray(p, rays, n, hits, found, fma);
+#else
+  const int live = fill_packet_ray_by_ray(p, rays, n, hits, found, fma);
+#endif
+  if (live == 0 || bvh.num_prims == 0) return;
   const bool shared = shares_origin(rays, n);
 #if RTMINI_FMA_BOX_TEST
   if (fma) return traverse_packet_by<BvhT, kAnyHit, true>(bvh, p, live, hits, found, shared);
 #endif
-  (void)fma;
   traverse_packet_by<BvhT, kAnyHit, false>(bvh, p, live, hits, found, shared);
 }
 #else
