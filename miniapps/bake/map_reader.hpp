@@ -72,7 +72,7 @@ struct SparseColors {
   std::int64_t map_colors = 0;                // entries from here on are in `halo`
   Kokkos::View<const Vec3f*, MemSpace> halo;  // MapExchange::halo()
 
-  bool empty() const { return start.extent(0) == 0; }
+  KOKKOS_INLINE_FUNCTION bool empty() const { return start.extent(0) == 0; }
 };
 
 // The entry of viewpoint j among the kept ones (bit j of the vertex's mask words).
@@ -103,6 +103,20 @@ struct FirstReads {
   }
 };
 
+// Where one vertex's colours of the previous map sit, resolved once per vertex read (not once
+// per viewpoint): its first entry, in the map or in the halo, and for a sparse halo vertex its
+// mask words and kept counts (sparse_entry, with the word offset already applied).
+struct VertexColors {
+  const Vec3f* first = nullptr;
+  const std::uint64_t* mask = nullptr;  // null: dense, viewpoint j at first[j]
+  const std::int32_t* kept = nullptr;
+
+  KOKKOS_INLINE_FUNCTION Vec3 operator()(int j) const {
+    if (mask == nullptr) return Vec3(first[j]);
+    return Vec3(first[sparse_entry(0, 0, mask, kept, j)]);
+  }
+};
+
 // Colour of the previous map seen along `dir` at a hit: the hit triangle's three vertex
 // colours, each looked up at `dir` among its nearest viewpoints, mixed barycentrically.
 template <class LookupT>
@@ -118,14 +132,15 @@ struct MapReader {
   FirstReads first_reads;    // remote vertices of the fused first iteration (empty: none)
   HemisphereMap hemisphere;  // off: every view-dependent vertex has the N shared viewpoints
 
-  // Vertex vert's colour at viewpoint j in the previous map (first = color_offset(vert)): in
-  // prev, or with a halo, in prev or the halo.
-  KOKKOS_INLINE_FUNCTION Vec3 color(int vert, std::int64_t first, int j) const {
-    if (sparse.start.extent(0) == 0) return Vec3(prev(first + j));
-    const std::int64_t at = sparse.mask_at(vert), local = sparse.start(vert);
-    const std::int64_t e =
-        at < 0 ? local + j : sparse_entry(local, at, sparse.mask.data(), sparse.kept.data(), j);
-    return Vec3(e < sparse.map_colors ? prev(e) : sparse.halo(e - sparse.map_colors));
+  // Vertex vert's colours in the previous map (first = color_offset(vert)): in prev, or with a
+  // halo, in prev (an owned vertex) or the halo (a remote one); a vertex never spans both.
+  KOKKOS_INLINE_FUNCTION VertexColors colors_of(int vert, std::int64_t first) const {
+    if (sparse.empty()) return {prev.data() + first};
+    const std::int64_t e = sparse.start(vert), at = sparse.mask_at(vert);
+    const Vec3f* p =
+        e < sparse.map_colors ? prev.data() + e : sparse.halo.data() + (e - sparse.map_colors);
+    if (at < 0) return {p};
+    return {p, sparse.mask.data() + at, sparse.kept.data() + at};
   }
 
   // without_emission: the diffuse gather already has the lights through its shadow rays, so
@@ -142,7 +157,7 @@ struct MapReader {
       const std::int64_t first = color_offset(vert);
       const bool remote = first_reads.remote(vert);
       if (color_offset(vert + 1) - first == 1) {
-        sum += (remote ? first_reads.read(vert, 0) : color(vert, first, 0)) * w[k];
+        sum += (remote ? first_reads.read(vert, 0) : colors_of(vert, first)(0)) * w[k];
         continue;
       }
       if (hemisphere.on()) {  // each vertex has its own frame
@@ -151,10 +166,15 @@ struct MapReader {
         nb = lookup.neighbors(dir, radius);
         have_nb = true;
       }
+      // Two loops: the flag stores of the fused first iteration (char stores, which may alias
+      // anything) would otherwise make every read of the loop reload the views.
       Vec3 c(Real(0));
-      for (int j = 0; j < nb.count; ++j)
-        c += (remote ? first_reads.read(vert, nb.index[j]) : color(vert, first, nb.index[j])) *
-             nb.weight[j];
+      if (remote) {
+        for (int j = 0; j < nb.count; ++j) c += first_reads.read(vert, nb.index[j]) * nb.weight[j];
+      } else {
+        const VertexColors colors = colors_of(vert, first);
+        for (int j = 0; j < nb.count; ++j) c += colors(nb.index[j]) * nb.weight[j];
+      }
       sum += c * w[k];
     }
     if (without_emission) {
