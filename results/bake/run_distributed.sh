@@ -20,10 +20,11 @@
 #     N=300 K=4 at 2x8 4x4 16x1, alternated three times (exchange_{full,changed}_PxT_I);
 #   strong scaling in one run for the acceptance table (scaling): bunny_room N=300 K=4, 1x1 once,
 #     then 1x16 2x8 4x4 8x2 16x1 alternated three times (scaling_PxT_I), default options;
-#   one bake that does not fit replicated: 1,008,204 vertices (side 710) at N=1000 K=2 on 16x1.
+#   one bake that does not fit replicated: 1,008,204 vertices (side 710) at N=1000 K=2 on 16x1;
+#   the weak and strong efficiency rows with repeats (acceptance; not part of all).
 # Every run writes its summary (verification hash, peak RSS per rank, map statistics) and
 # timings (.h5) to OUT_DIR; table.md collects them. Usage (from the repository root, build/ built):
-#   results/bake/run_distributed.sh OUT_DIR [strong|scaling|weak|weakrooms|weakshare|exchange|big|all]
+#   results/bake/run_distributed.sh OUT_DIR [strong|scaling|weak|weakrooms|weakshare|exchange|big|acceptance|all]
 # BAKE=path runs another build's bake (a baseline in the same call), on the same inputs;
 # MPI_ARGS="..." adds mpirun options to every run (e.g. another MPI transport).
 set -eu
@@ -163,6 +164,34 @@ if [ "$what" = scaling ] || [ "$what" = all ]; then
         --viewpoints 300 --iterations 4
     done
   done
+  rm -f "$out/strong.bsb"
+fi
+if [ "$what" = acceptance ]; then
+  # The two efficiency rows with repeats, since one run of a 1-rank bake moves by up to
+  # 35 % within minutes on the lent hosts (distributed.md, eighteenth round): weak scaling, the
+  # 1-room and the 16-room building with --node-sharing on (LBVH and SAH), alternated in three
+  # rounds, then 16 concurrent 1-room bakes; strong scaling, bunny_room N=300 K=4, 1 x 1 before
+  # and after three alternated rounds of 1 x 16 and 16 x 1 (on). acceptance_table.py reads them.
+  python3 "$src/results/bake/make_rooms_scene.py" 1 "$out/rooms_1.bs"
+  python3 "$src/results/bake/make_rooms_scene.py" 16 "$out/rooms_16.bs"
+  for i in 1 2 3; do
+    for bvh in lbvh sah; do
+      for np in 1 16; do
+        run "accweak_${bvh}_${np}_$i" "$np" 1 "$out/rooms_$np.bs" -o "$out/weakrooms.bsb" \
+          --viewpoints 200 --iterations 3 --node-sharing on --bvh "$bvh"
+      done
+    done
+  done
+  busy accbusy 16 "$out/rooms_1.bs" --viewpoints 200 --iterations 3
+  rm -f "$out/rooms_1.bs" "$out/rooms_16.bs" "$out/weakrooms.bsb"
+  "$gen" bunny_room --scene "$src/inputs/meshes/stanford-bunny.obj" -o "$out/bunny_room.bs"
+  strong=("$out/bunny_room.bs" -o "$out/strong.bsb" --viewpoints 300 --iterations 4)
+  run accstrong_1x1_1 1 1 "${strong[@]}"
+  for i in 1 2 3; do
+    run "accstrong_1x16_$i" 1 16 "${strong[@]}"
+    run "accstrong_16x1_$i" 16 1 "${strong[@]}" --node-sharing on
+  done
+  run accstrong_1x1_2 1 1 "${strong[@]}"
   rm -f "$out/strong.bsb"
 fi
 if [ "$what" = big ] || [ "$what" = all ]; then
