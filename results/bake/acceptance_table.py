@@ -30,33 +30,33 @@ def spread(values, fmt="{:.3f}"):
 
 def weak(out):
     r = runs(out, "accweak_*.json")
-    print("### Weak scaling: 1 room on 1 x 1 against 16 rooms on 16 x 1, --node-sharing on\n")
-    print("| BVH | rounds | 1 x 1 bake (s) | 16 x 1 bake (s) | efficiency per round | median | "
-          "by total time | hashes |")
-    print("|---|---|---|---|---|---|---|---|")
-    for bvh in ("lbvh", "sah"):
-        one, many, eff, eff_total, hashes = [], [], [], [], set()
+    print("### Weak scaling: P rooms on P x 1 against 1 room on 1 x 1, --node-sharing on\n")
+    print("| BVH | P | rounds | 1 x 1 bake (s) | P x 1 bake (s) | efficiency per round | median | "
+          "by total time | P concurrent 1-room bakes: mean (s), of one alone | P x 1 against them |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    keys = {tuple(k.split("_")[1:4]) for k in r}
+    for bvh, np in sorted({(b, int(p)) for b, p, _ in keys if p != "1"}):
+        one, many, eff, eff_total = [], [], [], []
         for i in range(1, 10):
-            a, b = r.get(f"accweak_{bvh}_1_{i}"), r.get(f"accweak_{bvh}_16_{i}")
+            a, b = r.get(f"accweak_{bvh}_1_{i}"), r.get(f"accweak_{bvh}_{np}_{i}")
             if not a or not b:
                 continue
             one.append(a[0])
             many.append(b[0])
             eff.append(a[0] / b[0])
             eff_total.append(a[1] / b[1])
-            hashes |= {a[2], b[2]}
         if not eff:
             continue
-        print(f"| {bvh} | {len(eff)} | {spread(one)} | {spread(many)} | "
+        busy = [v[0] for v in runs(out, f"accbusy_{np}_*.json").values()]
+        ceiling = against = "-"
+        if busy and bvh == "lbvh":
+            mean = statistics.mean(busy)
+            ceiling = f"{mean:.3f}, {statistics.median(one) / mean:.0%}"
+            against = f"{mean / statistics.median(many):.0%}"
+        print(f"| {bvh} | {np} | {len(eff)} | {spread(one)} | {spread(many)} | "
               + ", ".join(f"{e:.0%}" for e in eff) + f" | **{statistics.median(eff):.0%}** | "
-              f"{statistics.median(eff_total):.0%} | {len(hashes)} |")
-    busy = [v[0] for v in runs(out, "accbusy_16_*.json").values()]
-    if busy:
-        alone = [v[0] for k, v in r.items() if k.startswith("accweak_lbvh_1_")]
-        print(f"\n16 concurrent 1-room bakes (LBVH, no communication): bake time {spread(busy)} s "
-              f"over {len(busy)}; mean {statistics.mean(busy):.3f} s, "
-              f"{statistics.median(alone) / statistics.mean(busy):.0%} of one alone (median of "
-              "the rounds').")
+              f"{statistics.median(eff_total):.0%} | {ceiling} | {against} |")
+    print(f"\nWeak hashes (one per P): {len({v[2] for v in r.values()})}")
 
 
 def strong(out):

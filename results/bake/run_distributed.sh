@@ -168,22 +168,26 @@ if [ "$what" = scaling ] || [ "$what" = all ]; then
 fi
 if [ "$what" = acceptance ]; then
   # The two efficiency rows with repeats, since one run of a 1-rank bake moves by up to
-  # 35 % within minutes on the lent hosts (distributed.md, eighteenth round): weak scaling, the
-  # 1-room and the 16-room building with --node-sharing on (LBVH and SAH), alternated in three
-  # rounds, then 16 concurrent 1-room bakes; strong scaling, bunny_room N=300 K=4, 1 x 1 before
-  # and after three alternated rounds of 1 x 16 and 16 x 1 (on). acceptance_table.py reads them.
-  python3 "$src/results/bake/make_rooms_scene.py" 1 "$out/rooms_1.bs"
-  python3 "$src/results/bake/make_rooms_scene.py" 16 "$out/rooms_16.bs"
-  for i in 1 2 3; do
-    for bvh in lbvh sah; do
-      for np in 1 16; do
+  # 35 % within minutes on the lent hosts (distributed.md, eighteenth round): weak scaling, P
+  # rooms on P x 1 with --node-sharing on (ACC_BVH, default lbvh) for P = ACC_WEAK_P (default 1
+  # and 16), in ACC_ROUNDS (default 3) alternated rounds, then P concurrent 1-room bakes for each
+  # P > 1 (the node as full, without communication); strong scaling, bunny_room N=300 K=4, 1 x 1
+  # before and after three alternated rounds of 1 x 16 and 16 x 1 (on). acceptance_table.py
+  # reads them.
+  for np in ${ACC_WEAK_P:-1 16}; do python3 "$src/results/bake/make_rooms_scene.py" "$np" "$out/rooms_$np.bs"; done
+  [ -f "$out/rooms_1.bs" ] || python3 "$src/results/bake/make_rooms_scene.py" 1 "$out/rooms_1.bs"
+  for ((i = 1; i <= ${ACC_ROUNDS:-3}; i++)); do
+    for bvh in ${ACC_BVH:-lbvh}; do
+      for np in ${ACC_WEAK_P:-1 16}; do
         run "accweak_${bvh}_${np}_$i" "$np" 1 "$out/rooms_$np.bs" -o "$out/weakrooms.bsb" \
           --viewpoints 200 --iterations 3 --node-sharing on --bvh "$bvh"
       done
     done
   done
-  busy accbusy 16 "$out/rooms_1.bs" --viewpoints 200 --iterations 3
-  rm -f "$out/rooms_1.bs" "$out/rooms_16.bs" "$out/weakrooms.bsb"
+  for np in ${ACC_WEAK_P:-1 16}; do
+    [ "$np" -eq 1 ] || busy accbusy "$np" "$out/rooms_1.bs" --viewpoints 200 --iterations 3
+  done
+  rm -f "$out"/rooms_*.bs "$out/weakrooms.bsb"
   "$gen" bunny_room --scene "$src/inputs/meshes/stanford-bunny.obj" -o "$out/bunny_room.bs"
   strong=("$out/bunny_room.bs" -o "$out/strong.bsb" --viewpoints 300 --iterations 4)
   run accstrong_1x1_1 1 1 "${strong[@]}"
