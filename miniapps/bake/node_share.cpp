@@ -74,8 +74,12 @@ SegmentSizes used_by(const OwnerPart& p, const SegmentSizes& room, std::int64_t 
   s.sparse_map_colors = p.sparse.map_colors;
   s.mask_words = extent(p.sparse.mask);
   s.kept_words = extent(p.sparse.kept);
-  s.first_reads = extent(p.first_reads.owned) > 0 ? 1 : 0;
   s.read_flags = extent(p.first_reads.flags);
+  // A rank whose hits read no remote vertex has no read flags, and its segment no room for the
+  // first iteration's tables (carve): it publishes none, and a rank that takes its pieces reads
+  // every colour from its map. (Published with them, the tables were copied over the hits and
+  // read back as garbage by such a rank: a crash at 2 ranks on two closed rooms.)
+  s.first_reads = extent(p.first_reads.owned) > 0 && s.read_flags > 0 ? 1 : 0;
   s.pieces = pieces;
   s.iterations = iterations + 1;
   s.first_prev = first_prev;
@@ -84,7 +88,8 @@ SegmentSizes used_by(const OwnerPart& p, const SegmentSizes& room, std::int64_t 
                     s.halo_colors <= room.halo_colors && s.hits <= room.hits &&
                     s.sparse <= room.sparse && s.mask_words <= room.mask_words &&
                     s.kept_words <= room.kept_words && s.pieces <= room.pieces &&
-                    s.read_flags <= room.read_flags && s.iterations <= room.iterations;
+                    s.read_flags <= room.read_flags && s.iterations <= room.iterations &&
+                    (s.first_reads == 0 || room.read_flags > 0);
   if (!fits) throw std::logic_error("bake: node sharing: a rank's part outgrew its segment");
   return s;
 }
