@@ -588,6 +588,7 @@ class BakeRun {
   void assign_batches(std::vector<Batch> batches);
   void balance_by_pilot();
   bool counts_traced_cost() const;
+  bool recuts_after_trace() const;
   void rebalance_by_traced_cost();
   std::int64_t move_traced_hits(const std::vector<Batch>& from);
   std::vector<TracePiece> pieces_owned_before(const std::vector<Batch>& from, bool mine) const;
@@ -823,6 +824,17 @@ bool BakeRun::counts_traced_cost() const {
   return c_.balance == Balance::kCost || c_.balance == Balance::kMeasured;
 }
 
+// Whether the ranges are recut after the trace (counts_traced_cost). Not where node work sharing
+// spans every rank (one node): there each iteration evens itself out as the ranks take each
+// other's pieces, and the recut would only move traced hits between the ranks before iteration 1
+// (on bunny_room at 16 x 1, 72 % of them; results/bake/distributed.md, twenty-first round).
+// Across nodes the recut stays: sharing balances within a node, not between nodes.
+bool BakeRun::recuts_after_trace() const {
+  const bool one_sharing_node = c_.share_work && node_sharing_possible() && comm_.size() > 1 &&
+                                comm_.node_size() == comm_.size();
+  return counts_traced_cost() && !one_sharing_node;
+}
+
 // The traced hits of ownership `from` to this rank's batches (the current ownership); returns
 // the hits received from other ranks.
 std::int64_t BakeRun::move_traced_hits(const std::vector<Batch>& from) {
@@ -975,7 +987,7 @@ void BakeRun::trace_map() {
       traced_.nodes += n.nodes;
     }
     totals_.rays += traced_.rays;
-    if (counts_traced_cost()) rebalance_by_traced_cost();
+    if (recuts_after_trace()) rebalance_by_traced_cost();
     count_reads();
   }
   timer_.stop();
