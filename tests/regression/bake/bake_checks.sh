@@ -183,7 +183,8 @@ case $case_name in
     # The same with node sharing, the first rank late: the others take the pieces of a rank that
     # reads no remote vertex in the first iteration (it once crashed there).
     run "$ranks" cubes.bs --viewpoints 20 --iterations 4 -o cubes.shared.bs --node-sharing on \
-      --share-test-delay 0.3 >log13.txt 2>&1 || { cat log13.txt; fail "$ranks-rank shared bake of two cubes failed"; }
+      --share-test-delay 0.3 >log13.txt 2>&1 ||
+      { cat log13.txt; fail "$ranks-rank shared bake of two cubes failed"; }
     cmp cubes1.bs cubes.shared.bs || fail "two cubes, node sharing: outputs differ from 1 rank"
     # The pilot's cut (no recut after the trace, no hits moved) gives the same bytes.
     run "$ranks" "${args[@]}" -o pilot.bs --balance pilot --summary pilot.json >log5.txt 2>&1 ||
