@@ -830,8 +830,8 @@ bool BakeRun::counts_traced_cost() const {
 // (on bunny_room at 16 x 1, 72 % of them; results/bake/distributed.md, twenty-first round).
 // Across nodes the recut stays: sharing balances within a node, not between nodes.
 bool BakeRun::recuts_after_trace() const {
-  const bool one_sharing_node = c_.share_work && node_sharing_possible() && comm_.size() > 1 &&
-                                comm_.node_size() == comm_.size();
+  const bool one_sharing_node =
+      c_.share_work && comm_.size() > 1 && comm_.node_size() == comm_.size();
   return counts_traced_cost() && !one_sharing_node;
 }
 

@@ -88,8 +88,7 @@ SegmentSizes used_by(const OwnerPart& p, const SegmentSizes& room, std::int64_t 
                     s.halo_colors <= room.halo_colors && s.hits <= room.hits &&
                     s.sparse <= room.sparse && s.mask_words <= room.mask_words &&
                     s.kept_words <= room.kept_words && s.pieces <= room.pieces &&
-                    s.read_flags <= room.read_flags && s.iterations <= room.iterations &&
-                    (s.first_reads == 0 || room.read_flags > 0);
+                    s.read_flags <= room.read_flags && s.iterations <= room.iterations;
   if (!fits) throw std::logic_error("bake: node sharing: a rank's part outgrew its segment");
   return s;
 }

@@ -1129,7 +1129,7 @@ inline void fill_packet_lanes(PacketRays& p, int n) {
 // products and comparisons give the same bits in a vector lane; the selects follow the scalar
 // ternaries, NaNs included), so every ray's constants are the ones traverse_packet's ray-by-ray
 // setup computes. Eight scalar divisions per ray and the dominant-axis selects were ~12 % of a
-// packet trace of the dragon's diffuse rays (perf). Returns the live rays; `fma` = every ray
+// packet trace of the dragon's diffuse rays (perf). Returns the mask of live rays; `fma` = every ray
 // may take the FMA box test.
 inline int fill_full_packet(PacketRays& p, const Ray* rays, Hit* hits, bool* found, bool& fma) {
   alignas(32) Real in[8][kPacketSize];  // org xyz, dir xyz, tmin, tmax: ray r in lane r
@@ -1251,7 +1251,8 @@ inline void traverse_packet_by(const BvhT& bvh, PacketRays& p, int live, Hit* hi
 
 // A packet's per-ray constants ray by ray, for any n <= kPacketSize (the partial packet at the end
 // of a batch, hosts without the FMA test; fill_full_packet's reference): WideRay, WatertightRay,
-// tmax, and the FMA lanes where `fma` (every ray may take the FMA test). Returns the live rays.
+// tmax, and the FMA lanes where `fma` (every ray may take the FMA test). Returns the mask of live
+// rays.
 inline int fill_packet_ray_by_ray(PacketRays& p, const Ray* rays, int n, Hit* hits, bool* found,
                                   bool& fma) {
   int live = 0;
