@@ -11,6 +11,8 @@ import re
 import statistics
 import sys
 
+from distributed_table import bake_time
+
 
 def runs(out, pattern):
     """{name: (bake time, total, hash)} of the summaries matching the glob `pattern`."""
@@ -18,8 +20,7 @@ def runs(out, pattern):
     for path in glob.glob(os.path.join(out, pattern)):
         s = json.load(open(path))
         p = s["phases"]
-        bake = p.get("base", 0) + p.get("map", 0) + p.get("halo", 0) + p.get("iterate", 0)
-        found[os.path.basename(path)[:-5]] = (bake, p["total"], s["verification_hash"])
+        found[os.path.basename(path)[:-5]] = (bake_time(p), p["total"], s["verification_hash"])
     return found
 
 

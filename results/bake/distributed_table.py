@@ -19,6 +19,11 @@ def iteration_step(k):
     return int(words[1]), ITERATION_STEPS.index(" ".join(words[2:]))
 
 
+def bake_time(phases):
+    """The bake time of a summary's phases: base + map + halo + iterate (no read, set-up, write)."""
+    return sum(phases.get(k, 0) for k in ("base", "map", "halo", "iterate"))
+
+
 def rows(out, prefix):
     found = []
     for path in sorted(glob.glob(os.path.join(out, prefix + "_*.json"))):
@@ -29,7 +34,7 @@ def rows(out, prefix):
         base = s["scene"].get("scene_rss_bytes_per_rank", [0])
         found.append({
             "name": os.path.basename(path)[:-5], "ranks": s["ranks"], "threads": s["threads"],
-            "time": p.get("base", 0) + p.get("map", 0) + p.get("halo", 0) + p.get("iterate", 0),
+            "time": bake_time(p),
             "vertices": s["scene"]["vertices"], "colors": s["scene"]["colors"],
             "rss_max": max(rss) / 2**30, "rss_min": min(rss) / 2**30,
             "scene_rss": max(base) / 2**30,
@@ -271,38 +276,42 @@ def memory_steps(out, prefix):
               + f" | {first} | {halo:.0f} |")
 
 
-out = sys.argv[1]
-table("Strong scaling (bunny_room, N=300, K=4)", rows(out, "strong"), False)
-spatial = rows(out, "spatial")
-if spatial:
-    strong = rows(out, "strong")
-    table("Strong scaling, --balance spatial (speed-up against strong_1x1)", strong[:1] + spatial, False)
-pilot = rows(out, "pilot")
-if pilot:
-    strong = rows(out, "strong")
-    table("Strong scaling, --balance pilot (the cut before the recount; against strong_1x1)",
-          strong[:1] + pilot, False)
-balance(out, ["strong", "scaling", "pilot", "spatial", "weak", "weakspatial", "weakmeasured", "weakrooms",
-              "weakroomssah", "weakshare", "weaksharesah"])
-weak = rows(out, "weak")
-table("Weak scaling (two sheets, side 150 sqrt(P), N=200, K=3)", weak, True)
-weakspatial = rows(out, "weakspatial")
-if weakspatial:
-    table("Weak scaling, --balance spatial (efficiency against weak_1)", weak[:1] + weakspatial, True)
-weakmeasured = rows(out, "weakmeasured")
-if weakmeasured:
-    table("Weak scaling, --balance measured (efficiency against weak_1)", weak[:1] + weakmeasured, True)
-busy_table(out, weak, weakspatial)
-recut_table(out)
-weakrooms = rows(out, "weakrooms")
-table("Weak scaling on closed rooms (P rooms, make_rooms_scene.py, N=200, K=3)", weakrooms, True)
-weakroomssah = rows(out, "weakroomssah")
-table("Weak scaling on closed rooms, --bvh sah", weakroomssah, True)
-weakshare = rows(out, "weakshare")
-table("Weak scaling on closed rooms, --node-sharing on", weakshare, True)
-table("Weak scaling on closed rooms, --node-sharing on --bvh sah", rows(out, "weaksharesah"), True)
-busy_table(out, weakrooms, weakshare, "busyrooms", "the 1-room scene", "weakshare")
-exchange_table(out)
-table("1M vertices, N=1000, K=2", rows(out, "big"), True)
-scaling_table(out)
-memory_steps(out, "scaling")
+def main(out):
+    table("Strong scaling (bunny_room, N=300, K=4)", rows(out, "strong"), False)
+    spatial = rows(out, "spatial")
+    if spatial:
+        strong = rows(out, "strong")
+        table("Strong scaling, --balance spatial (speed-up against strong_1x1)", strong[:1] + spatial, False)
+    pilot = rows(out, "pilot")
+    if pilot:
+        strong = rows(out, "strong")
+        table("Strong scaling, --balance pilot (the cut before the recount; against strong_1x1)",
+              strong[:1] + pilot, False)
+    balance(out, ["strong", "scaling", "pilot", "spatial", "weak", "weakspatial", "weakmeasured", "weakrooms",
+                  "weakroomssah", "weakshare", "weaksharesah"])
+    weak = rows(out, "weak")
+    table("Weak scaling (two sheets, side 150 sqrt(P), N=200, K=3)", weak, True)
+    weakspatial = rows(out, "weakspatial")
+    if weakspatial:
+        table("Weak scaling, --balance spatial (efficiency against weak_1)", weak[:1] + weakspatial, True)
+    weakmeasured = rows(out, "weakmeasured")
+    if weakmeasured:
+        table("Weak scaling, --balance measured (efficiency against weak_1)", weak[:1] + weakmeasured, True)
+    busy_table(out, weak, weakspatial)
+    recut_table(out)
+    weakrooms = rows(out, "weakrooms")
+    table("Weak scaling on closed rooms (P rooms, make_rooms_scene.py, N=200, K=3)", weakrooms, True)
+    weakroomssah = rows(out, "weakroomssah")
+    table("Weak scaling on closed rooms, --bvh sah", weakroomssah, True)
+    weakshare = rows(out, "weakshare")
+    table("Weak scaling on closed rooms, --node-sharing on", weakshare, True)
+    table("Weak scaling on closed rooms, --node-sharing on --bvh sah", rows(out, "weaksharesah"), True)
+    busy_table(out, weakrooms, weakshare, "busyrooms", "the 1-room scene", "weakshare")
+    exchange_table(out)
+    table("1M vertices, N=1000, K=2", rows(out, "big"), True)
+    scaling_table(out)
+    memory_steps(out, "scaling")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])
