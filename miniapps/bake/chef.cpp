@@ -219,18 +219,17 @@ struct MirrorIteration {
     const std::int64_t first = color_offset(v);
     Vec3 c = base(v);
     if (with_gather) c += diffuse(v) * gather(v);
-    std::int64_t out = item;
     if (iteration > 0 && color_offset(v + 1) - first > 1) {
-      // Neighbouring work items take neighbouring directions: coherent traversal and lookups.
+      // An item is a storage slot (view_order.hpp): neighbouring items take neighbouring
+      // directions, coherent traversal and lookups.
       const int view = order(item - first);
-      out = first + view;
       const Vec3 d = reader.hemisphere.direction(v, view);
       const Vec3 n = mirror_normal(d, normal(v), two_sided);
       const Vec3 r = mirror_direction(d, n);
       const Hit hit = mirror_hit(v, n, r, cache_offset + (item - item_begin), rays);
       c += reflective(v) * reader.read(hit.prim, hit.u, hit.v, r);
     }
-    next(out) = Vec3f(c);
+    next(item) = Vec3f(c);
   }
 };
 
@@ -271,35 +270,19 @@ struct TraceMirrorHits {
   }
 };
 
-// Viewpoints sorted into about sqrt(N) latitude bands, each walked in longitude, alternating
-// direction (a serpentine), so consecutive directions are close on the sphere. `stored`: the
-// first viewpoints of the N that a vertex keeps (N, or N/2 for a hemisphere map).
-Kokkos::View<int*, MemSpace> coherent_order(int n, int stored) {
-  const int bands = std::max(1, static_cast<int>(std::lround(std::sqrt(n / 2.0))));
-  std::vector<std::pair<double, int>> key(stored);
-  for (int i = 0; i < stored; ++i) {
-    const Vec3 p = fibonacci_point(i, n);
-    const int band = std::min(bands - 1, static_cast<int>((1.0 - p.z) * 0.5 * bands));
-    const double phi = std::atan2(double(p.y), double(p.x));
-    key[i] = {band * 10.0 + (band % 2 == 0 ? phi : -phi) / 4.0, i};
-  }
-  std::sort(key.begin(), key.end());
-  std::vector<int> order(stored);
-  for (int i = 0; i < stored; ++i) order[i] = key[i].second;
-  return compat::upload<MemSpace>("rtmini::bake::view_order", order);
-}
-
 struct TraceReference {
   ReferenceTracer tracer;
   Kokkos::View<std::int64_t*, MemSpace> color_offset;  // the output's offsets (MapLayout)
   Kokkos::View<Vec3*, MemSpace> views;
+  Kokkos::View<int*, MemSpace> order;  // slot -> viewpoint (view_order.hpp)
   Kokkos::View<Vec3f*, MemSpace> out;
   std::int64_t vbegin, vend;
   int iterations;
 
   KOKKOS_INLINE_FUNCTION void operator()(std::int64_t item, std::int64_t& rays) const {
     const std::int64_t v = vertex_of_item(color_offset, vbegin, vend, item);
-    const int view = static_cast<int>(item - color_offset(v));
+    const std::int64_t first = color_offset(v);
+    const int view = color_offset(v + 1) - first > 1 ? order(item - first) : 0;
     out(item) = Vec3f(tracer.radiance(static_cast<int>(v), views(view), iterations, rays));
   }
 };
@@ -370,7 +353,9 @@ Chef::Chef(const BakeSceneDevice& scene, const BakeConfig& config, std::int64_t 
   const std::size_t nv = scene.normal.extent(0);
   base_ = Kokkos::View<Vec3*, MemSpace>("rtmini::bake::base", nv);
   if (config.gather_rays > 0) gather_ = Kokkos::View<Vec3*, MemSpace>("rtmini::bake::gather", nv);
-  order_ = coherent_order(config.viewpoints, config.stored_viewpoints());
+  view_order_ = coherent_view_order(config.viewpoints, config.stored_viewpoints());
+  order_.view = compat::upload<MemSpace>("rtmini::bake::view_of_slot", view_order_.order);
+  order_.slot = compat::upload<MemSpace>("rtmini::bake::slot_of_view", view_order_.slot);
   if (config.lookup == Lookup::kKdTree) {
     kdtree_ = build_fibonacci_kdtree<MemSpace>(config.viewpoints);
     if (config.hemisphere()) mirrored_ = build_mirrored_kdtree<MemSpace>(config.viewpoints);
@@ -402,7 +387,7 @@ std::int64_t Chef::trace_reference(std::int64_t begin, std::int64_t end,
                          Vec3(config_.background),
                          scene_.mesh.coordinate_bound};
   tracer.two_sided = config_.two_sided;
-  const TraceReference k{tracer, map_offset_, scene_.viewpoints, out,
+  const TraceReference k{tracer, map_offset_, scene_.viewpoints, order_.view, out,
                          begin,  end,         config_.iterations};
   return trace_items("rtmini::bake::trace_reference", item_range(map_offset_, begin, end), k);
 }
@@ -415,7 +400,7 @@ ReadCount Chef::trace_mirror_hits(std::int64_t begin, std::int64_t end, std::int
                     scene_.mesh.positions,
                     scene_.normal,
                     scene_.viewpoints,
-                    order_,
+                    order_.view,
                     scene_.color_offset,
                     traced_,
                     begin,
@@ -559,6 +544,7 @@ struct MarkReadItems {
   std::int64_t vbegin, vend, item_begin, cache_offset;
   bool two_sided = false;  // BakeConfig::two_sided (mirror_normal)
   HemisphereMap hemisphere{};
+  Kokkos::View<const int*, MemSpace> slot{};  // viewpoint -> storage slot (to_slots)
 
   KOKKOS_INLINE_FUNCTION void operator()(std::int64_t item) const {
     const int prim = traced(cache_offset + (item - item_begin)).prim;
@@ -585,8 +571,10 @@ struct MarkReadItems {
       }
       if (hemisphere.on()) {  // each vertex has its own frame
         nb = hemisphere.neighbors(lookup, vert, r, radius);
+        to_slots(slot, nb);
       } else if (!have_nb) {
         nb = lookup.neighbors(r, radius);
+        to_slots(slot, nb);
         have_nb = true;
       }
       for (int j = 0; j < nb.count; ++j) items(at + nb.index[j]) = 1;
@@ -596,7 +584,7 @@ struct MarkReadItems {
 
 template <class LookupT>
 void mark_read_items_with(const LookupT& lookup, const BakeSceneDevice& s, const BakeConfig& cfg,
-                          Kokkos::View<int*, MemSpace> order,
+                          const StorageOrder& order,
                           Kokkos::View<std::int64_t*, MemSpace> map_offset,
                           Kokkos::View<TracedHit*, MemSpace> traced, std::int64_t begin,
                           std::int64_t end, std::int64_t cache_offset,
@@ -608,7 +596,7 @@ void mark_read_items_with(const LookupT& lookup, const BakeSceneDevice& s, const
                            s.mesh.tri_vertices,
                            s.normal,
                            s.viewpoints,
-                           order,
+                           order.view,
                            s.color_offset,
                            map_offset,
                            traced,
@@ -620,6 +608,7 @@ void mark_read_items_with(const LookupT& lookup, const BakeSceneDevice& s, const
                            cache_offset};
   k.two_sided = cfg.two_sided;
   k.hemisphere = hemisphere;
+  k.slot = order.slot;
   Kokkos::parallel_for("rtmini::bake::mark_read_items",
                        Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(r.first, r.end),
                        k);
@@ -731,8 +720,8 @@ std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, cons
                            Kokkos::View<TracedHit*, MemSpace> traced,
                            Kokkos::View<std::int64_t*, MemSpace> map_offset,
                            const SparseColors& sparse, const FirstReads& first_reads,
-                           Kokkos::View<int*, MemSpace> order, int it, std::int64_t begin,
-                           std::int64_t end, std::int64_t cache_offset, HitCacheMode mode,
+                           const StorageOrder& order, int it, std::int64_t begin, std::int64_t end,
+                           std::int64_t cache_offset, HitCacheMode mode,
                            Kokkos::View<const Vec3f*, MemSpace> prev,
                            Kokkos::View<Vec3f*, MemSpace> next, const HemisphereMap& hemisphere) {
   const Vec3f bg = cfg.background;
@@ -746,7 +735,8 @@ std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, cons
                             Vec3(bg),
                             sparse,
                             first_reads,
-                            hemisphere};
+                            hemisphere,
+                            order.slot};
   std::int64_t rays = 0;
   const bool with_gather = cfg.gather_rays > 0 && it > 0;
   if (with_gather) {
@@ -772,7 +762,7 @@ std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, cons
                              base,
                              gather,
                              s.viewpoints,
-                             order,
+                             order.view,
                              map_offset,
                              cache,
                              traced,
@@ -789,6 +779,23 @@ std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, cons
   return rays + trace_items("rtmini::bake::shade", items, m);
 }
 }  // namespace
+
+void Chef::to_viewpoint_order(std::int64_t begin, std::int64_t end,
+                              Kokkos::View<const Vec3f*, MemSpace> from,
+                              Kokkos::View<Vec3f*, MemSpace> to) const {
+  const auto offset = map_offset_;
+  const auto order = order_.view;
+  const ItemRange items = item_range(offset, begin, end);
+  Kokkos::parallel_for(
+      "rtmini::bake::to_viewpoint_order",
+      Kokkos::RangePolicy<Exec, Kokkos::IndexType<std::int64_t>>(items.first, items.end),
+      KOKKOS_LAMBDA(std::int64_t item) {
+        const std::int64_t v = vertex_of_item(offset, begin, end, item);
+        const std::int64_t first = offset(v);
+        const bool single = offset(v + 1) - first == 1;
+        to(single ? item : first + order(item - first)) = from(item);
+      });
+}
 
 std::int64_t Chef::bake_iteration(int it, std::int64_t begin, std::int64_t end,
                                   std::int64_t cache_offset, HitCacheMode cache,

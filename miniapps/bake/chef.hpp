@@ -11,6 +11,7 @@
 #include "map_errors.hpp"
 #include "map_reader.hpp"
 #include "rtmini/sampling/fibonacci_lookup.hpp"
+#include "view_order.hpp"
 
 namespace rtmini::bake {
 
@@ -79,6 +80,12 @@ struct OwnerPart {
   Kokkos::View<Vec3f*, MemSpace> prev, next;
 };
 
+// The storage order (view_order.hpp) on the device.
+struct StorageOrder {
+  Kokkos::View<int*, MemSpace> view;        // slot -> viewpoint
+  Kokkos::View<const int*, MemSpace> slot;  // viewpoint -> slot
+};
+
 class Chef {
  public:
   // local_items: colour entries over all of this rank's batches (sizes the hit cache).
@@ -135,6 +142,15 @@ class Chef {
     cache_ = Kokkos::View<CachedHit*, MemSpace>();
   }
 
+  // Where a vertex keeps the colour of each viewpoint in the maps of bake_iteration and
+  // trace_reference (view_order.hpp).
+  const ViewOrder& view_order() const { return view_order_; }
+  // The colours of vertices [begin, end) of `from` (storage order) into `to` in viewpoint
+  // order, both laid out by the map offset: what leaves the iterations.
+  void to_viewpoint_order(std::int64_t begin, std::int64_t end,
+                          Kokkos::View<const Vec3f*, MemSpace> from,
+                          Kokkos::View<Vec3f*, MemSpace> to) const;
+
   // Colours of iteration `it` for vertices [begin, end) into next (map-offset order), from
   // prev (every colour iteration it - 1 reads). cache_offset: the batch's first slot in the
   // rank's hit cache. Returns rays traced.
@@ -154,8 +170,8 @@ class Chef {
   // Chef's own are freed.
   void adopt_part(const OwnerPart& shared);
 
-  // The traced reference (reference_tracer.hpp) of vertices [begin, end) into out (global item
-  // order, by the map offset): config.iterations mirror iterations, no map lookups. Needs bake_base
+  // The traced reference (reference_tracer.hpp) of vertices [begin, end) into out (by the map
+  // offset, in storage order): config.iterations mirror iterations, no map lookups. Needs bake_base
   // first. Returns mirror rays traced.
   std::int64_t trace_reference(std::int64_t begin, std::int64_t end,
                                Kokkos::View<Vec3f*, MemSpace> out);
@@ -192,7 +208,8 @@ class Chef {
   FirstReads first_reads_;
   std::int64_t local_items_ = 0;
   bool caches_hits_ = false;
-  Kokkos::View<int*, MemSpace> order_;  // viewpoints in a direction-coherent order
+  ViewOrder view_order_;
+  StorageOrder order_;
   FibonacciKdTree<MemSpace> kdtree_;
   FibonacciKdTree<MemSpace> mirrored_;  // hemisphere maps, KD-tree lookup (HemisphereMap)
   FibonacciInverse<MemSpace> inverse_;

@@ -1511,6 +1511,7 @@ void BakeRun::bake_base() {
 // Resumes from the checkpoint: its global map, cut to this rank's layout.
 void BakeRun::restart() {
   if (c_.restart.empty()) return;
+  to_storage_order(chef_->view_order(), host_.color_offset, restart_cp_.colors);
   std::vector<Vec3f> local = localise_map(host_, layout_, restart_cp_.colors);
   std::vector<Vec3f>().swap(restart_cp_.colors);
   first_ = restart_cp_.iteration + 1;
@@ -1755,7 +1756,8 @@ void BakeRun::exchange(int it, IterationRecord& rec) {
   rec.allgather = timer_.now() - t0;
 }
 
-// The whole map on the root (every rank takes part): owned colours gathered in vertex order.
+// The whole map on the root (every rank takes part): owned colours gathered in vertex order, in
+// prev_'s order of each vertex's colours (storage order until release_iteration_buffers).
 std::vector<Vec3f> BakeRun::global_map() {
   const auto local = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), prev_);
   return gather_global_map(comm_, host_, layout_, local.data(), owner_);
@@ -1771,6 +1773,7 @@ void BakeRun::checkpoint(int it) {
     cp.inputs = format_input_hashes(inputs_);
     cp.vertices = host_.vertices();
     cp.viewpoints = c_.viewpoints;
+    to_viewpoint_order(chef_->view_order(), host_.color_offset, colors);
     cp.colors = std::move(colors);
     write_checkpoint(c_.checkpoint, cp);
   }
@@ -1839,15 +1842,18 @@ void BakeRun::report_stopped(int it) {
   report_.finish(comm_, c_.summary);
 }
 
-// After the last iteration only this rank's own colours (prev_) are read: the other map buffer,
-// the halo, the exchange's buffers and the hit records go before the output is written (at the
-// output they were the run's peak, with the output's own buffers on top).
+// After the last iteration only this rank's own colours (prev_) are read, in viewpoint order
+// (view_order.hpp), which the other map buffer takes: then it goes, with the halo, the
+// exchange's buffers and the hit records, before the output is written (at the output they
+// were the run's peak, with the output's own buffers on top).
 void BakeRun::release_iteration_buffers() {
   report_exchange();
   report_node_sharing();
-  next_ = Kokkos::View<Vec3f*, MemSpace>();
   layout_.sparse = SparseColors{};
   chef_->set_map_offset(layout_.device);
+  for (const VertexRange& r : my_ranges_) chef_->to_viewpoint_order(r.begin, r.end, prev_, next_);
+  std::swap(prev_, next_);
+  next_ = Kokkos::View<Vec3f*, MemSpace>();
   chef_->release_hits();
   if (exchange_) exchange_->release();
 }

@@ -61,9 +61,9 @@ struct HemisphereMap {
 // iterations, so it needs no second buffer (stored with the map, it was held twice, plus the
 // exchange's copy). A remote view-dependent vertex keeps only the viewpoints its lookups read:
 // at 16 ranks a rank's mirror lookups read about 1 in 12 of a remote vertex's N colours. Such a
-// sparse vertex v keeps the viewpoints whose bits are set in its mask words mask[mask_at(v) ...],
-// in viewpoint order from start(v); kept(w) counts the kept viewpoints before word w. Empty
-// views: every vertex dense, in `prev` at the map's own offsets.
+// sparse vertex v keeps the slots (view_order.hpp) whose bits are set in its mask words
+// mask[mask_at(v) ...], in slot order from start(v); kept(w) counts the kept slots before word w.
+// Empty views: every vertex dense, in `prev` at the map's own offsets.
 struct SparseColors {
   Kokkos::View<const std::int64_t*, MemSpace> start;    // per vertex: first entry
   Kokkos::View<const std::int64_t*, MemSpace> mask_at;  // per vertex: first mask word, -1 dense
@@ -75,7 +75,7 @@ struct SparseColors {
   KOKKOS_INLINE_FUNCTION bool empty() const { return start.extent(0) == 0; }
 };
 
-// The entry of viewpoint j among the kept ones (bit j of the vertex's mask words).
+// The entry of slot j among the kept ones (bit j of the vertex's mask words).
 KOKKOS_INLINE_FUNCTION std::int64_t sparse_entry(std::int64_t first, std::int64_t word_at,
                                                  const std::uint64_t* mask,
                                                  const std::int32_t* kept, int j) {
@@ -94,7 +94,7 @@ struct FirstReads {
   Kokkos::View<const char*, MemSpace> owned;       // per vertex; empty: not the first iteration
   Kokkos::View<const Vec3f*, MemSpace> base;       // per vertex: Vec3f(base), remote ones
   Kokkos::View<const std::int64_t*, MemSpace> at;  // per vertex + 1: offsets of `flags`
-  Kokkos::View<char*, MemSpace> flags;             // per viewpoint of a present vertex: read
+  Kokkos::View<char*, MemSpace> flags;             // per slot of a present vertex: read
 
   KOKKOS_INLINE_FUNCTION bool remote(int vert) const { return owned.extent(0) > 0 && !owned(vert); }
   KOKKOS_INLINE_FUNCTION Vec3 read(int vert, int j) const {
@@ -108,7 +108,7 @@ struct FirstReads {
 // mask words and kept counts (sparse_entry, with the word offset already applied).
 struct VertexColors {
   const Vec3f* first = nullptr;
-  const std::uint64_t* mask = nullptr;  // null: dense, viewpoint j at first[j]
+  const std::uint64_t* mask = nullptr;  // null: dense, slot j at first[j]
   const std::int32_t* kept = nullptr;
 
   KOKKOS_INLINE_FUNCTION Vec3 operator()(int j) const {
@@ -116,6 +116,14 @@ struct VertexColors {
     return Vec3(first[sparse_entry(0, 0, mask, kept, j)]);
   }
 };
+
+// nb's viewpoints turned into the slots where a vertex keeps their colours (storage order,
+// view_order.hpp). An empty table: the map is in viewpoint order (a map read from a file).
+KOKKOS_INLINE_FUNCTION void to_slots(const Kokkos::View<const int*, MemSpace>& slot,
+                                     ViewNeighbors& nb) {
+  if (slot.extent(0) == 0) return;
+  for (int j = 0; j < nb.count; ++j) nb.index[j] = slot(nb.index[j]);
+}
 
 // Colour of the previous map seen along `dir` at a hit: the hit triangle's three vertex
 // colours, each looked up at `dir` among its nearest viewpoints, mixed barycentrically.
@@ -131,6 +139,7 @@ struct MapReader {
   SparseColors sparse;       // empty: prev is laid out by color_offset
   FirstReads first_reads;    // remote vertices of the fused first iteration (empty: none)
   HemisphereMap hemisphere;  // off: every view-dependent vertex has the N shared viewpoints
+  Kokkos::View<const int*, MemSpace> slot{};  // viewpoint -> storage slot (to_slots)
 
   // Vertex vert's colours in the previous map (first = color_offset(vert)): in prev, or with a
   // halo, in prev (an owned vertex) or the halo (a remote one); a vertex never spans both.
@@ -162,8 +171,10 @@ struct MapReader {
       }
       if (hemisphere.on()) {  // each vertex has its own frame
         nb = hemisphere.neighbors(lookup, vert, dir, radius);
+        to_slots(slot, nb);
       } else if (!have_nb) {
         nb = lookup.neighbors(dir, radius);
+        to_slots(slot, nb);
         have_nb = true;
       }
       // Two loops: the flag stores of the fused first iteration (char stores, which may alias

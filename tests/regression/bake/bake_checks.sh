@@ -311,6 +311,36 @@ PY
       -o other.bs --restart cp.h5 >log4.txt 2>err.txt
     rc=$?
     [ $rc -eq 2 ] || fail "mismatched restart exited $rc, expected 2"
+    # The checkpoint of the last iteration holds the output's colours in the file's viewpoint
+    # order (the iterations keep another, view_order.hpp). Every vertex view-dependent: N
+    # checkpoint colours each, so the two line up without the scene's materials.
+    run "$ranks" "${args[@]}" --all-view-dependent -o last.bsb --checkpoint last.h5 >log5.txt 2>&1 ||
+      fail "checkpointed .bsb run failed"
+    if /usr/bin/python3 -c "import h5py" 2>/dev/null; then
+      /usr/bin/python3 - <<'PY' || fail "the last checkpoint is not the output map"
+import struct
+import h5py, numpy as np
+raw = open("last.bsb", "rb").read()
+flags, V, M, F, O, D, C = struct.unpack_from("<I6Q", raw, 4)
+assert flags & 3 == 1, "expected shared directions and float32 colours"
+at = lambda n: (n + 7) // 8 * 8
+p = at(64 + V * (24 if flags & 4 else 12))
+counts = np.frombuffer(raw, "<u4", V, p)
+p = at(p + 4 * V)
+uniform = np.frombuffer(raw, "u1", V, p).astype(bool)
+p = at(at(p + V) + D * 12)
+colours = np.frombuffer(raw, "<f4", 3 * C, p).reshape(C, 3)
+assert (counts == D).all()
+per_vertex = np.where(uniform, 1, D)
+first = np.concatenate(([0], np.cumsum(per_vertex)[:-1]))
+slot = first[:, None] + np.where(uniform[:, None], 0, np.arange(D)[None, :])
+cp = h5py.File("last.h5", "r")["/colors"][()].reshape(V, D, 3)
+assert (cp == colours[slot]).all(), "colours differ"
+varying = (~uniform).sum()
+assert varying >= 100, varying  # cornell_big_raw: 470 of 1,924
+print(f"last checkpoint = output map ({V} vertices, {varying} with varying colours)")
+PY
+    fi
     echo "restart reproduces the uninterrupted output ($ranks ranks)"
     ;;
   kill)

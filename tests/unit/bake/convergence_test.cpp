@@ -40,6 +40,8 @@ ErrorStats lookup_error(const Mesh& mesh, int n) {
   Kokkos::View<Vec3f*, MemSpace> map0("map0", host.colors()), map1("map1", host.colors());
   chef.bake_iteration(0, 0, nv, 0, HitCacheMode::kOff, map0, map0);
   chef.bake_iteration(1, 0, nv, 0, HitCacheMode::kOff, map0, map1);
+  chef.to_viewpoint_order(0, nv, map1, map0);  // read below by viewpoint index
+  map1 = map0;
   std::vector<int> refl;
   for (std::int64_t v = 0; v < nv; ++v)
     if (host.color_count(v) > 1) refl.push_back(static_cast<int>(v));

@@ -53,7 +53,9 @@ double worst_inside_error(bool inward, bool two_sided) {
   chef.bake_iteration(0, 0, nv, 0, HitCacheMode::kOff, maps[0], maps[0]);
   for (int it = 1; it <= kIterations; ++it)
     chef.bake_iteration(it, 0, nv, 0, HitCacheMode::kOff, maps[(it - 1) % 2], maps[it % 2]);
-  const auto map = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), maps[kIterations % 2]);
+  const int last = kIterations % 2;
+  chef.to_viewpoint_order(0, nv, maps[last], maps[1 - last]);  // read below by viewpoint index
+  const auto map = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), maps[1 - last]);
   double worst = 0, lo = 1e30, hi = -1e30;
   std::int64_t checked = 0;
   for (std::int64_t v = 0; v < nv; ++v) {
