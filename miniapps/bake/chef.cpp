@@ -725,9 +725,9 @@ std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, cons
                            Kokkos::View<const Vec3f*, MemSpace> prev,
                            Kokkos::View<Vec3f*, MemSpace> next, const HemisphereMap& hemisphere) {
   const Vec3f bg = cfg.background;
-  // A sparse map's offsets do not give the colour counts: the reader takes those from the scene.
+  // With SparseColors the reader takes entries and counts from their spans, not the offsets.
   MapReader<LookupT> reader{s.mesh.tri_vertices,
-                            sparse.empty() ? map_offset : s.color_offset,
+                            map_offset,
                             prev,
                             s.emissive,
                             lookup,

@@ -1109,7 +1109,7 @@ bool BakeRun::fuses_halo_plan() const {
 // base colours come from their owners (one colour per vertex).
 void BakeRun::start_fused_plan(const std::vector<char>& own) {
   layout_ = make_map_layout(host_, own);
-  mark_dense(layout_);  // the readers take colour counts from the scene, not from this layout
+  mark_dense(host_, layout_);  // the readers take colour counts from the scene, not the layout
   chef_->set_map_offset(layout_.device, layout_.sparse);
   pending_.remote = remote_layout(own);
   pending_.active = true;
@@ -1348,7 +1348,7 @@ void BakeRun::replan_first_reads(const std::vector<Batch>& from) {
   pending_.remote = std::move(remote);
   pending_.flags = flags;
   layout_ = make_map_layout(host_, own);
-  mark_dense(layout_);
+  mark_dense(host_, layout_);
   chef_->set_map_offset(layout_.device, layout_.sparse);
 }
 

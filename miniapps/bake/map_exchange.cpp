@@ -191,9 +191,8 @@ std::int64_t copy_bytes(const V& device, const std::vector<T>& host) {
 std::int64_t MapLayout::table_bytes() const {
   std::int64_t b = bytes_of(offset) + bytes_of(halo_at) + bytes_of(halo_rank_at) +
                    bytes_of(mask_at) + bytes_of(mask) + bytes_of(kept) + copy_bytes(device, offset);
-  if (sparse.start.data() != device.data()) b += view_bytes(sparse.start);
-  if (sparse.mask_at.data() != device.data()) b += copy_bytes(sparse.mask_at, mask_at);
-  return b + copy_bytes(sparse.mask, mask) + copy_bytes(sparse.kept, kept);
+  return b + view_bytes(sparse.span) + copy_bytes(sparse.mask, mask) +
+         copy_bytes(sparse.kept, kept);
 }
 
 std::int64_t MapExchange::send_list_bytes() const {
@@ -278,11 +277,14 @@ MapLayout make_halo_layout(const BakeSceneHost& scene, const MapLayout& remote, 
     }
   l.halo_colors = rank_at.back();
   // SparseColors: every vertex's first entry in the map-then-halo numbering.
-  std::vector<std::int64_t> start(static_cast<std::size_t>(nv), 0);
+  if (words > std::numeric_limits<std::int32_t>::max())
+    throw std::length_error("bake: the halo's viewpoint masks exceed 2^31 words");
+  std::vector<ColorSpan> span(static_cast<std::size_t>(nv));
   for (std::int64_t v = 0; v < nv; ++v)
-    start[v] = l.in_halo(v) ? l.colors() + l.halo_at[v] : l.offset[v];
-  l.sparse.start = upload("rtmini::bake::map_start", start);
-  l.sparse.mask_at = device_table("rtmini::bake::map_mask_at", l.mask_at);
+    span[v] = {l.in_halo(v) ? l.colors() + l.halo_at[v] : l.offset[v],
+               static_cast<std::int32_t>(scene.color_count(v)),
+               static_cast<std::int32_t>(l.mask_at[v])};
+  l.sparse.span = compat::upload<MemSpace>("rtmini::bake::map_spans", span);
   l.sparse.mask = device_table("rtmini::bake::map_mask", l.mask);
   l.sparse.kept = device_table("rtmini::bake::map_kept", l.kept);
   l.sparse.map_colors = l.colors();
@@ -308,10 +310,13 @@ std::vector<std::int64_t> remote_entries(const BakeSceneHost& scene, const MapLa
   return halo;
 }
 
-void mark_dense(MapLayout& layout) {
-  layout.mask_at.assign(layout.offset.size() - 1, -1);
-  layout.sparse.start = layout.device;
-  layout.sparse.mask_at = device_table("rtmini::bake::map_mask_at", layout.mask_at);
+void mark_dense(const BakeSceneHost& scene, MapLayout& layout) {
+  const std::int64_t nv = scene.vertices();
+  layout.mask_at.assign(static_cast<std::size_t>(nv), -1);
+  std::vector<ColorSpan> span(static_cast<std::size_t>(nv));
+  for (std::int64_t v = 0; v < nv; ++v)
+    span[v] = {layout.offset[v], static_cast<std::int32_t>(scene.color_count(v)), -1};
+  layout.sparse.span = compat::upload<MemSpace>("rtmini::bake::map_spans", span);
   layout.sparse.map_colors = layout.colors();
 }
 

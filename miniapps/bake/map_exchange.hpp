@@ -78,10 +78,9 @@ MapLayout make_halo_layout(const BakeSceneHost& scene, const MapLayout& remote, 
 // dense vertex's, the kept viewpoints of a sparse one.
 std::vector<std::int64_t> remote_entries(const BakeSceneHost& scene, const MapLayout& layout);
 
-// Marks every vertex of `layout` dense in its SparseColors (no halo), for readers that take the
-// colour counts from the scene rather than from the layout (a layout that leaves remote
-// vertices out).
-void mark_dense(MapLayout& layout);
+// Marks every vertex of `layout` dense in its SparseColors (no halo), with the scene's colour
+// counts rather than the layout's (a layout that leaves remote vertices out).
+void mark_dense(const BakeSceneHost& scene, MapLayout& layout);
 
 // One colour per vertex from the vertices' owners (collective): `wanted` lists vertex ids,
 // ascending; `own` holds this rank's colours by vertex id. Returns the colours of `wanted`.

@@ -140,8 +140,7 @@ std::size_t NodeShare::carve(unsigned char* at, const SegmentSizes& s, Segment* 
   seg.pieces = c.take<TracePiece>(s.pieces);
   seg.base = c.take<Vec3>(s.vertices);
   seg.map_offset = c.take<std::int64_t>(s.vertices + 1);
-  seg.start = c.take<std::int64_t>(s.sparse ? s.vertices : 0);
-  seg.mask_at = c.take<std::int64_t>(s.sparse ? s.vertices : 0);
+  seg.span = c.take<ColorSpan>(s.sparse ? s.vertices : 0);
   seg.mask = c.take<std::uint64_t>(s.mask_words);
   seg.kept = c.take<std::int32_t>(s.kept_words);
   const std::int64_t first_reads_vertices = s.read_flags > 0 ? s.vertices : 0;
@@ -263,10 +262,7 @@ void NodeShare::publish(const Communicator& comm, const OwnerPart& mine,
   copy_into(seg.pieces, pieces.data(), used.pieces);
   copy_into(seg.base, mine.base.data(), used.vertices);
   copy_into(seg.map_offset, mine.map_offset.data(), used.vertices + 1);
-  if (used.sparse) {
-    copy_into(seg.start, mine.sparse.start.data(), used.vertices);
-    copy_into(seg.mask_at, mine.sparse.mask_at.data(), used.vertices);
-  }
+  if (used.sparse) copy_into(seg.span, mine.sparse.span.data(), used.vertices);
   copy_into(seg.mask, mine.sparse.mask.data(), used.mask_words);
   copy_into(seg.kept, mine.sparse.kept.data(), used.kept_words);
   if (used.first_reads) {
@@ -387,8 +383,7 @@ OwnerPart NodeShare::part(int r, int it) const {
   p.prev = view_of(s.buffer[prev], n.map_colors);
   p.next = view_of(s.buffer[1 - prev], n.map_colors);
   if (n.sparse) {
-    p.sparse.start = view_of<const std::int64_t>(s.start, n.vertices);
-    p.sparse.mask_at = view_of<const std::int64_t>(s.mask_at, n.vertices);
+    p.sparse.span = view_of<const ColorSpan>(s.span, n.vertices);
     p.sparse.mask = view_of<const std::uint64_t>(s.mask, n.mask_words);
     p.sparse.kept = view_of<const std::int32_t>(s.kept, n.kept_words);
     p.sparse.map_colors = n.sparse_map_colors;

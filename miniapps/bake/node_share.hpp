@@ -150,7 +150,8 @@ class NodeShare {
     PaddedCounter* counters = nullptr;  // one per iteration
     TracePiece* pieces = nullptr;
     Vec3* base = nullptr;
-    std::int64_t *map_offset = nullptr, *start = nullptr, *mask_at = nullptr;
+    std::int64_t* map_offset = nullptr;
+    ColorSpan* span = nullptr;
     std::uint64_t* mask = nullptr;
     std::int32_t* kept = nullptr;
     char *owned = nullptr, *flags = nullptr;  // FirstReads
