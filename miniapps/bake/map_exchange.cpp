@@ -214,6 +214,19 @@ Kokkos::View<T*, MemSpace> device_table(const char* label, std::vector<T>& v) {
     return Kokkos::View<T*, MemSpace>(v.data(), v.size());
   return compat::upload<MemSpace>(label, v);
 }
+
+// Every vertex's ColorSpan: its first entry (`first`), the scene's colour count and its first
+// mask word (-1: dense).
+template <class First>
+Kokkos::View<const ColorSpan*, MemSpace> color_spans(const BakeSceneHost& scene,
+                                                     const std::vector<std::int64_t>& mask_at,
+                                                     const First& first) {
+  std::vector<ColorSpan> span(static_cast<std::size_t>(scene.vertices()));
+  for (std::int64_t v = 0; v < scene.vertices(); ++v)
+    span[v] = {first(v), static_cast<std::int32_t>(scene.color_count(v)),
+               static_cast<std::int32_t>(mask_at[v])};
+  return compat::upload<MemSpace>("rtmini::bake::map_spans", span);
+}
 }  // namespace
 
 MapLayout make_map_layout(const BakeSceneHost& scene, const std::vector<char>& present) {
@@ -279,12 +292,9 @@ MapLayout make_halo_layout(const BakeSceneHost& scene, const MapLayout& remote, 
   // SparseColors: every vertex's first entry in the map-then-halo numbering.
   if (words > std::numeric_limits<std::int32_t>::max())
     throw std::length_error("bake: the halo's viewpoint masks exceed 2^31 words");
-  std::vector<ColorSpan> span(static_cast<std::size_t>(nv));
-  for (std::int64_t v = 0; v < nv; ++v)
-    span[v] = {l.in_halo(v) ? l.colors() + l.halo_at[v] : l.offset[v],
-               static_cast<std::int32_t>(scene.color_count(v)),
-               static_cast<std::int32_t>(l.mask_at[v])};
-  l.sparse.span = compat::upload<MemSpace>("rtmini::bake::map_spans", span);
+  l.sparse.span = color_spans(scene, l.mask_at, [&](std::int64_t v) {
+    return l.in_halo(v) ? l.colors() + l.halo_at[v] : l.offset[v];
+  });
   l.sparse.mask = device_table("rtmini::bake::map_mask", l.mask);
   l.sparse.kept = device_table("rtmini::bake::map_kept", l.kept);
   l.sparse.map_colors = l.colors();
@@ -311,12 +321,9 @@ std::vector<std::int64_t> remote_entries(const BakeSceneHost& scene, const MapLa
 }
 
 void mark_dense(const BakeSceneHost& scene, MapLayout& layout) {
-  const std::int64_t nv = scene.vertices();
-  layout.mask_at.assign(static_cast<std::size_t>(nv), -1);
-  std::vector<ColorSpan> span(static_cast<std::size_t>(nv));
-  for (std::int64_t v = 0; v < nv; ++v)
-    span[v] = {layout.offset[v], static_cast<std::int32_t>(scene.color_count(v)), -1};
-  layout.sparse.span = compat::upload<MemSpace>("rtmini::bake::map_spans", span);
+  layout.mask_at.assign(static_cast<std::size_t>(scene.vertices()), -1);
+  layout.sparse.span =
+      color_spans(scene, layout.mask_at, [&](std::int64_t v) { return layout.offset[v]; });
   layout.sparse.map_colors = layout.colors();
 }
 

@@ -71,7 +71,9 @@ def table(folder):
             return f"{statistics.median(v):.2f}" if v else "-"
         print(f"| {group} | {summary(new)} | {summary(old)} | {ratio} | {iters(new)} / {iters(old)} |")
     for variant in ("new", "old"):
-        one, many = runs.get(("w1", "new" if ("w1", "old") not in runs else variant)), runs.get(("w16", variant))
+        # Each variant against its own 1-room runs where the call ran them, else the new ones.
+        one = runs.get(("w1", variant)) or runs.get(("w1", "new"))
+        many = runs.get(("w16", variant))
         if one and many:
             eff = [one[i][0] / many[i][0] for i in sorted(set(one) & set(many))]
             print(f"\nweak efficiency, w1 / w16_{variant} per round: "
