@@ -8,7 +8,9 @@
 
 namespace rtmini::bake {
 
-enum class Lookup { kKdTree, kSphericalFibonacci };
+// The viewpoint lookup (rtmini/sampling): all three give the same neighbours and weights, hence
+// the same map; they differ in speed only (rtmini-bake-lookup-bench).
+enum class Lookup { kGrid, kKdTree, kSphericalFibonacci };
 // kCost: cut by the traced cost (kitchen.cpp, BakeRun::rebalance_by_traced_cost); kPilot: by the
 // pilot's estimate alone (the cut before that, kept to compare); kMeasured: kCost, then recut
 // once more after the first mirror iteration by each rank's measured time of it
@@ -29,7 +31,7 @@ struct BakeConfig {
   std::string summary, timings, checkpoint, restart;
   std::string reference;         // compare the baked map with this map (errors in the summary)
   bool trace_reference = false;  // write the traced reference instead of a bake
-  Lookup lookup = Lookup::kKdTree;
+  Lookup lookup = Lookup::kGrid;
   Balance balance = Balance::kCost;
   std::int64_t batch_size = 0;  // 0 = vertices / ranks, rounded up
   // --max-colors: the most colours a batch (a rank, at the default batch size) may own, over the
@@ -63,7 +65,18 @@ struct BakeConfig {
   int stored_viewpoints() const { return hemisphere() ? viewpoints / 2 : viewpoints; }
 };
 
-inline const char* to_string(Lookup l) { return l == Lookup::kKdTree ? "kdtree" : "sf"; }
+inline const char* to_string(Lookup l) {
+  return l == Lookup::kGrid ? "grid" : l == Lookup::kKdTree ? "kdtree" : "sf";
+}
+// The lookup a --lookup value names; false for any other name.
+inline bool parse_lookup(const std::string& name, Lookup& out) {
+  for (Lookup l : {Lookup::kGrid, Lookup::kKdTree, Lookup::kSphericalFibonacci})
+    if (name == to_string(l)) {
+      out = l;
+      return true;
+    }
+  return false;
+}
 inline const char* to_string(Directions d) {
   return d == Directions::kSphere ? "sphere" : "hemisphere";
 }

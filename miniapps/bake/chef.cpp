@@ -19,11 +19,10 @@ using Exec = Kokkos::DefaultExecutionSpace;
 using Bvh = bvh::Bvh<MemSpace>;
 
 // The viewpoint directions of the map (HemisphereMap, map_reader.hpp): the N shared points, in
-// each vertex's frame when the map stores the front hemisphere only (`mirrored`: the KD-tree
-// lookup's tree of the stored half and its images, Chef::mirrored_).
-HemisphereMap hemisphere_map(const BakeSceneDevice& s, const BakeConfig& c,
-                             const FibonacciKdTree<MemSpace>& mirrored = {}) {
-  return {s.normal, s.viewpoints, c.hemisphere() ? c.stored_viewpoints() : 0, mirrored};
+// each vertex's frame when the map stores the front hemisphere only (Chef::hemisphere_map adds
+// the lookup's structure over the stored half and its images).
+HemisphereMap hemisphere_map(const BakeSceneDevice& s, const BakeConfig& c) {
+  return {s.normal, s.viewpoints, c.hemisphere() ? c.stored_viewpoints() : 0, {}, {}};
 }
 
 // Rng sample-index streams: shadow samples use [0, S); gather rays start here.
@@ -356,11 +355,21 @@ Chef::Chef(const BakeSceneDevice& scene, const BakeConfig& config, std::int64_t 
   view_order_ = coherent_view_order(config.viewpoints, config.stored_viewpoints());
   order_.view = compat::upload<MemSpace>("rtmini::bake::view_of_slot", view_order_.order);
   order_.slot = compat::upload<MemSpace>("rtmini::bake::slot_of_view", view_order_.slot);
-  if (config.lookup == Lookup::kKdTree) {
+  if (config.lookup == Lookup::kGrid) {
+    grid_ = build_fibonacci_grid<MemSpace>(config.viewpoints);
+    if (config.hemisphere()) mirrored_grid_ = build_mirrored_grid<MemSpace>(config.viewpoints);
+  } else if (config.lookup == Lookup::kKdTree) {
     kdtree_ = build_fibonacci_kdtree<MemSpace>(config.viewpoints);
     if (config.hemisphere()) mirrored_ = build_mirrored_kdtree<MemSpace>(config.viewpoints);
   } else
     inverse_ = build_fibonacci_inverse<MemSpace>(config.viewpoints);
+}
+
+HemisphereMap Chef::hemisphere_map() const {
+  HemisphereMap h = bake::hemisphere_map(scene_, config_);
+  h.mirrored = mirrored_;
+  h.mirrored_grid = mirrored_grid_;
+  return h;
 }
 
 std::int64_t Chef::bake_base(std::int64_t begin, std::int64_t end) {
@@ -409,7 +418,7 @@ ReadCount Chef::trace_mirror_hits(std::int64_t begin, std::int64_t end, std::int
                     cache_offset,
                     scene_.mesh.coordinate_bound};
   k.two_sided = config_.two_sided;
-  k.hemisphere = hemisphere_map(scene_, config_, mirrored_);
+  k.hemisphere = hemisphere_map();
   ReadCount count;
   Kokkos::parallel_reduce(
       "rtmini::bake::trace_mirror_hits",
@@ -618,13 +627,11 @@ void mark_read_items_with(const LookupT& lookup, const BakeSceneDevice& s, const
 void Chef::mark_read_items(std::int64_t begin, std::int64_t end, std::int64_t cache_offset,
                            Kokkos::View<const char*, MemSpace> owned,
                            Kokkos::View<char*, MemSpace> items) const {
-  const HemisphereMap hemisphere = hemisphere_map(scene_, config_, mirrored_);
-  if (config_.lookup == Lookup::kKdTree)
-    mark_read_items_with(kdtree_, scene_, config_, order_, map_offset_, traced_, begin, end,
+  const HemisphereMap hemisphere = hemisphere_map();
+  with_lookup([&](const auto& lookup) {
+    mark_read_items_with(lookup, scene_, config_, order_, map_offset_, traced_, begin, end,
                          cache_offset, owned, items, hemisphere);
-  else
-    mark_read_items_with(inverse_, scene_, config_, order_, map_offset_, traced_, begin, end,
-                         cache_offset, owned, items, hemisphere);
+  });
 }
 
 namespace {
@@ -704,12 +711,11 @@ ErrorSums lookup_errors_with(const LookupT& lookup, Real radius,
 ErrorSums Chef::lookup_errors(Kokkos::View<const Vec3f*, MemSpace> map,
                               Kokkos::View<const Vec3f*, MemSpace> reference, int ref_n) const {
   const Real radius = fibonacci_radius(config_.viewpoints);
-  const HemisphereMap hemisphere = hemisphere_map(scene_, config_, mirrored_);
-  if (config_.lookup == Lookup::kKdTree)
-    return lookup_errors_with(kdtree_, radius, scene_.color_offset, map, reference, ref_n,
+  const HemisphereMap hemisphere = hemisphere_map();
+  return with_lookup([&](const auto& lookup) {
+    return lookup_errors_with(lookup, radius, scene_.color_offset, map, reference, ref_n,
                               hemisphere);
-  return lookup_errors_with(inverse_, radius, scene_.color_offset, map, reference, ref_n,
-                            hemisphere);
+  });
 }
 
 namespace {
@@ -806,27 +812,23 @@ std::int64_t Chef::bake_iteration(int it, std::int64_t begin, std::int64_t end,
   if (cache == HitCacheMode::kTraced ? traced_.extent(0) == 0
                                      : cache != HitCacheMode::kOff && cache_.extent(0) == 0)
     cache = HitCacheMode::kOff;
-  const HemisphereMap hemisphere = hemisphere_map(scene_, config_, mirrored_);
-  if (config_.lookup == Lookup::kKdTree)
-    return run_iteration(scene_, config_, kdtree_, base_, gather_, cache_, traced_, map_offset_,
+  const HemisphereMap hemisphere = hemisphere_map();
+  return with_lookup([&](const auto& lookup) {
+    return run_iteration(scene_, config_, lookup, base_, gather_, cache_, traced_, map_offset_,
                          sparse_, first_reads_, order_, it, begin, end, cache_offset, cache, prev,
                          next, hemisphere);
-  return run_iteration(scene_, config_, inverse_, base_, gather_, cache_, traced_, map_offset_,
-                       sparse_, first_reads_, order_, it, begin, end, cache_offset, cache, prev,
-                       next, hemisphere);
+  });
 }
 
 std::int64_t Chef::bake_iteration_of(const OwnerPart& part, int it, std::int64_t begin,
                                      std::int64_t end, std::int64_t cache_offset,
                                      HitCacheMode cache) {
-  const HemisphereMap hemisphere = hemisphere_map(scene_, config_, mirrored_);
-  if (config_.lookup == Lookup::kKdTree)
-    return run_iteration(scene_, config_, kdtree_, part.base, gather_, part.cache, part.traced,
+  const HemisphereMap hemisphere = hemisphere_map();
+  return with_lookup([&](const auto& lookup) {
+    return run_iteration(scene_, config_, lookup, part.base, gather_, part.cache, part.traced,
                          part.map_offset, part.sparse, part.first_reads, order_, it, begin, end,
                          cache_offset, cache, part.prev, part.next, hemisphere);
-  return run_iteration(scene_, config_, inverse_, part.base, gather_, part.cache, part.traced,
-                       part.map_offset, part.sparse, part.first_reads, order_, it, begin, end,
-                       cache_offset, cache, part.prev, part.next, hemisphere);
+  });
 }
 
 OwnerPart Chef::own_part(HitCacheMode mode) const {

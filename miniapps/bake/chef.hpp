@@ -11,6 +11,7 @@
 #include "map_errors.hpp"
 #include "map_reader.hpp"
 #include "rtmini/sampling/fibonacci_lookup.hpp"
+#include "rtmini/sampling/sphere_grid.hpp"
 #include "view_order.hpp"
 
 namespace rtmini::bake {
@@ -210,9 +211,20 @@ class Chef {
   bool caches_hits_ = false;
   ViewOrder view_order_;
   StorageOrder order_;
-  FibonacciKdTree<MemSpace> kdtree_;
-  FibonacciKdTree<MemSpace> mirrored_;  // hemisphere maps, KD-tree lookup (HemisphereMap)
+  // The lookup config_.lookup names (the others stay empty), and for a hemisphere map its
+  // structure over the stored half and its images (HemisphereMap).
+  SphereGrid<MemSpace> grid_, mirrored_grid_;
+  FibonacciKdTree<MemSpace> kdtree_, mirrored_;
   FibonacciInverse<MemSpace> inverse_;
+
+  // f(lookup) with the lookup config_.lookup names: each kernel is compiled once per lookup.
+  template <class F>
+  decltype(auto) with_lookup(F&& f) const {
+    if (config_.lookup == Lookup::kGrid) return f(grid_);
+    if (config_.lookup == Lookup::kKdTree) return f(kdtree_);
+    return f(inverse_);
+  }
+  HemisphereMap hemisphere_map() const;
 };
 
 }  // namespace rtmini::bake

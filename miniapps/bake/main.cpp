@@ -51,7 +51,7 @@ std::string default_output(const std::string& input) {
 
 // The map bake's options and the values that need converting after parsing.
 struct MapCli {
-  std::string lookup = "kdtree", balance = "cost", bvh_kind = "lbvh", mode = "map";
+  std::string lookup = "grid", balance = "cost", bvh_kind = "lbvh", mode = "map";
   std::string exchange = "changed";
   std::string node_sharing = "off";
   std::string directions = "sphere";
@@ -80,7 +80,9 @@ void MapCli::add_to(CLI::App& app, BakeConfig& c) {
   app.add_flag("--trace-reference", c.trace_reference,
                "write the reference map instead: every colour traced directly (K mirror bounces, "
                "no map lookups)");
-  app.add_option("--lookup", lookup, "viewpoint lookup: kdtree or sf (spherical Fibonacci)");
+  app.add_option("--lookup", lookup,
+                 "viewpoint lookup: grid (default), kdtree or sf (spherical Fibonacci); the same "
+                 "map from each");
   app.add_option("--balance", balance,
                  "batch cuts: cost (equal work, counted at the traced mirror hits), static (equal "
                  "vertex counts), spatial (blocks in Morton order, equal colours per rank) or "
@@ -146,12 +148,8 @@ void MapCli::finish(BakeConfig& c) const {
   if (exchange != "changed" && exchange != "full")
     throw InputError("--exchange must be changed or full (got '" + exchange + "')");
   c.changed_exchanges = exchange == "changed";
-  if (lookup == "kdtree")
-    c.lookup = Lookup::kKdTree;
-  else if (lookup == "sf")
-    c.lookup = Lookup::kSphericalFibonacci;
-  else
-    throw InputError("--lookup must be kdtree or sf (got '" + lookup + "')");
+  if (!parse_lookup(lookup, c.lookup))
+    throw InputError("--lookup must be grid, kdtree or sf (got '" + lookup + "')");
   if (balance == "static")
     c.balance = Balance::kStatic;
   else if (balance == "cost")

@@ -32,9 +32,11 @@ struct HemisphereMap {
   Kokkos::View<const Vec3*, MemSpace> normal;  // per vertex: the frame's -z
   Kokkos::View<const Vec3*, MemSpace> points;  // the N Fibonacci points
   int stored = 0;                              // N/2; 0: a full-sphere map
-  // The stored points and their mirror images (build_mirrored_kdtree): one query per vertex
-  // instead of two near the horizon. Empty (n = 0): two queries with the map's own lookup.
+  // The stored points and their mirror images (build_mirrored_kdtree or _grid, whichever the
+  // lookup is): one query per vertex instead of two near the horizon. Both empty (n = 0, the sf
+  // lookup): two queries with the map's own lookup.
   FibonacciKdTree<MemSpace> mirrored;
+  SphereGrid<MemSpace> mirrored_grid;
 
   KOKKOS_INLINE_FUNCTION bool on() const { return stored > 0; }
   KOKKOS_INLINE_FUNCTION ViewFrame frame(std::int64_t v) const { return view_frame(-normal(v)); }
@@ -49,6 +51,7 @@ struct HemisphereMap {
                                                  const Vec3& dir, Real radius) const {
     Vec3 q = frame(v).to_local(dir);
     q.z = math::fabs(q.z);
+    if (mirrored_grid.n > 0) return mirrored_neighbors(mirrored_grid, q, radius, stored);
     if (mirrored.n > 0) return mirrored_neighbors(mirrored, q, radius, stored);
     return hemisphere_neighbors(lookup, points, q, radius, stored);
   }

@@ -63,11 +63,16 @@ struct RenderPixels {
   }
 };
 
-// A hemisphere map read with the KD-tree lookup queries the tree of the stored half and its
+// A hemisphere map read with the KD-tree or grid lookup queries one over the stored half and its
 // mirror images (one query per vertex instead of two, the same neighbours).
 inline HemisphereMap hemisphere_for(const BakedMapDevice& map, const FibonacciKdTree<MemSpace>&) {
   HemisphereMap h = map.hemisphere;
   if (h.on()) h.mirrored = build_mirrored_kdtree<MemSpace>(map.viewpoints);
+  return h;
+}
+inline HemisphereMap hemisphere_for(const BakedMapDevice& map, const SphereGrid<MemSpace>&) {
+  HemisphereMap h = map.hemisphere;
+  if (h.on()) h.mirrored_grid = build_mirrored_grid<MemSpace>(map.viewpoints);
   return h;
 }
 inline HemisphereMap hemisphere_for(const BakedMapDevice& map, const FibonacciInverse<MemSpace>&) {
@@ -128,7 +133,10 @@ RenderResult render_baked_map(const BakedMapDevice& map, const DeviceCamera& cam
   const std::int64_t pixels = static_cast<std::int64_t>(p.width) * p.height;
   Kokkos::View<float* [3], MemSpace> out("rtmini::bake::render::image", pixels);
   RenderResult r;
-  if (p.lookup == Lookup::kKdTree)
+  if (p.lookup == Lookup::kGrid)
+    r.hits =
+        run_kernel(map, build_fibonacci_grid<MemSpace>(map.viewpoints), camera, p, out, progress);
+  else if (p.lookup == Lookup::kKdTree)
     r.hits =
         run_kernel(map, build_fibonacci_kdtree<MemSpace>(map.viewpoints), camera, p, out, progress);
   else

@@ -17,7 +17,7 @@ struct RenderParams {
   int spp = 1;  // 1: the pixel centre; more: stratified jittered samples, box-filtered
   Vec3f background{0.f, 0.f, 0.f};
   std::uint64_t seed = 1;
-  Lookup lookup = Lookup::kKdTree;
+  Lookup lookup = Lookup::kGrid;
 };
 
 struct RenderResult {

@@ -48,7 +48,7 @@ void add_render_options(CLI::App& app, RenderOptions& o) {
                  "camera rays per pixel: 1 = pixel centre, more = stratified jitter");
   app.add_option("--background", o.background, "colour of pixels that miss the map, r,g,b");
   app.add_option("--seed", o.params.seed, "random seed of the pixel jitter");
-  app.add_option("--lookup", o.lookup, "viewpoint lookup: kdtree (default) or sf");
+  app.add_option("--lookup", o.lookup, "viewpoint lookup: grid (default), kdtree or sf");
   app.add_option("--bvh", o.bvh, "sah (default), lbvh or ploc");
   app.add_option("--reference", o.reference,
                  "reference image (.exr/.png/.ppm): print RMSE, relative MSE, PSNR, SSIM");
@@ -73,8 +73,9 @@ void validate(const RenderOptions& o, const CLI::App& app) {
     throw InputError("--spp must be in [1, 1048576] (got " + std::to_string(p.spp) + ")");
   if (app.count("--fov") && !(o.fov > 0 && o.fov < 180))
     throw InputError("--fov must be in (0, 180) degrees (got " + std::to_string(o.fov) + ")");
-  if (o.lookup != "kdtree" && o.lookup != "sf")
-    throw InputError("--lookup must be kdtree or sf (got '" + o.lookup + "')");
+  bake::Lookup lookup;
+  if (!bake::parse_lookup(o.lookup, lookup))
+    throw InputError("--lookup must be grid, kdtree or sf (got '" + o.lookup + "')");
   bvh::BuildQuality quality;
   if (!bvh::parse_build_quality(o.bvh, quality))
     throw InputError("--bvh must be lbvh, ploc or sah (got '" + o.bvh + "')");
@@ -146,7 +147,7 @@ int run_render_mode(Communicator& comm, RenderOptions o, const CLI::App& app) {
   if (!o.output.empty()) require_image_format(o.output);
   check_output_places(
       {{o.output, 3.0 * o.params.width * o.params.height}, {o.summary, 0}, {o.timings, 0}});
-  o.params.lookup = o.lookup == "sf" ? bake::Lookup::kSphericalFibonacci : bake::Lookup::kKdTree;
+  bake::parse_lookup(o.lookup, o.params.lookup);  // validate() has rejected any other name
   if (!o.background.empty()) {
     const Vec3d b = parse_vec3("--background", o.background);
     if (b.x < 0 || b.y < 0 || b.z < 0) throw InputError("--background: must be non-negative");

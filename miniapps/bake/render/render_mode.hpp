@@ -14,7 +14,7 @@ struct RenderOptions {
   std::string camera_pos, look_at, up, background;
   double fov = 45.0;
   double max_rmse = -1.0;
-  std::string lookup = "kdtree", bvh = "sah";
+  std::string lookup = "grid", bvh = "sah";
   bake::RenderParams params;
   bool progress = false;
   std::int64_t max_memory = 0;  // --max-memory (report/memory_check.hpp)

@@ -51,26 +51,31 @@ KOKKOS_INLINE_FUNCTION bool same(const ViewNeighbors& a, const ViewNeighbors& b)
   return ok;
 }
 
-// Mismatches against the exhaustive search: KD-tree, inverse mapping, mirrored tree.
-std::array<int, 3> hemisphere_mismatches(int n) {
+// Mismatches against the exhaustive search: KD-tree, inverse mapping, mirrored tree, grid,
+// mirrored grid.
+std::array<int, 5> hemisphere_mismatches(int n) {
   const int m = hemisphere_viewpoints(n);
   const auto pts = fibonacci_points<Mem>(n);
   const auto kd = build_fibonacci_kdtree<Mem>(n);
   const auto sf = build_fibonacci_inverse<Mem>(n);
   const auto mirrored = build_mirrored_kdtree<Mem>(n);
+  const auto grid = build_fibonacci_grid<Mem>(n);
+  const auto mirrored_grid = build_mirrored_grid<Mem>(n);
   const Real r = fibonacci_radius(n);
-  int kd_wrong = 0, sf_wrong = 0, mirrored_wrong = 0;
+  int kd_wrong = 0, sf_wrong = 0, mirrored_wrong = 0, grid_wrong = 0, mirrored_grid_wrong = 0;
   Kokkos::parallel_reduce(
       "rtmini::test::hemisphere_neighbors", Kokkos::RangePolicy<Exec>(0, kQueries),
-      KOKKOS_LAMBDA(int i, int& kw, int& sw, int& mw) {
+      KOKKOS_LAMBDA(int i, int& kw, int& sw, int& mw, int& gw, int& mgw) {
         const Vec3 q = random_front(i);
         const ViewNeighbors ref = exhaustive(pts, m, q, r);
         kw += same(hemisphere_neighbors(kd, pts, q, r, m), ref) ? 0 : 1;
         sw += same(hemisphere_neighbors(sf, pts, q, r, m), ref) ? 0 : 1;
         mw += same(mirrored_neighbors(mirrored, q, r, m), ref) ? 0 : 1;
+        gw += same(hemisphere_neighbors(grid, pts, q, r, m), ref) ? 0 : 1;
+        mgw += same(mirrored_neighbors(mirrored_grid, q, r, m), ref) ? 0 : 1;
       },
-      kd_wrong, sf_wrong, mirrored_wrong);
-  return {kd_wrong, sf_wrong, mirrored_wrong};
+      kd_wrong, sf_wrong, mirrored_wrong, grid_wrong, mirrored_grid_wrong);
+  return {kd_wrong, sf_wrong, mirrored_wrong, grid_wrong, mirrored_grid_wrong};
 }
 
 TEST(FibonacciHemisphere, LookupsMatchExhaustiveSearchOverStoredHalfAndImages) {
@@ -79,6 +84,8 @@ TEST(FibonacciHemisphere, LookupsMatchExhaustiveSearchOverStoredHalfAndImages) {
     EXPECT_EQ(wrong[0], 0) << "KD-tree, N = " << n;
     EXPECT_EQ(wrong[1], 0) << "inverse mapping, N = " << n;
     EXPECT_EQ(wrong[2], 0) << "mirrored KD-tree, N = " << n;
+    EXPECT_EQ(wrong[3], 0) << "grid, N = " << n;
+    EXPECT_EQ(wrong[4], 0) << "mirrored grid, N = " << n;
   }
 }
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "rtmini/sampling/fibonacci_lookup.hpp"
+#include "rtmini/sampling/sphere_grid.hpp"
 
 namespace rtmini {
 
@@ -86,10 +87,9 @@ KOKKOS_INLINE_FUNCTION ViewNeighbors hemisphere_neighbors(const LookupT& lookup,
 }
 
 // The stored half and its mirror images as one set of 2m points (the image of point i at m + i),
-// so that one KD-tree query finds what hemisphere_neighbors finds with two (the same points at
-// the same distances: negating z is exact).
-template <class MemorySpace = Kokkos::DefaultExecutionSpace::memory_space>
-FibonacciKdTree<MemorySpace> build_mirrored_kdtree(int n) {
+// so that one query of a KD-tree or grid over them finds what hemisphere_neighbors finds with
+// two (the same points at the same distances: negating z is exact).
+inline std::vector<Vec3> mirrored_points(int n) {
   const int m = hemisphere_viewpoints(n);
   std::vector<Vec3> pts(2 * static_cast<std::size_t>(m));
   for (int i = 0; i < m; ++i) {
@@ -97,13 +97,24 @@ FibonacciKdTree<MemorySpace> build_mirrored_kdtree(int n) {
     pts[i] = p;
     pts[m + i] = Vec3(p.x, p.y, -p.z);
   }
-  return build_point_kdtree<MemorySpace>(pts);
+  return pts;
 }
 
-// hemisphere_neighbors through the mirrored tree: images report the stored point they mirror.
-template <class MemorySpace>
-KOKKOS_INLINE_FUNCTION ViewNeighbors mirrored_neighbors(const FibonacciKdTree<MemorySpace>& tree,
-                                                        const Vec3& q, Real radius, int m) {
+template <class MemorySpace = Kokkos::DefaultExecutionSpace::memory_space>
+FibonacciKdTree<MemorySpace> build_mirrored_kdtree(int n) {
+  return build_point_kdtree<MemorySpace>(mirrored_points(n));
+}
+
+template <class MemorySpace = Kokkos::DefaultExecutionSpace::memory_space>
+SphereGrid<MemorySpace> build_mirrored_grid(int n) {
+  return build_point_grid<MemorySpace>(mirrored_points(n), fibonacci_radius(n));
+}
+
+// hemisphere_neighbors through the mirrored tree or grid: images report the stored point they
+// mirror.
+template <class MirroredLookup>
+KOKKOS_INLINE_FUNCTION ViewNeighbors mirrored_neighbors(const MirroredLookup& tree, const Vec3& q,
+                                                        Real radius, int m) {
   ViewNeighbors nb = tree.neighbors(q, radius);
   for (int k = 0; k < nb.count; ++k)
     if (nb.index[k] >= m) nb.index[k] -= m;

@@ -127,7 +127,7 @@ TEST(BakeRender, ViewDependentMapShowsTheCameraRayDirection) {
   int cam_index = 0;
   for (const Vec3d& pos : {Vec3d(0.0, 0.0, 3.0), Vec3d(2.2, 0.4, 1.6)}) {
     const DeviceCamera cam = camera_at(pos);
-    for (const Lookup lookup : {Lookup::kKdTree, Lookup::kSphericalFibonacci}) {
+    for (const Lookup lookup : {Lookup::kGrid, Lookup::kKdTree, Lookup::kSphericalFibonacci}) {
       RenderParams p;
       p.width = p.height = kSize;
       p.lookup = lookup;
