@@ -46,14 +46,6 @@ double seconds_per_query(int queries, F&& f) {
   return best / queries;
 }
 
-// Whether two answers hold the same neighbours with the same weights, in the same order.
-KOKKOS_INLINE_FUNCTION bool same_neighbors(const ViewNeighbors& a, const ViewNeighbors& b) {
-  bool same = a.count == b.count;
-  for (int k = 0; k < a.count && same; ++k)
-    same = a.index[k] == b.index[k] && a.weight[k] == b.weight[k];
-  return same;
-}
-
 void run(int n, int queries, int checked) {
   const auto pts = fibonacci_points<Mem>(n);
   const auto kd = build_fibonacci_kdtree<Mem>(n);

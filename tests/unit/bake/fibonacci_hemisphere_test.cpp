@@ -44,13 +44,6 @@ KOKKOS_INLINE_FUNCTION ViewNeighbors exhaustive(const Kokkos::View<Vec3*, Mem>& 
   return detail::finish_neighbors(c, radius, nearest);
 }
 
-KOKKOS_INLINE_FUNCTION bool same(const ViewNeighbors& a, const ViewNeighbors& b) {
-  bool ok = a.count == b.count;
-  for (int k = 0; ok && k < a.count; ++k)
-    ok = a.index[k] == b.index[k] && a.weight[k] == b.weight[k];
-  return ok;
-}
-
 // Mismatches against the exhaustive search: KD-tree, inverse mapping, mirrored tree, grid,
 // mirrored grid.
 std::array<int, 5> hemisphere_mismatches(int n) {
@@ -68,11 +61,11 @@ std::array<int, 5> hemisphere_mismatches(int n) {
       KOKKOS_LAMBDA(int i, int& kw, int& sw, int& mw, int& gw, int& mgw) {
         const Vec3 q = random_front(i);
         const ViewNeighbors ref = exhaustive(pts, m, q, r);
-        kw += same(hemisphere_neighbors(kd, pts, q, r, m), ref) ? 0 : 1;
-        sw += same(hemisphere_neighbors(sf, pts, q, r, m), ref) ? 0 : 1;
-        mw += same(mirrored_neighbors(mirrored, q, r, m), ref) ? 0 : 1;
-        gw += same(hemisphere_neighbors(grid, pts, q, r, m), ref) ? 0 : 1;
-        mgw += same(mirrored_neighbors(mirrored_grid, q, r, m), ref) ? 0 : 1;
+        kw += same_neighbors(hemisphere_neighbors(kd, pts, q, r, m), ref) ? 0 : 1;
+        sw += same_neighbors(hemisphere_neighbors(sf, pts, q, r, m), ref) ? 0 : 1;
+        mw += same_neighbors(mirrored_neighbors(mirrored, q, r, m), ref) ? 0 : 1;
+        gw += same_neighbors(hemisphere_neighbors(grid, pts, q, r, m), ref) ? 0 : 1;
+        mgw += same_neighbors(mirrored_neighbors(mirrored_grid, q, r, m), ref) ? 0 : 1;
       },
       kd_wrong, sf_wrong, mirrored_wrong, grid_wrong, mirrored_grid_wrong);
   return {kd_wrong, sf_wrong, mirrored_wrong, grid_wrong, mirrored_grid_wrong};

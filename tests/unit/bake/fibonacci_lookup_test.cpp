@@ -82,13 +82,6 @@ TEST_P(FibonacciLookup, NearestMatchesExhaustiveSearch) {
 INSTANTIATE_TEST_SUITE_P(ViewpointCounts, FibonacciLookup,
                          ::testing::Values(1, 2, 10, 100, 1000, 100000));
 
-KOKKOS_INLINE_FUNCTION bool same(const ViewNeighbors& a, const ViewNeighbors& b) {
-  bool ok = a.count == b.count;
-  for (int k = 0; ok && k < a.count; ++k)
-    ok = a.index[k] == b.index[k] && a.weight[k] == b.weight[k];
-  return ok;
-}
-
 // Queries whose cap neighbours (indices and weights) differ from exhaustive search, for the
 // KD-tree, the inverse mapping and the grid. A free function: nvcc cannot compile a device
 // lambda inside a gtest TEST body (a private member).
@@ -104,9 +97,9 @@ std::array<int, 3> neighbor_mismatches(int n) {
       KOKKOS_LAMBDA(int i, int& kw, int& sw, int& gw) {
         const Vec3 q = random_direction(i);
         const ViewNeighbors ref = brute_force_neighbors(pts, q, r);
-        kw += same(kd.neighbors(q, r), ref) ? 0 : 1;
-        sw += same(sf.neighbors(q, r), ref) ? 0 : 1;
-        gw += same(grid.neighbors(q, r), ref) ? 0 : 1;
+        kw += same_neighbors(kd.neighbors(q, r), ref) ? 0 : 1;
+        sw += same_neighbors(sf.neighbors(q, r), ref) ? 0 : 1;
+        gw += same_neighbors(grid.neighbors(q, r), ref) ? 0 : 1;
       },
       kd_wrong, sf_wrong, grid_wrong);
   return {kd_wrong, sf_wrong, grid_wrong};
@@ -133,8 +126,8 @@ int grid_mismatches(const std::vector<Vec3>& points, Real r, const std::vector<V
       "rtmini::test::grid_vs_kdtree", Kokkos::RangePolicy<Exec>(0, static_cast<int>(q.extent(0))),
       KOKKOS_LAMBDA(int i, int& w) {
         const bool ok = grid.nearest(q(i)) == kd.nearest(q(i)) &&
-                        same(grid.neighbors(q(i), r), kd.neighbors(q(i), r)) &&
-                        same(grid.neighbors(q(i), 2 * r), kd.neighbors(q(i), 2 * r));
+                        same_neighbors(grid.neighbors(q(i), r), kd.neighbors(q(i), r)) &&
+                        same_neighbors(grid.neighbors(q(i), 2 * r), kd.neighbors(q(i), 2 * r));
         w += ok ? 0 : 1;
       },
       wrong);

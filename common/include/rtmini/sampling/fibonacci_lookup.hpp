@@ -28,6 +28,15 @@ struct ViewNeighbors {
   Real weight[kMaxViewNeighbors];
 };
 
+// Whether two answers hold the same neighbours with the same weights in the same order (the
+// lookups' tests and bench compare them with exhaustive search and with each other).
+KOKKOS_INLINE_FUNCTION bool same_neighbors(const ViewNeighbors& a, const ViewNeighbors& b) {
+  bool same = a.count == b.count;
+  for (int k = 0; same && k < a.count; ++k)
+    same = a.index[k] == b.index[k] && a.weight[k] == b.weight[k];
+  return same;
+}
+
 namespace detail {
 
 // Keeps the kMaxViewNeighbors closest candidates, ordered by (d2, index).
