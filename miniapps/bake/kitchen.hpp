@@ -29,14 +29,17 @@ std::vector<Batch> make_batches(const BakeSceneHost& scene, int ranks, Balance b
                                 const std::vector<double>& vertex_cost = {}, double color_cap = 0);
 
 // The cost of each vertex's colours in a mirror iteration: 1 per colour plus per_hit per mirror
-// hit that needs a viewpoint lookup (hits[v], counted or estimated). Such a hit costs a kd-tree
-// query and three scattered colour reads; a hit on view-independent vertices, or a miss, costs
+// hit that needs a viewpoint lookup (hits[v], counted or estimated). Such a hit costs a
+// viewpoint query and three scattered colour reads; a hit on view-independent vertices, or a miss, costs
 // little more than its cache read. kLookupHitCost: the 16-core host's per-rank iteration times
 // of bunny_room (N = 300, 16 x 1, commit e7c336d) against the ranks' counted work (the same cut
 // recounted here, `results/bake/balance.md`) fit 59 ns per colour + 1.46 us per lookup hit
 // (r^2 = 0.57 on one run's noisy per-rank times; 16 x 1 and 8 x 2 together: 34 ns + 1.66 us,
 // r^2 = 0.93); remote reads add nothing measurable. kPilotLookupHitCost: the older fit (297 ns
-// + 1.40 us) that --balance pilot keeps, so it reproduces the ranges measured before.
+// + 1.40 us) that --balance pilot keeps, so it reproduces the ranges measured before. Both
+// were fitted with the KD-tree lookup; with the grid (the default since) the same fits give a
+// weight of 2.3-4.6 (results/bake/distributed.md, twenty-third round), but re-weighting would
+// move bunny_room's 16 x 1 counted max / mean by under 3 %, inside the cores' own 8-10 %: kept.
 constexpr double kLookupHitCost = 25.0;
 constexpr double kPilotLookupHitCost = 4.7;
 std::vector<double> lookup_hit_cost(const BakeSceneHost& scene, const std::vector<float>& hits,
