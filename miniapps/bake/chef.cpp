@@ -404,6 +404,12 @@ std::int64_t Chef::trace_reference(std::int64_t begin, std::int64_t end,
 ReadCount Chef::trace_mirror_hits(std::int64_t begin, std::int64_t end, std::int64_t cache_offset) {
   if (traced_.extent(0) == 0)
     traced_ = Kokkos::View<TracedHit*, MemSpace>("rtmini::bake::traced_hits", local_items_);
+  return trace_mirror_hits_into(traced_, begin, end, cache_offset);
+}
+
+ReadCount Chef::trace_mirror_hits_into(Kokkos::View<TracedHit*, MemSpace> traced,
+                                       std::int64_t begin, std::int64_t end,
+                                       std::int64_t cache_offset) const {
   const ItemRange items = item_range(scene_.color_offset, begin, end);
   TraceMirrorHits k{scene_.mesh.accel,
                     scene_.mesh.positions,
@@ -411,7 +417,7 @@ ReadCount Chef::trace_mirror_hits(std::int64_t begin, std::int64_t end, std::int
                     scene_.viewpoints,
                     order_.view,
                     scene_.color_offset,
-                    traced_,
+                    traced,
                     begin,
                     end,
                     items.first,

@@ -109,6 +109,9 @@ class Chef {
   // Traces the mirror rays of vertices [begin, end) once and keeps the hits (and fills the hit
   // cache); returns the rays and the BVH nodes they visited.
   ReadCount trace_mirror_hits(std::int64_t begin, std::int64_t end, std::int64_t cache_offset);
+  // The same into another rank's traced hits (a piece taken in a node-shared trace, NodeHits).
+  ReadCount trace_mirror_hits_into(Kokkos::View<TracedHit*, MemSpace> traced, std::int64_t begin,
+                                   std::int64_t end, std::int64_t cache_offset) const;
   // After trace_mirror_hits: flags in `read` every vertex the traced hits of vertices [begin,
   // end) read and counts their lookups and reads, those of vertices not `owned` as remote.
   ReadCount count_mirror_reads(std::int64_t begin, std::int64_t end, std::int64_t cache_offset,

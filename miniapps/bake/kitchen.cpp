@@ -616,6 +616,8 @@ class BakeRun {
   void make_node_share();
   SegmentSizes node_share_room() const;
   std::int64_t trace_shared(int it);
+  bool shares_trace() const;
+  void trace_node_shared();
   void report_node_sharing();
   void report_progress(int it, std::int64_t entries_done);
   void report_stopped(int it);
@@ -675,11 +677,13 @@ class BakeRun {
   std::unique_ptr<MapExchange> exchange_;
   // --node-sharing: the node's ranks take each other's pieces in the mirror iterations.
   std::unique_ptr<NodeShare> share_;
+  std::unique_ptr<NodeHits> node_hits_;    // the node's hit records, from a shared trace on
   std::unique_ptr<NodeScene> node_scene_;  // the node's one copy of the scene (--node-sharing)
   int share_from_ = -1;                    // the first shared iteration
   HitCacheMode shared_mode_ = HitCacheMode::kOff;      // the hit records published
   bool share_stale_ = false;                           // the part changed since it was published
   std::int64_t stolen_items_ = 0, stolen_pieces_ = 0;  // computed here for other ranks
+  std::int64_t trace_stolen_items_ = 0;                // traced here for other ranks
   // The fused halo plan between plan_map and the end of iteration 1 (fuses_halo_plan).
   struct PendingHalo {
     bool active = false;
@@ -980,17 +984,59 @@ void BakeRun::setup() {
 void BakeRun::trace_map() {
   timer_.start("map");
   if (halo_ == Halo::kTraced) {
-    for (std::size_t k = 0; k < my_ranges_.size(); ++k) {
-      const ReadCount n =
-          chef_->trace_mirror_hits(my_ranges_[k].begin, my_ranges_[k].end, my_cache_offset_[k]);
-      traced_.rays += n.rays;
-      traced_.nodes += n.nodes;
+    if (shares_trace()) {
+      trace_node_shared();
+    } else {
+      for (std::size_t k = 0; k < my_ranges_.size(); ++k) {
+        const ReadCount n =
+            chef_->trace_mirror_hits(my_ranges_[k].begin, my_ranges_[k].end, my_cache_offset_[k]);
+        traced_.rays += n.rays;
+        traced_.nodes += n.nodes;
+      }
     }
     totals_.rays += traced_.rays;
     if (recuts_after_trace()) rebalance_by_traced_cost();
     count_reads();
   }
   timer_.stop();
+}
+
+// Whether the mirror trace is shared between the node's ranks (NodeHits): with --node-sharing
+// on (work), on one node, where no recut moves the traced hits after it.
+bool BakeRun::shares_trace() const {
+  return c_.share_work && comm_.size() > 1 && comm_.node_size() == comm_.size() &&
+         !recuts_after_trace();
+}
+
+// The mirror trace with the node's ranks taking each other's pieces, as the iterations do
+// (trace_shared): each rank's hit records live in the node's window from the start, a rank that
+// has traced its own pieces traces the unclaimed pieces of the others into their owners'
+// records, and the records are complete on every rank after the closing barrier. Counted per
+// rank as traced (rays, BVH nodes), whoever owns the vertices.
+void BakeRun::trace_node_shared() {
+  node_hits_ = std::make_unique<NodeHits>(comm_, my_items_, trace_pieces(true));
+  const int me = node_hits_->node_rank(), ranks = node_hits_->node_size();
+  chef_->adopt_traced_hits(node_hits_->traced(me));
+  // Test hook: the node's first rank starts late, so that the others take its pieces for certain.
+  if (me == 0 && c_.share_test_delay > 0)
+    std::this_thread::sleep_for(std::chrono::duration<double>(c_.share_test_delay));
+  for (int k = 0; k < ranks; ++k) {
+    const int owner = (me + k) % ranks;
+    const Kokkos::View<TracedHit*, MemSpace> records = node_hits_->traced(owner);
+    std::int64_t first = 0, end = 0;
+    while (node_hits_->claim(owner, first, end)) {
+      while (first < end) {
+        std::int64_t pieces = 0;
+        const TracePiece r = node_hits_->next_run(owner, first, end, pieces);
+        const ReadCount n = chef_->trace_mirror_hits_into(records, r.begin, r.end, r.cache_offset);
+        traced_.rays += n.rays;
+        traced_.nodes += n.nodes;
+        if (k > 0) trace_stolen_items_ += host_.color_offset[r.end] - host_.color_offset[r.begin];
+      }
+    }
+  }
+  Kokkos::fence();
+  node_hits_->barrier(comm_);
 }
 
 // Which vertices this rank's traced hits read (read_), and its reads per iteration (reads_).
@@ -1629,7 +1675,7 @@ bool BakeRun::shares_iteration(int it) {
 void BakeRun::make_node_share() {
   if (c_.share_work && comm_.size() > 1 && !c_.trace_reference && iterations_ >= 1 &&
       halo_ != Halo::kOwned)
-    share_ = std::make_unique<NodeShare>(comm_, node_share_room());
+    share_ = std::make_unique<NodeShare>(comm_, node_share_room(), node_hits_.get());
 }
 
 // This rank's part is published in its segment of the node's window (the maps and the halo are
@@ -1721,6 +1767,9 @@ void BakeRun::report_node_sharing() {
         comm_.allgatherv(std::vector<double>{static_cast<double>(stolen_items_)});
     s["stolen_pieces_per_rank"] =
         comm_.allgatherv(std::vector<double>{static_cast<double>(stolen_pieces_)});
+    s["trace_shared"] = node_hits_ != nullptr;
+    s["trace_stolen_items_per_rank"] =
+        comm_.allgatherv(std::vector<double>{static_cast<double>(trace_stolen_items_)});
     s["segment_bytes_per_rank"] = comm_.allgatherv(
         std::vector<double>{share_ ? static_cast<double>(share_->segment_bytes()) : 0.0});
   }

@@ -149,7 +149,7 @@ std::size_t NodeShare::carve(unsigned char* at, const SegmentSizes& s, Segment* 
   seg.read_at = c.take<std::int64_t>(first_reads_vertices > 0 ? first_reads_vertices + 1 : 0);
   // The flags last, on pages of their own: release_read_flags gives them back.
   seg.flags = c.take<char>(s.read_flags > 0 ? s.read_flags + 4096 : 0);
-  seg.hits = c.take<unsigned char>(s.hits, kHitBytes);
+  seg.hits = c.take<unsigned char>(s.hits_elsewhere ? 0 : s.hits, kHitBytes);
   seg.buffer[0] = c.take<Vec3f>(s.map_colors);
   seg.buffer[1] = c.take<Vec3f>(s.map_colors);
   seg.halo = c.take<Vec3f>(s.halo_colors);
@@ -233,13 +233,17 @@ void close_node_window(MPI_Win win) {
 
 }  // namespace
 
-NodeShare::NodeShare(const Communicator& comm, const SegmentSizes& room) {
-  room_bytes_ = carve(nullptr, room, nullptr);
+NodeShare::NodeShare(const Communicator& comm, const SegmentSizes& room, const NodeHits* hits)
+    : hits_(hits) {
+  SegmentSizes r = room;
+  r.hits_elsewhere = hits ? 1 : 0;
+  room_bytes_ = carve(nullptr, r, nullptr);
   mine_ = open_node_window(comm, room_bytes_, "the maps", node_, win_);
   MPI_Comm_rank(node_, &node_rank_);
   MPI_Comm_size(node_, &node_size_);
-  carve(mine_, room, &my_segment_);
-  std::memcpy(mine_, &room, sizeof room);
+  carve(mine_, r, &my_segment_);
+  if (hits_) my_segment_.hits = hits_->records(node_rank_);
+  std::memcpy(mine_, &r, sizeof r);
 }
 
 NodeShare::~NodeShare() { close_node_window(win_); }
@@ -290,6 +294,7 @@ void NodeShare::publish(const Communicator& comm, const OwnerPart& mine,
     std::memcpy(header, at, sizeof header);
     Segment& s = segments_[static_cast<std::size_t>(r)];
     carve(static_cast<unsigned char*>(at), header[0], &s);
+    if (header[0].hits_elsewhere) s.hits = hits_->records(r);
     s.used = header[1];
   }
 }
@@ -329,9 +334,40 @@ NodeScene::NodeScene(const Communicator& comm, BakeSceneDevice& scene) {
 
 NodeScene::~NodeScene() { close_node_window(win_); }
 
+NodeHits::NodeHits(const Communicator& comm, std::int64_t hits,
+                   const std::vector<TracePiece>& pieces) {
+  const std::int64_t n = static_cast<std::int64_t>(pieces.size());
+  unsigned char* mine =
+      open_node_window(comm, carve(nullptr, hits, n, nullptr), "the hit records", node_, win_);
+  int ranks = 1;
+  MPI_Comm_rank(node_, &node_rank_);
+  MPI_Comm_size(node_, &ranks);
+  Segment seg;
+  carve(mine, hits, n, &seg);
+  const std::int64_t header[2] = {hits, n};
+  std::memcpy(mine, header, sizeof header);
+  new (seg.counter) std::atomic<std::int64_t>(0);
+  if (n > 0) std::memcpy(seg.piece, pieces.data(), pieces.size() * sizeof(TracePiece));
+  node_window_barrier(comm, node_, win_);
+  segments_.resize(static_cast<std::size_t>(ranks));
+  for (int r = 0; r < ranks; ++r) {
+    MPI_Aint bytes = 0;
+    int disp = 1;
+    void* at = nullptr;
+    MPI_Win_shared_query(win_, r, &bytes, &disp, &at);
+    std::int64_t h[2];
+    std::memcpy(h, at, sizeof h);
+    carve(static_cast<unsigned char*>(at), h[0], h[1], &segments_[static_cast<std::size_t>(r)]);
+  }
+}
+
+NodeHits::~NodeHits() { close_node_window(win_); }
+
+void NodeHits::barrier(const Communicator& comm) const { node_window_barrier(comm, node_, win_); }
+
 #else
 
-NodeShare::NodeShare(const Communicator&, const SegmentSizes&) {
+NodeShare::NodeShare(const Communicator&, const SegmentSizes&, const NodeHits*) {
   throw InputError("bake --node-sharing needs a build with MPI");
 }
 NodeShare::~NodeShare() = default;
@@ -342,23 +378,26 @@ NodeScene::~NodeScene() = default;
 void NodeShare::publish(const Communicator&, const OwnerPart&, const std::vector<TracePiece>&, int,
                         int) {}
 void NodeShare::node_barrier(const Communicator&) const {}
+NodeHits::NodeHits(const Communicator&, std::int64_t, const std::vector<TracePiece>&) {
+  throw InputError("bake --node-sharing needs a build with MPI");
+}
+NodeHits::~NodeHits() = default;
+void NodeHits::barrier(const Communicator&) const {}
 
 #endif
 
-bool NodeShare::claim(int r, int it, std::int64_t& first, std::int64_t& end) const {
-  const Segment& s = segments_[static_cast<std::size_t>(r)];
-  std::atomic<std::int64_t>& counter = s.counters[it].value;
-  const std::int64_t left = s.used.pieces - counter.load(std::memory_order_relaxed);
+bool claim_pieces(std::atomic<std::int64_t>& counter, std::int64_t pieces, int node_size,
+                  std::int64_t& first, std::int64_t& end) {
+  const std::int64_t left = pieces - counter.load(std::memory_order_relaxed);
   if (left <= 0) return false;
-  const std::int64_t want = std::max<std::int64_t>(1, left / (2 * node_size_));
+  const std::int64_t want = std::max<std::int64_t>(1, left / (2 * node_size));
   first = counter.fetch_add(want, std::memory_order_relaxed);
-  end = std::min(first + want, s.used.pieces);
+  end = std::min(first + want, pieces);
   return first < end;
 }
 
-TracePiece NodeShare::next_run(int r, std::int64_t& first, std::int64_t end,
-                               std::int64_t& pieces) const {
-  const TracePiece* p = segments_[static_cast<std::size_t>(r)].pieces;
+TracePiece merge_pieces(const TracePiece* p, std::int64_t& first, std::int64_t end,
+                        std::int64_t& pieces) {
   TracePiece run = p[first];
   pieces = 1;
   // Consecutive pieces of one range: their vertices and hit slots continue the run's.
@@ -367,6 +406,50 @@ TracePiece NodeShare::next_run(int r, std::int64_t& first, std::int64_t end,
     ++pieces;
   }
   return run;
+}
+
+bool NodeShare::claim(int r, int it, std::int64_t& first, std::int64_t& end) const {
+  const Segment& s = segments_[static_cast<std::size_t>(r)];
+  return claim_pieces(s.counters[it].value, s.used.pieces, node_size_, first, end);
+}
+
+TracePiece NodeShare::next_run(int r, std::int64_t& first, std::int64_t end,
+                               std::int64_t& pieces) const {
+  return merge_pieces(segments_[static_cast<std::size_t>(r)].pieces, first, end, pieces);
+}
+
+// A segment of the hit records' window: its sizes, the trace's claim counter (a cache line of
+// its own), the pieces, then the records on pages of their own.
+std::size_t NodeHits::carve(unsigned char* at, std::int64_t hits, std::int64_t pieces,
+                            Segment* out) {
+  Carver c(at);
+  Segment seg;
+  seg.hits = hits;
+  seg.pieces = pieces;
+  c.take<std::int64_t>(2);
+  seg.counter = c.take<std::atomic<std::int64_t>>(1, kAlign);
+  seg.piece = c.take<TracePiece>(pieces);
+  // The records start on the first page boundary within the next 4096 bytes.
+  char* page_room = c.take<char>(4096);
+  if (at) seg.records = reinterpret_cast<unsigned char*>(page_aligned(page_room));
+  c.take<unsigned char>(hits, kHitBytes);
+  if (out) *out = seg;
+  return c.used();
+}
+
+Kokkos::View<TracedHit*, MemSpace> NodeHits::traced(int r) const {
+  const Segment& s = segments_[static_cast<std::size_t>(r)];
+  return view_of(reinterpret_cast<TracedHit*>(s.records), s.hits);
+}
+
+bool NodeHits::claim(int r, std::int64_t& first, std::int64_t& end) const {
+  const Segment& s = segments_[static_cast<std::size_t>(r)];
+  return claim_pieces(*s.counter, s.pieces, node_size(), first, end);
+}
+
+TracePiece NodeHits::next_run(int r, std::int64_t& first, std::int64_t end,
+                              std::int64_t& pieces) const {
+  return merge_pieces(segments_[static_cast<std::size_t>(r)].piece, first, end, pieces);
 }
 
 OwnerPart NodeShare::part(int r, int it) const {

@@ -17,7 +17,9 @@
 // owner exchanges or writes). Every mirror iteration shares, the first one too: there a stolen
 // piece also flags, in the owner's flags, the remote colours its lookups read (FirstReads),
 // from which the owner plans its halo; the part is published again after that plan. The
-// mirror trace before the iterations stays per rank (its cost is balanced to 3 % by the cut).
+// mirror trace before the iterations is shared too where no recut follows it (one node,
+// NodeHits): its cut balances BVH nodes to 2-3 %, but the ranks' speeds spread 1.15-1.18x
+// max / mean over it at 16 x 1 (results/bake/distributed.md, twenty-third round).
 //
 // The maps and the halo live in the window from their allocation (map_buffer, halo): on the
 // lent hosts first touching a page costs about 4 ms per MiB, so copying them in at the first
@@ -44,6 +46,7 @@ struct TracePiece {
 struct SegmentSizes {
   std::int64_t vertices = 0, map_colors = 0, halo_colors = 0;
   std::int64_t hits = 0;  // hit records (the float cache or the traced hits: the larger size)
+  std::int64_t hits_elsewhere = 0;  // the hit records are in NodeHits' window, not here
   std::int64_t sparse = 0, sparse_map_colors = 0, mask_words = 0, kept_words = 0;
   std::int64_t pieces = 0, iterations = 0;
   std::int64_t read_flags = 0;   // FirstReads' flags (a fused first iteration); 0: none
@@ -92,11 +95,65 @@ class NodeScene {
 #endif
 };
 
+// The guided self-scheduling of both windows: claims the next pieces [first, end) of `pieces`
+// through `counter` (a share of what is left: 1 / (2 x the node's ranks), at least one piece),
+// so that a rank of several threads runs few, long dispatches (each piece ends in a tail where
+// its threads wait for the last vertex) and the last claims, the ones that even out the ranks,
+// are single pieces. False once all are claimed.
+bool claim_pieces(std::atomic<std::int64_t>& counter, std::int64_t pieces, int node_size,
+                  std::int64_t& first, std::int64_t& end);
+// The pieces of p from `first` on (before `end`) that continue one vertex range, merged into one
+// dispatch; `first` moves past them, `pieces` is how many they were.
+TracePiece merge_pieces(const TracePiece* p, std::int64_t& first, std::int64_t end,
+                        std::int64_t& pieces);
+
+// The node's traced hit records from the mirror trace on (--node-sharing on, one node: no recut
+// moves hits after the trace). Each rank's segment holds its hit records (room for its colour
+// entries), its trace pieces and one claim counter; a rank that has traced its own pieces takes
+// the unclaimed pieces of the others and writes their hits into the owner's records, which the
+// owner reads as its own: the same bits whoever traces a ray. NodeShare then points its
+// segments' hit records here, so they are written once, by the trace, and never copied.
+class NodeHits {
+ public:
+  // Collective over `comm`: the window, this rank's `hits` records (zeros) and its pieces.
+  NodeHits(const Communicator& comm, std::int64_t hits, const std::vector<TracePiece>& pieces);
+  ~NodeHits();
+  NodeHits(const NodeHits&) = delete;
+  NodeHits& operator=(const NodeHits&) = delete;
+
+  int node_rank() const { return node_rank_; }
+  int node_size() const { return static_cast<int>(segments_.size()); }
+  // Rank r's (node rank) records, as traced hits and as raw bytes (NodeShare's segments).
+  Kokkos::View<TracedHit*, MemSpace> traced(int r) const;
+  unsigned char* records(int r) const { return segments_[static_cast<std::size_t>(r)].records; }
+  bool claim(int r, std::int64_t& first, std::int64_t& end) const;
+  TracePiece next_run(int r, std::int64_t& first, std::int64_t end, std::int64_t& pieces) const;
+  // Node barrier with the window's memory synchronisation (after the trace: every record is in).
+  void barrier(const Communicator& comm) const;
+
+ private:
+  struct Segment {
+    std::int64_t hits = 0, pieces = 0;
+    std::atomic<std::int64_t>* counter = nullptr;
+    TracePiece* piece = nullptr;
+    unsigned char* records = nullptr;
+  };
+  static std::size_t carve(unsigned char* at, std::int64_t hits, std::int64_t pieces, Segment* out);
+
+  int node_rank_ = 0;
+  std::vector<Segment> segments_;
+#ifdef RTMINI_HAVE_MPI
+  MPI_Comm node_ = MPI_COMM_NULL;
+  MPI_Win win_ = MPI_WIN_NULL;
+#endif
+};
+
 class NodeShare {
  public:
   // Collective over `comm` (every rank, whatever its node): makes the node's window with `room`
-  // in this rank's segment (pages are taken only when touched).
-  NodeShare(const Communicator& comm, const SegmentSizes& room);
+  // in this rank's segment (pages are taken only when touched). With `hits`, the segments'
+  // hit records are those of NodeHits' window (made by every rank of the node).
+  NodeShare(const Communicator& comm, const SegmentSizes& room, const NodeHits* hits = nullptr);
   ~NodeShare();
   NodeShare(const NodeShare&) = delete;
   NodeShare& operator=(const NodeShare&) = delete;
@@ -126,14 +183,9 @@ class NodeShare {
   // Rank r's (node rank) part as iteration `it` reads and writes it: the two map buffers swap
   // roles every iteration, as the owner's prev and next do.
   OwnerPart part(int r, int it) const;
-  // Claims the next pieces [first, end) of rank r in iteration `it`; false once all are claimed.
-  // Guided self-scheduling: a claim takes a share of what is left (1 / (2 x the node's ranks),
-  // at least one piece), so that a rank of several threads runs few, long dispatches (each
-  // piece ends in a tail where its threads wait for the last vertex) and the last claims, the
-  // ones that even out the ranks, are single pieces.
+  // Claims the next pieces [first, end) of rank r in iteration `it` (claim_pieces).
   bool claim(int r, int it, std::int64_t& first, std::int64_t& end) const;
-  // The pieces from `first` on (before `end`) that continue one vertex range of rank r, merged
-  // into one dispatch; `first` moves past them, `pieces` is how many they were.
+  // The pieces from `first` on that continue one vertex range of rank r (merge_pieces).
   TracePiece next_run(int r, std::int64_t& first, std::int64_t end, std::int64_t& pieces) const;
 
   // Node barriers around an iteration's pieces, with the memory synchronisation of the window.
@@ -167,6 +219,7 @@ class NodeShare {
   int node_rank_ = 0, node_size_ = 1;
   std::size_t room_bytes_ = 0;
   unsigned char* mine_ = nullptr;
+  const NodeHits* hits_ = nullptr;  // where the hit records are (nullptr: in the segments)
   Segment my_segment_;
   std::vector<Segment> segments_;  // every rank's of the node, once published
 #ifdef RTMINI_HAVE_MPI

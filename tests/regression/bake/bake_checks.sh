@@ -216,8 +216,8 @@ case $case_name in
       { cat log6.txt; fail "restart on $other ranks (cost) failed"; }
     cmp one.bs part2.bs || fail "checkpoint of $ranks ranks restarted on $other (cost) differs"
     # Node sharing (--node-sharing on): one copy of the scene, and the ranks take each other's
-    # pieces in the cached iterations; the node's first rank starts them 0.3 s late, so the
-    # others take its pieces.
+    # pieces in the mirror trace and the iterations; the node's first rank starts each 0.3 s
+    # late, so the others take its pieces.
     run "$ranks" "${args[@]}" -o shared.bs --node-sharing on --share-test-delay 0.3 \
       --summary shared.json >log10.txt 2>&1 || { cat log10.txt; fail "$ranks-rank shared bake failed"; }
     cmp one.bs shared.bs || fail "--node-sharing on differs from 1 rank"
@@ -275,6 +275,10 @@ if r > 1:
     stolen = sh["stolen_items_per_rank"]
     assert stolen[0] == 0 and sum(stolen[1:]) > 0, sh
     assert sum(stolen) <= 3 * colors, (stolen, colors)  # three shared iterations (1 to 3)
+    # The mirror trace shared too (one node, no recut after it): the late first rank's pieces
+    # traced by the others into its records, each colour entry's ray traced once.
+    traced = sh["trace_stolen_items_per_rank"]
+    assert sh["trace_shared"] and 0 < sum(traced[1:]) and sum(traced) <= colors, sh
     # Each rank's share of the node's memory (PSS), where its RSS also counts the pages of other
     # ranks' segments that it read.
     pss = json.load(open("shared.json"))["scene"]["max_pss_after_step_bytes_per_rank"]
