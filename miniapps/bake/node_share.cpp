@@ -225,6 +225,15 @@ void node_window_barrier(const Communicator& comm, MPI_Comm node, MPI_Win win) {
   MPI_Win_sync(win);  // and this rank sees theirs
 }
 
+// Where node rank r's segment of a shared window is mapped in this process.
+unsigned char* segment_of(MPI_Win win, int r) {
+  MPI_Aint bytes = 0;
+  int disp = 1;
+  void* at = nullptr;
+  MPI_Win_shared_query(win, r, &bytes, &disp, &at);
+  return static_cast<unsigned char*>(at);
+}
+
 // Not MPI_Win_free: it is collective, and a destructor may run on one rank's error path while
 // the others wait elsewhere (they would hang). The window goes with MPI_Finalize.
 void close_node_window(MPI_Win win) {
@@ -286,14 +295,11 @@ void NodeShare::publish(const Communicator& comm, const OwnerPart& mine,
   node_barrier(comm);
   segments_.resize(static_cast<std::size_t>(node_size_));
   for (int r = 0; r < node_size_; ++r) {
-    MPI_Aint bytes = 0;
-    int disp = 1;
-    void* at = nullptr;
-    MPI_Win_shared_query(win_, r, &bytes, &disp, &at);
+    unsigned char* at = segment_of(win_, r);
     SegmentSizes header[2];  // room, used
     std::memcpy(header, at, sizeof header);
     Segment& s = segments_[static_cast<std::size_t>(r)];
-    carve(static_cast<unsigned char*>(at), header[0], &s);
+    carve(at, header[0], &s);
     if (header[0].hits_elsewhere) s.hits = hits_->records(r);
     s.used = header[1];
   }
@@ -316,10 +322,7 @@ NodeScene::NodeScene(const Communicator& comm, BakeSceneDevice& scene) {
     });
   }
   node_window_barrier(comm, node_, win_);
-  MPI_Aint size = 0;
-  int disp = 1;
-  unsigned char* shared = nullptr;
-  MPI_Win_shared_query(win_, 0, &size, &disp, &shared);
+  unsigned char* shared = segment_of(win_, 0);
   std::size_t at = 0;
   for_each_scene_array(scene, [&](auto& v) {
     using View = std::decay_t<decltype(v)>;
@@ -351,13 +354,10 @@ NodeHits::NodeHits(const Communicator& comm, std::int64_t hits,
   node_window_barrier(comm, node_, win_);
   segments_.resize(static_cast<std::size_t>(ranks));
   for (int r = 0; r < ranks; ++r) {
-    MPI_Aint bytes = 0;
-    int disp = 1;
-    void* at = nullptr;
-    MPI_Win_shared_query(win_, r, &bytes, &disp, &at);
-    std::int64_t h[2];
+    unsigned char* at = segment_of(win_, r);
+    std::int64_t h[2];  // hits, pieces
     std::memcpy(h, at, sizeof h);
-    carve(static_cast<unsigned char*>(at), h[0], h[1], &segments_[static_cast<std::size_t>(r)]);
+    carve(at, h[0], h[1], &segments_[static_cast<std::size_t>(r)]);
   }
 }
 
