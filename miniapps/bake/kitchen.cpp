@@ -1011,11 +1011,13 @@ bool BakeRun::shares_trace() const {
 // The mirror trace with the node's ranks taking each other's pieces, as the iterations do
 // (trace_shared): each rank's hit records live in the node's window from the start, a rank that
 // has traced its own pieces traces the unclaimed pieces of the others into their owners'
-// records, and the records are complete on every rank after the closing barrier. Counted per
-// rank as traced (rays, BVH nodes), whoever owns the vertices.
+// records, and the records are complete on every rank after the closing barrier. The rays and
+// BVH nodes are counted for the owner of the vertices (the work counters stay the cut's, the
+// same on any machine), the colour entries traced for others for the tracer.
 void BakeRun::trace_node_shared() {
   node_hits_ = std::make_unique<NodeHits>(comm_, my_items_, trace_pieces(true));
   const int me = node_hits_->node_rank(), ranks = node_hits_->node_size();
+  std::vector<double> counted(2 * static_cast<std::size_t>(ranks), 0.0);  // rays, nodes by owner
   chef_->adopt_traced_hits(node_hits_->traced(me));
   // Test hook: the node's first rank starts late, so that the others take its pieces for certain.
   if (me == 0 && c_.share_test_delay > 0)
@@ -1029,14 +1031,20 @@ void BakeRun::trace_node_shared() {
         std::int64_t pieces = 0;
         const TracePiece r = node_hits_->next_run(owner, first, end, pieces);
         const ReadCount n = chef_->trace_mirror_hits_into(records, r.begin, r.end, r.cache_offset);
-        traced_.rays += n.rays;
-        traced_.nodes += n.nodes;
+        counted[2 * owner] += static_cast<double>(n.rays);
+        counted[2 * owner + 1] += static_cast<double>(n.nodes);
         if (k > 0) trace_stolen_items_ += host_.color_offset[r.end] - host_.color_offset[r.begin];
       }
     }
   }
   Kokkos::fence();
   node_hits_->barrier(comm_);
+  // One node: node rank = rank (the node's communicator keeps the order of comm_'s).
+  const std::vector<double> all = comm_.allgatherv(counted);
+  for (int r = 0; r < ranks; ++r) {
+    traced_.rays += static_cast<std::int64_t>(all[2 * (r * ranks + me)]);
+    traced_.nodes += static_cast<std::int64_t>(all[2 * (r * ranks + me) + 1]);
+  }
 }
 
 // Which vertices this rank's traced hits read (read_), and its reads per iteration (reads_).

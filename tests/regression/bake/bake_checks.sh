@@ -279,6 +279,10 @@ if r > 1:
     # traced by the others into its records, each colour entry's ray traced once.
     traced = sh["trace_stolen_items_per_rank"]
     assert sh["trace_shared"] and 0 < sum(traced[1:]) and sum(traced) <= colors, sh
+    # The work counters stay the cut's: each rank's trace rays and nodes, whoever traced them.
+    shared_work = json.load(open("shared.json"))["scene"]["work"]
+    for k in ("trace_rays", "trace_nodes"):
+        assert shared_work[k]["per_rank"] == w[k]["per_rank"], (k, shared_work[k], w[k])
     # Each rank's share of the node's memory (PSS), where its RSS also counts the pages of other
     # ranks' segments that it read.
     pss = json.load(open("shared.json"))["scene"]["max_pss_after_step_bytes_per_rank"]
