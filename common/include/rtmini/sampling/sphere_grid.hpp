@@ -26,9 +26,9 @@ namespace rtmini {
 
 // Cube-face cells per unit of cap radius (a cell edge of about r / 2.8 near a face's centre,
 // lists of about 11 points for caps of 8). rtmini-bake-lookup-bench's sweep, one core of the
-// 2-core VM: 2.8 -> 11.3 cells per r took a cap query from 298 to 270 ns at N = 100 and 301 to
-// 279 ns at N = 1000 (the KD-tree: 711 and 1416 ns), while the table grows 16-fold; 5.7 is
-// within 5 % of the finest.
+// 2-core VM (results/bake/raw_grid_lookup/local/lookup_bench_1t.txt): 2.8 -> 11.3 cells per r
+// took a cap query from 318 to 287 ns at N = 100 and 321 to 292 ns at N = 1000 (the KD-tree:
+// 706 and 1410 ns), while the table grows 16-fold; 5.7 is within 4 % of the finest.
 inline constexpr double kGridCellsPerRadius = 5.7;
 inline constexpr int kGridMaxCellsPerEdge = 512;
 
