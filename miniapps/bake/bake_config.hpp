@@ -51,6 +51,10 @@ struct BakeConfig {
   // --node-sharing (node_share.hpp): the ranks of a node read one copy of the scene (scene, on)
   // and take each other's unfinished pieces (work, on)
   bool share_scene = false, share_work = false;
+  // --node-map: with work shared by every rank of one node, the node keeps one map in its
+  // shared memory that every rank reads directly (node_share.hpp, NodeMap), instead of each rank
+  // its part and a halo refreshed by exchanges
+  bool node_map = true;
   double share_test_delay = 0;    // hidden test hook: the node's first rank starts each shared
                                   // iteration this many seconds late
   int stop_after_iteration = -1;  // hidden test hook: checkpoint, then exit 4

@@ -607,6 +607,7 @@ class BakeRun {
   void report_map_plan();
   void bake_base();
   void restart();
+  void restart_local_map();
   int iterate();
   HitCacheMode hit_mode(int it) const;
   std::vector<TracePiece> trace_pieces(bool progress) const;
@@ -617,6 +618,8 @@ class BakeRun {
   SegmentSizes node_share_room() const;
   std::int64_t trace_shared(int it);
   bool shares_trace() const;
+  bool uses_node_map() const;
+  void plan_node_map();
   void trace_node_shared();
   void report_node_sharing();
   void report_progress(int it, std::int64_t entries_done);
@@ -679,6 +682,7 @@ class BakeRun {
   std::unique_ptr<NodeShare> share_;
   std::unique_ptr<NodeHits> node_hits_;    // the node's hit records, from a shared trace on
   std::unique_ptr<NodeScene> node_scene_;  // the node's one copy of the scene (--node-sharing)
+  std::unique_ptr<NodeMap> node_map_;      // the node's one map (uses_node_map)
   int share_from_ = -1;                    // the first shared iteration
   HitCacheMode shared_mode_ = HitCacheMode::kOff;      // the hit records published
   bool share_stale_ = false;                           // the part changed since it was published
@@ -896,7 +900,8 @@ nlohmann::json BakeRun::parameters() const {
           {"restart", c_.restart},
           {"reference", c_.reference},
           {"trace_reference", c_.trace_reference},
-          {"node_sharing", node_sharing_name(c_)}};
+          {"node_sharing", node_sharing_name(c_)},
+          {"node_map", c_.node_map}};
 }
 
 void BakeRun::print_banner(const MemoryEstimate& mem, double max_mem) const {
@@ -1088,6 +1093,11 @@ MapLayout BakeRun::remote_layout(const std::vector<char>& own) const {
 // keeps the remote ones fresh.
 void BakeRun::plan_map() {
   timer_.start("halo");
+  if (uses_node_map()) {
+    plan_node_map();
+    timer_.stop();
+    return;
+  }
   const std::vector<char> own = owned_vertices();
   if (fuses_halo_plan()) {
     start_fused_plan(own);
@@ -1111,6 +1121,27 @@ void BakeRun::plan_map() {
   next_ = share_ ? share_->map_buffer(1)
                  : Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_next", layout_.colors());
   timer_.stop();
+}
+
+// Whether the ranks keep one map per node (NodeMap, --node-map on): with work shared by every
+// rank of one node (no recut follows the trace there, and shared work takes no --balance
+// measured). Not for the traced reference or a run without mirror iterations (no map is read
+// across ranks).
+bool BakeRun::uses_node_map() const {
+  return c_.node_map && c_.share_work && comm_.size() > 1 && comm_.node_size() == comm_.size() &&
+         !c_.trace_reference && iterations_ >= 1 && halo_ != Halo::kOwned;
+}
+
+// The node's one map: every vertex at its place in the whole map, both buffers in the node's
+// window; each rank writes its own vertices and reads any. Nothing to plan or exchange.
+void BakeRun::plan_node_map() {
+  layout_ = make_map_layout(host_, std::vector<char>(static_cast<std::size_t>(host_.vertices()), 1));
+  node_map_ = std::make_unique<NodeMap>(comm_, layout_.colors());
+  make_node_share();
+  chef_->set_map_offset(layout_.device);
+  prev_ = share_->map_buffer(0);
+  next_ = share_->map_buffer(1);
+  report_map_plan();
 }
 
 // The room this rank's segment of the node's window needs (node_share.hpp): the maps and the
@@ -1156,7 +1187,7 @@ void BakeRun::plan_exchange() {
 // right after it. A restart's first iteration reads a map that varies per viewpoint, so it needs
 // the read set up front: a separate pass over the lookups (read_items).
 bool BakeRun::fuses_halo_plan() const {
-  return halo_ == Halo::kTraced && c_.restart.empty() && iterations_ >= 1;
+  return halo_ == Halo::kTraced && c_.restart.empty() && iterations_ >= 1 && !uses_node_map();
 }
 
 // Until iteration 1 has run, this rank's map holds its own vertices only; the remote vertices'
@@ -1241,7 +1272,10 @@ std::vector<std::pair<const char*, double>> BakeRun::resident_buffers() const {
   double first = 0;  // the fused first iteration's read flags, their layout, the remote bases
   if (pending_.active)
     first = bytes(pending_.flags) + double(pending_.remote.table_bytes()) + nv * sizeof(Vec3f);
-  return {{"map", bytes(prev_) + bytes(next_)},
+  // The node's one map: this rank's share of it, its own vertices (the rest is the others').
+  const double map = node_map_ ? 2.0 * static_cast<double>(my_items_ * sizeof(Vec3f))
+                               : bytes(prev_) + bytes(next_);
+  return {{"map", map},
           {"hits", chef_ ? double(chef_->hit_bytes()) : 0.0},
           {"halo", exchange_ ? bytes(exchange_->halo()) : 0.0},
           {"send_list", exchange_ ? double(exchange_->send_list_bytes()) : 0.0},
@@ -1490,9 +1524,11 @@ void BakeRun::report_map_plan() {
   // reads and the remote ones among them.
   enum Field { kLocal, kHalo, kSent, kRanges, kReads, kRemote, kFields };
   std::vector<double> mine(kFields);
-  mine[kLocal] = static_cast<double>(layout_.colors() + layout_.halo_colors);
+  // With the node's one map a rank holds its own vertices' part of it (and reads the rest there).
+  mine[kLocal] = static_cast<double>(node_map_ ? my_items_
+                                               : layout_.colors() + layout_.halo_colors);
   mine[kHalo] = static_cast<double>(layout_.halo_colors);
-  mine[kSent] = static_cast<double>(exchange_->send_colors());
+  mine[kSent] = static_cast<double>(exchange_ ? exchange_->send_colors() : 0);
   mine[kRanges] = static_cast<double>(my_ranges_.size());
   mine[kReads] = static_cast<double>(reads_.reads);
   mine[kRemote] = static_cast<double>(reads_.remote_reads);
@@ -1512,7 +1548,8 @@ void BakeRun::report_map_plan() {
   const std::vector<double>& halo_per_rank = per_rank[kHalo];
   const std::vector<double>& send_per_rank = per_rank[kSent];
   const std::vector<double>& ranges_per_rank = per_rank[kRanges];
-  report_.scene["map"] = {{"halo", halo_ == Halo::kAll     ? "all"
+  report_.scene["map"] = {{"halo", node_map_               ? "node"
+                                   : halo_ == Halo::kAll   ? "all"
                                    : halo_ == Halo::kOwned ? "owned"
                                                            : "traced"},
                           {"local_colors_max", max_local},
@@ -1524,16 +1561,17 @@ void BakeRun::report_map_plan() {
                           {"mirror_reads", reads},
                           {"remote_read_fraction", reads > 0 ? remote / reads : 0.0},
                           {"exchange_bytes_per_iteration", bytes},
-                          {"exchange_buffers", comm_.size() == 1     ? "none"
+                          {"exchange_buffers", comm_.size() == 1 || !exchange_ ? "none"
                                                : exchange_->direct() ? "direct"
                                                                      : "host-staged"}};
   params_["map"] = report_.scene["map"];
   if (root_)
     std::printf(
         "  map per rank: %.0f colours max (%.1f %% of the whole map; halo %.0f max), %.3g %% of "
-        "mirror reads remote, %s exchanged per iteration\n",
+        "mirror reads remote, %s exchanged per iteration%s\n",
         max_local, 100.0 * max_local / std::max<double>(1.0, double(host_.colors())), max_halo,
-        reads > 0 ? 100.0 * remote / reads : 0.0, human_bytes(bytes).c_str());
+        reads > 0 ? 100.0 * remote / reads : 0.0, human_bytes(bytes).c_str(),
+        node_map_ ? " (one map per node, read in place)" : "");
 }
 
 // One flag per entry of `remote` (remote_layout): the remote colours this rank's traced lookups
@@ -1566,16 +1604,32 @@ void BakeRun::bake_base() {
 void BakeRun::restart() {
   if (c_.restart.empty()) return;
   to_storage_order(chef_->view_order(), host_.color_offset, restart_cp_.colors);
+  first_ = restart_cp_.iteration + 1;
+  if (node_map_) {
+    // The node's map is laid out as the checkpoint: each rank fills its own vertices.
+    for (const VertexRange& r : my_ranges_) {
+      const std::int64_t a = host_.color_offset[r.begin], b = host_.color_offset[r.end];
+      Kokkos::deep_copy(Kokkos::subview(prev_, std::make_pair(a, b)),
+                        compat::host_view(restart_cp_.colors.data() + a, std::size_t(b - a)));
+    }
+    std::vector<Vec3f>().swap(restart_cp_.colors);
+    node_map_->barrier(comm_);
+  } else {
+    restart_local_map();
+  }
+  if (root_)
+    std::printf("  restart: iteration %d of %s done, resuming at %d\n", restart_cp_.iteration,
+                c_.restart.c_str(), first_);
+}
+
+// The checkpoint's map cut to this rank's layout: its own vertices and its halo.
+void BakeRun::restart_local_map() {
   std::vector<Vec3f> local = localise_map(host_, layout_, restart_cp_.colors);
   std::vector<Vec3f>().swap(restart_cp_.colors);
-  first_ = restart_cp_.iteration + 1;
   const std::size_t map = static_cast<std::size_t>(layout_.colors());
   Kokkos::deep_copy(prev_, compat::host_view(local.data(), map));
   if (exchange_ && layout_.halo_colors > 0)
     Kokkos::deep_copy(exchange_->halo(), compat::host_view(local.data() + map, local.size() - map));
-  if (root_)
-    std::printf("  restart: iteration %d of %s done, resuming at %d\n", restart_cp_.iteration,
-                c_.restart.c_str(), first_);
 }
 
 // Where iteration `it` finds its mirror hits. The first iteration after the start traces them
@@ -1683,7 +1737,8 @@ bool BakeRun::shares_iteration(int it) {
 void BakeRun::make_node_share() {
   if (c_.share_work && comm_.size() > 1 && !c_.trace_reference && iterations_ >= 1 &&
       halo_ != Halo::kOwned)
-    share_ = std::make_unique<NodeShare>(comm_, node_share_room(), node_hits_.get());
+    share_ = std::make_unique<NodeShare>(comm_, node_share_room(), node_hits_.get(),
+                                         node_map_.get());
 }
 
 // This rank's part is published in its segment of the node's window (the maps and the halo are
@@ -1704,9 +1759,13 @@ void BakeRun::start_node_sharing(int it) {
   if (root_)
     std::printf(
         "  node sharing from iteration %d: %d ranks on this node, %zu pieces each, "
-        "%.1f MiB shared by this rank\n",
+        "%.1f MiB shared by this rank%s\n",
         it, share_->node_size(), pieces_.size(),
-        static_cast<double>(share_->segment_bytes()) / (1 << 20));
+        static_cast<double>(share_->segment_bytes()) / (1 << 20),
+        node_map_ ? (", the node's map " + human_bytes(2.0 * double(node_map_->colors()) *
+                                                          sizeof(Vec3f)))
+                        .c_str()
+                  : "");
 }
 
 // Iteration `it` with the node's ranks sharing work: this rank claims its own pieces first, then
@@ -1780,6 +1839,9 @@ void BakeRun::report_node_sharing() {
         comm_.allgatherv(std::vector<double>{static_cast<double>(trace_stolen_items_)});
     s["segment_bytes_per_rank"] = comm_.allgatherv(
         std::vector<double>{share_ ? static_cast<double>(share_->segment_bytes()) : 0.0});
+    // The node's one map, both buffers (not in the segments); 0: per-rank maps.
+    s["node_map_bytes"] =
+        node_map_ ? 2.0 * static_cast<double>(node_map_->colors()) * sizeof(Vec3f) : 0.0;
   }
   report_.scene["node_shared_work"] = s;
   params_["node_shared_work"] = s;
@@ -1809,6 +1871,8 @@ void BakeRun::exchange(int it, IterationRecord& rec) {
     finish_fused_plan(it);
   }
   std::swap(prev_, next_);
+  // The node's map: every rank's colours of this iteration are seen by all before the next.
+  if (node_map_) node_map_->barrier(comm_);
   rec.allgather_bytes = exchange_ && it < iterations_ ? exchange_->run(comm_, prev_, next_) : 0;
   rec.allgather = timer_.now() - t0;
 }

@@ -54,6 +54,7 @@ struct MapCli {
   std::string lookup = "grid", balance = "cost", bvh_kind = "lbvh", mode = "map";
   std::string exchange = "changed";
   std::string node_sharing = "off";
+  std::string node_map = "on";
   std::string directions = "sphere";
   std::string background;
   bool no_cache = false;
@@ -96,6 +97,10 @@ void MapCli::add_to(CLI::App& app, BakeConfig& c) {
                  "what the ranks of a node share through MPI shared memory (host backends; same "
                  "output): scene (one copy of the mesh and BVH per node), work (each other's "
                  "unfinished pieces of the mirror iterations), on (both) or off (default)");
+  app.add_option("--node-map", node_map,
+                 "with --node-sharing work or on and every rank on one node: on (default), the "
+                 "node keeps one map in shared memory that every rank reads (no halo, no "
+                 "exchange), or off, each rank its part and a halo (as across nodes); same output");
   app.add_option("--batch-size", c.batch_size, "vertices per batch (0 = vertices/ranks)");
   app.add_option("--max-colors", c.color_cap,
                  "most colours a batch (a rank) may own, as a multiple of the mean, under the "
@@ -172,6 +177,9 @@ void MapCli::finish(BakeConfig& c) const {
     throw InputError("--node-sharing must be off, scene, work or on (got '" + node_sharing + "')");
   c.share_scene = node_sharing == "scene" || node_sharing == "on";
   c.share_work = node_sharing == "work" || node_sharing == "on";
+  if (node_map != "on" && node_map != "off")
+    throw InputError("--node-map must be on or off (got '" + node_map + "')");
+  c.node_map = node_map == "on";
   if (c.share_work && c.balance == Balance::kMeasured)
     throw InputError("--node-sharing " + node_sharing +
                      " takes no --balance measured: the recut moves vertices between ranks after "

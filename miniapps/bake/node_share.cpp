@@ -150,8 +150,8 @@ std::size_t NodeShare::carve(unsigned char* at, const SegmentSizes& s, Segment* 
   // The flags last, on pages of their own: release_read_flags gives them back.
   seg.flags = c.take<char>(s.read_flags > 0 ? s.read_flags + 4096 : 0);
   seg.hits = c.take<unsigned char>(s.hits_elsewhere ? 0 : s.hits, kHitBytes);
-  seg.buffer[0] = c.take<Vec3f>(s.map_colors);
-  seg.buffer[1] = c.take<Vec3f>(s.map_colors);
+  seg.buffer[0] = c.take<Vec3f>(s.map_elsewhere ? 0 : s.map_colors);
+  seg.buffer[1] = c.take<Vec3f>(s.map_elsewhere ? 0 : s.map_colors);
   seg.halo = c.take<Vec3f>(s.halo_colors);
   seg.room = s;
   if (out) *out = seg;
@@ -242,17 +242,30 @@ void close_node_window(MPI_Win win) {
 
 }  // namespace
 
-NodeShare::NodeShare(const Communicator& comm, const SegmentSizes& room, const NodeHits* hits)
-    : hits_(hits) {
+NodeShare::NodeShare(const Communicator& comm, const SegmentSizes& room, const NodeHits* hits,
+                     const NodeMap* map)
+    : hits_(hits), map_(map) {
   SegmentSizes r = room;
   r.hits_elsewhere = hits ? 1 : 0;
+  r.map_elsewhere = map ? 1 : 0;
+  if (map && map->colors() != r.map_colors)
+    throw std::logic_error("bake: node sharing: the node's map is not the whole map");
   room_bytes_ = carve(nullptr, r, nullptr);
   mine_ = open_node_window(comm, room_bytes_, "the maps", node_, win_);
   MPI_Comm_rank(node_, &node_rank_);
   MPI_Comm_size(node_, &node_size_);
   carve(mine_, r, &my_segment_);
-  if (hits_) my_segment_.hits = hits_->records(node_rank_);
+  point_elsewhere(node_rank_, my_segment_);
   std::memcpy(mine_, &r, sizeof r);
+}
+
+// Where segment r's hit records and map buffers are when they live in another window.
+void NodeShare::point_elsewhere(int r, Segment& s) const {
+  if (s.room.hits_elsewhere) s.hits = hits_->records(r);
+  if (s.room.map_elsewhere) {
+    s.buffer[0] = map_->buffer(0);
+    s.buffer[1] = map_->buffer(1);
+  }
 }
 
 NodeShare::~NodeShare() { close_node_window(win_); }
@@ -300,7 +313,7 @@ void NodeShare::publish(const Communicator& comm, const OwnerPart& mine,
     std::memcpy(header, at, sizeof header);
     Segment& s = segments_[static_cast<std::size_t>(r)];
     carve(at, header[0], &s);
-    if (header[0].hits_elsewhere) s.hits = hits_->records(r);
+    point_elsewhere(r, s);
     s.used = header[1];
   }
 }
@@ -363,11 +376,26 @@ NodeHits::NodeHits(const Communicator& comm, std::int64_t hits,
 
 NodeHits::~NodeHits() { close_node_window(win_); }
 
+// The node's first rank holds both buffers (its pages are taken as the ranks write their own
+// vertices); every rank maps them at their place in its address space.
+NodeMap::NodeMap(const Communicator& comm, std::int64_t colors) : colors_(colors) {
+  const std::size_t buffer_bytes = aligned(static_cast<std::size_t>(colors) * sizeof(Vec3f));
+  const bool first = comm.node_rank() == 0;
+  open_node_window(comm, first ? 2 * buffer_bytes : 0, "the node's map", node_, win_);
+  unsigned char* at = segment_of(win_, 0);
+  buffer_[0] = reinterpret_cast<Vec3f*>(at);
+  buffer_[1] = reinterpret_cast<Vec3f*>(at + buffer_bytes);
+}
+
+NodeMap::~NodeMap() { close_node_window(win_); }
+
+void NodeMap::barrier(const Communicator& comm) const { node_window_barrier(comm, node_, win_); }
+
 void NodeHits::barrier(const Communicator& comm) const { node_window_barrier(comm, node_, win_); }
 
 #else
 
-NodeShare::NodeShare(const Communicator&, const SegmentSizes&, const NodeHits*) {
+NodeShare::NodeShare(const Communicator&, const SegmentSizes&, const NodeHits*, const NodeMap*) {
   throw InputError("bake --node-sharing needs a build with MPI");
 }
 NodeShare::~NodeShare() = default;
@@ -383,6 +411,11 @@ NodeHits::NodeHits(const Communicator&, std::int64_t, const std::vector<TracePie
 }
 NodeHits::~NodeHits() = default;
 void NodeHits::barrier(const Communicator&) const {}
+NodeMap::NodeMap(const Communicator&, std::int64_t) {
+  throw InputError("bake --node-sharing needs a build with MPI");
+}
+NodeMap::~NodeMap() = default;
+void NodeMap::barrier(const Communicator&) const {}
 
 #endif
 

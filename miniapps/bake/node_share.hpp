@@ -47,6 +47,7 @@ struct SegmentSizes {
   std::int64_t vertices = 0, map_colors = 0, halo_colors = 0;
   std::int64_t hits = 0;  // hit records (the float cache or the traced hits: the larger size)
   std::int64_t hits_elsewhere = 0;  // the hit records are in NodeHits' window, not here
+  std::int64_t map_elsewhere = 0;   // the map buffers are the node's one map (NodeMap), not here
   std::int64_t sparse = 0, sparse_map_colors = 0, mask_words = 0, kept_words = 0;
   std::int64_t pieces = 0, iterations = 0;
   std::int64_t read_flags = 0;   // FirstReads' flags (a fused first iteration); 0: none
@@ -148,12 +149,45 @@ class NodeHits {
 #endif
 };
 
+// The node's one map (--node-map on, with work shared by every rank of one node): both map
+// buffers, every vertex at its place in the whole map (the scene's colour offsets), in one MPI
+// shared-memory window. Each rank writes its own vertices' colours and reads any vertex's, as
+// the threads of one rank do: no halo and no exchange. Per-rank maps with halos cost 16 x 1 on
+// bunny_room 0.10 s of exchanges (0.065 s with the halo plan after iteration 1) and 0.015 s of
+// planning in a 1.37 s bake, where 1 x 16 has neither (results/bake/distributed.md,
+// twenty-fifth round). Across nodes each rank keeps its part and a halo: only a node's ranks
+// share memory. The pages are first touched by the rank that writes them (its own vertices).
+class NodeMap {
+ public:
+  // Collective over `comm` (every rank on one node): room for `colors` colours twice.
+  NodeMap(const Communicator& comm, std::int64_t colors);
+  ~NodeMap();
+  NodeMap(const NodeMap&) = delete;
+  NodeMap& operator=(const NodeMap&) = delete;
+
+  Vec3f* buffer(int which) const { return buffer_[which]; }
+  std::int64_t colors() const { return colors_; }
+  // Node barrier with the window's memory synchronisation: every rank's colours written before
+  // it are seen by every rank after it (closes each iteration).
+  void barrier(const Communicator& comm) const;
+
+ private:
+  std::int64_t colors_ = 0;
+  Vec3f* buffer_[2] = {nullptr, nullptr};
+#ifdef RTMINI_HAVE_MPI
+  MPI_Comm node_ = MPI_COMM_NULL;
+  MPI_Win win_ = MPI_WIN_NULL;
+#endif
+};
+
 class NodeShare {
  public:
   // Collective over `comm` (every rank, whatever its node): makes the node's window with `room`
   // in this rank's segment (pages are taken only when touched). With `hits`, the segments'
-  // hit records are those of NodeHits' window (made by every rank of the node).
-  NodeShare(const Communicator& comm, const SegmentSizes& room, const NodeHits* hits = nullptr);
+  // hit records are those of NodeHits' window (made by every rank of the node); with `map`,
+  // every segment's map buffers are the node's one map (room.map_colors: all of its colours).
+  NodeShare(const Communicator& comm, const SegmentSizes& room, const NodeHits* hits = nullptr,
+            const NodeMap* map = nullptr);
   ~NodeShare();
   NodeShare(const NodeShare&) = delete;
   NodeShare& operator=(const NodeShare&) = delete;
@@ -214,12 +248,14 @@ class NodeShare {
   };
   // The regions of a segment at `at` with room `s` (at == nullptr: its size only).
   static std::size_t carve(unsigned char* at, const SegmentSizes& s, Segment* out);
+  void point_elsewhere(int r, Segment& s) const;
   void node_barrier(const Communicator& comm) const;
 
   int node_rank_ = 0, node_size_ = 1;
   std::size_t room_bytes_ = 0;
   unsigned char* mine_ = nullptr;
   const NodeHits* hits_ = nullptr;  // where the hit records are (nullptr: in the segments)
+  const NodeMap* map_ = nullptr;    // where the map buffers are (nullptr: in the segments)
   Segment my_segment_;
   std::vector<Segment> segments_;  // every rank's of the node, once published
 #ifdef RTMINI_HAVE_MPI

@@ -180,10 +180,11 @@ case $case_name in
     run "$ranks" cubes.bs --viewpoints 20 --iterations 4 -o cubes.out.bs >log12.txt 2>&1 ||
       { cat log12.txt; fail "$ranks-rank bake of two cubes failed"; }
     cmp cubes1.bs cubes.out.bs || fail "two cubes: outputs differ between 1 and $ranks ranks"
-    # The same with node sharing, the first rank late: the others take the pieces of a rank that
-    # reads no remote vertex in the first iteration (it once crashed there).
+    # The same with node sharing and per-rank maps (the layout across nodes), the first rank
+    # late: the others take the pieces of a rank that reads no remote vertex in the first
+    # iteration (it once crashed there).
     run "$ranks" cubes.bs --viewpoints 20 --iterations 4 -o cubes.shared.bs --node-sharing on \
-      --share-test-delay 0.3 >log13.txt 2>&1 ||
+      --node-map off --share-test-delay 0.3 >log13.txt 2>&1 ||
       { cat log13.txt; fail "$ranks-rank shared bake of two cubes failed"; }
     cmp cubes1.bs cubes.shared.bs || fail "two cubes, node sharing: outputs differ from 1 rank"
     # The pilot's cut (no recut after the trace, no hits moved) gives the same bytes.
@@ -217,13 +218,18 @@ case $case_name in
     cmp one.bs part2.bs || fail "checkpoint of $ranks ranks restarted on $other (cost) differs"
     # Node sharing (--node-sharing on): one copy of the scene, and the ranks take each other's
     # pieces in the mirror trace and the iterations; the node's first rank starts each 0.3 s
-    # late, so the others take its pieces.
+    # late, so the others take its pieces. With the node's one map (the default on one node) and
+    # with per-rank maps and halos (--node-map off, the layout across nodes).
     run "$ranks" "${args[@]}" -o shared.bs --node-sharing on --share-test-delay 0.3 \
       --summary shared.json >log10.txt 2>&1 || { cat log10.txt; fail "$ranks-rank shared bake failed"; }
     cmp one.bs shared.bs || fail "--node-sharing on differs from 1 rank"
+    run "$ranks" "${args[@]}" -o shared_halo.bs --node-sharing on --node-map off \
+      --share-test-delay 0.3 --summary shared_halo.json >log14.txt 2>&1 ||
+      { cat log14.txt; fail "$ranks-rank shared bake with --node-map off failed"; }
+    cmp one.bs shared_halo.bs || fail "--node-sharing on --node-map off differs from 1 rank"
     # Bad input before any work: an unknown value, and the measured recut (it moves vertices
     # between ranks after iteration 1, node sharing balances within each iteration).
-    for bad in "--node-sharing yes" "--node-sharing work --balance measured"; do
+    for bad in "--node-sharing yes" "--node-sharing work --balance measured" "--node-map yes"; do
       # shellcheck disable=SC2086
       run "$ranks" "${args[@]}" -o bad.bs $bad >/dev/null 2>bad_err.txt
       rc=$?
@@ -268,13 +274,24 @@ assert w["iteration_cost"]["max_over_mean"] <= 1.03, w["iteration_cost"]
 print("ranges per rank", many["scene"]["map"].get("ranges_per_rank"))
 # Node work sharing: from iteration 1 (the fused halo plan's), the late first rank's pieces taken
 # by the others, every colour entry computed once.
-if r > 1:
-    sh = json.load(open("shared.json"))["scene"]["node_shared_work"]
-    print("node sharing:", sh)
+for name in ("shared.json", "shared_halo.json") if r > 1 else ():
+    sh = json.load(open(name))["scene"]["node_shared_work"]
+    print(name, "node sharing:", sh)
     assert sh["from_iteration"] == 1 and sh["ranks_per_node"] == r, sh
     stolen = sh["stolen_items_per_rank"]
     assert stolen[0] == 0 and sum(stolen[1:]) > 0, sh
     assert sum(stolen) <= 3 * colors, (stolen, colors)  # three shared iterations (1 to 3)
+# The node's one map: each rank holds its own vertices' part, reads the rest in place, exchanges
+# nothing; with --node-map off a halo refreshed by exchanges.
+if r > 1:
+    node, halo = (json.load(open(n))["scene"]["map"] for n in ("shared.json", "shared_halo.json"))
+    print("node map:", node["halo"], node["local_colors_max"], node["exchange_bytes_per_iteration"],
+          "per-rank maps:", halo["halo"], halo["local_colors_max"], halo["exchange_bytes_per_iteration"])
+    assert node["halo"] == "node" and node["exchange_bytes_per_iteration"] == 0, node
+    items = json.load(open("shared.json"))["scene"]["work"]["items"]["per_rank"]
+    assert node["local_colors_max"] == max(items) < colors, (node, items)
+    assert halo["halo"] == "traced" and halo["exchange_bytes_per_iteration"] > 0, halo
+    sh = json.load(open("shared.json"))["scene"]["node_shared_work"]
     # The mirror trace shared too (one node, no recut after it): the late first rank's pieces
     # traced by the others into its records, each colour entry's ray traced once.
     traced = sh["trace_stolen_items_per_rank"]
