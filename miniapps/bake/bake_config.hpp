@@ -62,9 +62,6 @@ struct BakeConfig {
   // x (1 + recut_test_skew x r), so the recut moves work deterministically (0: measured).
   double recut_test_skew = 0;
   bool all_view_dependent = false;  // hidden, measurement: N colours for every vertex
-  // Hidden, measurement: vertices per slot-major tile of the mirror iterations' walk (chef.cpp,
-  // item_at; 1: vertex-major). Any value gives the same bytes.
-  int item_tile = 32;
   Directions directions = Directions::kSphere;
 
   bool hemisphere() const { return directions == Directions::kHemisphere; }

@@ -145,33 +145,6 @@ KOKKOS_INLINE_FUNCTION std::int64_t vertex_of_item(const Offsets& color_offset, 
   return lo;
 }
 
-// Tiles of BakeConfig::item_tile consecutive vertices (counted from a dispatch's first vertex) whose colour
-// counts are all equal and above one are walked slot-major: index i of the tile's items stands
-// for item (vertex v0 + j % n, slot j / n), j = i - the tile's first item, n its vertices. Then
-// consecutive indices, which one thread (a CPU chunk) or one warp runs together, are the same
-// viewpoint at neighbouring vertices: nearly parallel mirror rays from nearby points, which hit
-// the same triangles and read the same colours of the previous map (the vertex-major walk gave
-// one vertex's viewpoints in turn, whose rays scatter over the scene). Any walk computes each
-// item alone from the previous map: the same bytes.
-
-struct ItemAt {
-  std::int64_t vertex = 0, item = 0;
-};
-
-template <class Offsets>
-KOKKOS_INLINE_FUNCTION ItemAt item_at(const Offsets& color_offset, std::int64_t vbegin,
-                                      std::int64_t vend, std::int64_t index, std::int64_t tile) {
-  const std::int64_t u = vertex_of_item(color_offset, vbegin, vend, index);
-  if (tile <= 1) return {u, index};
-  const std::int64_t v0 = vbegin + (u - vbegin) / tile * tile;
-  const std::int64_t n = (vend - v0 < tile ? vend - v0 : tile);
-  const std::int64_t first = color_offset(v0), count = color_offset(v0 + 1) - first;
-  // Counts are 1 or the stored viewpoints: a tile of n x count items has count everywhere.
-  if (count <= 1 || color_offset(v0 + n) - first != n * count) return {u, index};
-  const std::int64_t j = index - first, v = v0 + j % n;
-  return {v, first + (v - v0) * count + j / n};
-}
-
 // The colour items [first, end) of vertices [begin, end) (one per viewpoint, one per
 // view-independent vertex), read from the device offsets.
 struct ItemRange {
@@ -240,11 +213,8 @@ struct MirrorIteration {
     return hit;
   }
 
-  std::int64_t tile = 1;
-
-  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t index, std::int64_t& rays) const {
-    const ItemAt at = item_at(color_offset, vbegin, vend, index, tile);
-    const std::int64_t v = at.vertex, item = at.item;
+  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t item, std::int64_t& rays) const {
+    const std::int64_t v = vertex_of_item(color_offset, vbegin, vend, item);
     const std::int64_t first = color_offset(v);
     Vec3 c = base(v);
     if (with_gather) c += diffuse(v) * gather(v);
@@ -275,12 +245,9 @@ struct TraceMirrorHits {
   bool two_sided = false;  // BakeConfig::two_sided (mirror_normal)
   HemisphereMap hemisphere{};
 
-  std::int64_t tile = 1;
-
-  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t index, std::int64_t& rays,
+  KOKKOS_INLINE_FUNCTION void operator()(std::int64_t item, std::int64_t& rays,
                                          std::int64_t& nodes) const {
-    const ItemAt at = item_at(color_offset, vbegin, vend, index, tile);
-    const std::int64_t v = at.vertex, item = at.item;
+    const std::int64_t v = vertex_of_item(color_offset, vbegin, vend, item);
     const std::int64_t first = color_offset(v);
     const std::int64_t slot = cache_offset + (item - item_begin);
     TracedHit t;
@@ -458,7 +425,6 @@ ReadCount Chef::trace_mirror_hits_into(Kokkos::View<TracedHit*, MemSpace> traced
                     scene_.mesh.coordinate_bound};
   k.two_sided = config_.two_sided;
   k.hemisphere = hemisphere_map();
-  k.tile = config_.item_tile;
   ReadCount count;
   Kokkos::parallel_reduce(
       "rtmini::bake::trace_mirror_hits",
@@ -822,7 +788,6 @@ std::int64_t run_iteration(const BakeSceneDevice& s, const BakeConfig& cfg, cons
                              mode,
                              s.mesh.coordinate_bound};
   m.two_sided = cfg.two_sided;
-  m.tile = cfg.item_tile;
   return rays + trace_items("rtmini::bake::shade", items, m);
 }
 }  // namespace

@@ -123,7 +123,6 @@ void MapCli::add_to(CLI::App& app, BakeConfig& c) {
   app.add_option("--stop-after-iteration", c.stop_after_iteration)->group("");  // test hook
   app.add_option("--recut-test-skew", c.recut_test_skew)->group("");            // test hook
   app.add_option("--share-test-delay", c.share_test_delay)->group("");          // test hook
-  app.add_option("--item-tile", c.item_tile)->group("");                        // measurement
 }
 
 // A hemisphere map relies on the fold of one-sided mirrors (a viewpoint behind a vertex has the
@@ -191,7 +190,6 @@ void MapCli::finish(BakeConfig& c) const {
                      "memory (one rank per GPU has nothing to share)");
   require_at_least("--viewpoints", c.viewpoints, 1);
   require_at_least("--iterations", c.iterations, 0);
-  require_at_least("--item-tile", c.item_tile, 1);
   require_at_least("--shadow-samples", c.shadow_samples, 1);
   require_at_least("--gather-rays", c.gather_rays, 0);
   require_at_least("--batch-size", c.batch_size, std::int64_t(0));
