@@ -6,8 +6,8 @@
 // predicts it: results/bake/distributed.md, seventeenth and eighteenth rounds), so 16 x 1 paid
 // the slowest of 16 draws where 1 x 16's dynamic schedule paid their mean. Here the ranks of a
 // node keep what an iteration of theirs reads and writes in one MPI shared-memory window (each
-// rank its own segment: its two map buffers, halo, hit records, base colours, map tables and
-// its pieces), and a rank that has finished its own pieces takes the unclaimed pieces of the
+// rank its own segment: its two map buffers and halo, or on one node the node's one map
+// (NodeMap), its hit records, base colours, map tables and its pieces), and a rank that has finished its own pieces takes the unclaimed pieces of the
 // others, reading the owner's previous map and writing the owner's next one. A colour depends
 // only on its entry and the previous map, so the output is bit-identical whoever computes it.
 //
