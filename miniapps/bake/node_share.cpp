@@ -197,7 +197,7 @@ unsigned char* open_node_window(const Communicator& comm, std::size_t bytes, con
   // Every rank is alive here (a failed peer ends this barrier with PeerFailure): the blocking
   // window calls below cannot wait on a rank that has gone.
   comm.barrier();
-  MPI_Comm_split_type(comm.native(), MPI_COMM_TYPE_SHARED, comm.rank(), MPI_INFO_NULL, &node);
+  node = comm.split_node();
   MPI_Comm_set_errhandler(node, MPI_ERRORS_RETURN);
   MPI_Info info = MPI_INFO_NULL;
   MPI_Info_create(&info);

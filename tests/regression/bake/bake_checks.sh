@@ -227,6 +227,16 @@ case $case_name in
       --share-test-delay 0.3 --summary shared_halo.json >log14.txt 2>&1 ||
       { cat log14.txt; fail "$ranks-rank shared bake with --node-map off failed"; }
     cmp one.bs shared_halo.bs || fail "--node-sharing on --node-map off differs from 1 rank"
+    # Across nodes: the test hook cuts this machine into nodes of two ranks (and one at 3 ranks).
+    # Node sharing within each node, per-rank maps with halos and exchanges between all ranks,
+    # the trace per rank and the recut after it; the first rank late, its node-mate takes its
+    # pieces.
+    if [ "$ranks" -ge 3 ]; then
+      RTMINI_TEST_RANKS_PER_NODE=2 run "$ranks" "${args[@]}" -o nodes.bs --node-sharing on \
+        --share-test-delay 0.3 --summary nodes.json >log15.txt 2>&1 ||
+        { cat log15.txt; fail "$ranks-rank shared bake on nodes of two ranks failed"; }
+      cmp one.bs nodes.bs || fail "node sharing on nodes of two ranks differs from 1 rank"
+    fi
     # Bad input before any work: an unknown value, and the measured recut (it moves vertices
     # between ranks after iteration 1, node sharing balances within each iteration).
     for bad in "--node-sharing yes" "--node-sharing work --balance measured" "--node-map yes"; do
@@ -307,6 +317,16 @@ if r > 1:
     # One copy of the scene per node, with the work sharing and alone.
     scene = json.load(open("skew.json"))["scene"]["node_shared_work"]
     assert sh["scene_bytes_per_node"] > 0 and scene["scene_bytes_per_node"] == sh["scene_bytes_per_node"], (sh, scene)
+# Nodes of two ranks: sharing within each (rank 1 takes the late rank 0's pieces), halos and
+# exchanges between the ranks, the trace per rank and recut (hits moved), no node map.
+if r >= 3:
+    nd = json.load(open("nodes.json"))["scene"]
+    sh, m = nd["node_shared_work"], nd["map"]
+    print("nodes of two ranks:", sh, m["halo"], m["exchange_bytes_per_iteration"])
+    assert sh["ranks_per_node"] == 2 and not sh["trace_shared"] and sh["node_map_bytes"] == 0, sh
+    assert sh["stolen_items_per_rank"][1] > 0, sh
+    assert m["halo"] == "traced" and m["exchange_bytes_per_iteration"] > 0, m
+    assert sum(nd["work"]["moved_hits"]["per_rank"]) > 0, nd["work"]["moved_hits"]
 # The skewed recut: rank r measured as 1 + r times its counted cost, so the cut gives the later
 # ranks less counted cost than the earlier ones and moves colours.
 if r > 1:

@@ -63,13 +63,31 @@ class Communicator {
     MPI_Comm_dup(comm_, &fail_);
     // Ranks sharing this node's memory (the memory check divides the node among them).
     // Counted once here, where every rank passes, so that no later step blocks on it.
-    MPI_Comm node = MPI_COMM_NULL;
-    MPI_Comm_split_type(comm_, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node);
+    MPI_Comm node = split_node();
     MPI_Comm_size(node, &node_size_);
     MPI_Comm_rank(node, &node_rank_);
     MPI_Comm_free(&node);
   }
   MPI_Comm native() const { return comm_; }
+
+  // Collective: a new communicator of this rank's node, the ranks that share its memory
+  // (MPI_COMM_TYPE_SHARED), in this communicator's order; the caller frees it. Test hook:
+  // RTMINI_TEST_RANKS_PER_NODE=k cuts every node into groups of k consecutive ranks, so that
+  // one machine runs what a job across nodes runs (ctest bake.distributed: node sharing with
+  // halos between nodes). Each group still shares memory, as a node's ranks do.
+  MPI_Comm split_node() const {
+    MPI_Comm node = MPI_COMM_NULL;
+    MPI_Comm_split_type(comm_, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node);
+    const char* k = std::getenv("RTMINI_TEST_RANKS_PER_NODE");
+    const int per_node = k ? std::atoi(k) : 0;
+    if (per_node <= 0) return node;
+    int node_rank = 0;
+    MPI_Comm_rank(node, &node_rank);
+    MPI_Comm group = MPI_COMM_NULL;
+    MPI_Comm_split(node, node_rank / per_node, rank_, &group);
+    MPI_Comm_free(&node);
+    return group;
+  }
   Communicator(const Communicator&) = delete;
   Communicator& operator=(const Communicator&) = delete;
 
