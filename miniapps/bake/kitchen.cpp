@@ -619,7 +619,8 @@ class BakeRun {
   std::int64_t trace_shared(int it);
   bool shares_trace() const;
   bool uses_node_map() const;
-  void plan_node_map();
+  bool node_holds_all() const;
+  std::vector<char> map_vertices() const;
   void trace_node_shared();
   void report_node_sharing();
   void report_progress(int it, std::int64_t entries_done);
@@ -691,10 +692,14 @@ class BakeRun {
   // The fused halo plan between plan_map and the end of iteration 1 (fuses_halo_plan).
   struct PendingHalo {
     bool active = false;
+    std::vector<char> own;  // the vertices in the map (map_vertices)
     MapLayout remote;  // the remote vertices read, each with all its viewpoints: the flags' layout
     Kokkos::View<char*, MemSpace> flags;
   } pending_;
   Kokkos::View<char*, MemSpace> owned_;  // per vertex, with the traced halo
+  // Per vertex: in this rank's map (owned_, or with the node's one map its node's vertices); the
+  // others are read from the halo.
+  Kokkos::View<char*, MemSpace> held_;
   std::vector<char> read_;               // per vertex: read by this rank's traced hits
   ReadCount traced_;                     // the mirror trace's rays and nodes (trace ownership)
   ReadCount reads_;                      // the reads of each iteration (final ownership)
@@ -1093,13 +1098,11 @@ MapLayout BakeRun::remote_layout(const std::vector<char>& own) const {
 // keeps the remote ones fresh.
 void BakeRun::plan_map() {
   timer_.start("halo");
-  if (uses_node_map()) {
-    plan_node_map();
-    timer_.stop();
-    return;
-  }
-  const std::vector<char> own = owned_vertices();
-  if (fuses_halo_plan()) {
+  const std::vector<char> own = map_vertices();
+  held_ = uses_node_map() ? compat::upload<MemSpace>("rtmini::bake::held", own) : owned_;
+  if (node_holds_all()) {
+    layout_ = make_map_layout(host_, own);  // nothing is remote: no halo, no exchange
+  } else if (fuses_halo_plan()) {
     start_fused_plan(own);
   } else if (comm_.size() == 1 || halo_ == Halo::kOwned) {
     layout_ = make_map_layout(host_, halo_ == Halo::kAll ? std::vector<char>(own.size(), 1) : own);
@@ -1109,12 +1112,16 @@ void BakeRun::plan_map() {
     const MapLayout remote = remote_layout(own);
     const std::vector<char> read =
         halo_ == Halo::kTraced ? read_items(remote) : std::vector<char>();
-    layout_ =
-        make_halo_layout(host_, remote, read.empty() ? nullptr : read.data(), owner_, comm_.rank());
+    layout_ = make_halo_layout(host_, remote, read.empty() ? nullptr : read.data(), owner_, own);
   }
   if (!pending_.active) {
     make_node_share();
-    plan_exchange();
+    if (node_holds_all()) {
+      chef_->set_map_offset(layout_.device);
+      report_map_plan();
+    } else {
+      plan_exchange();
+    }
   }
   prev_ = share_ ? share_->map_buffer(0)
                  : Kokkos::View<Vec3f*, MemSpace>("rtmini::bake::map_prev", layout_.colors());
@@ -1123,25 +1130,28 @@ void BakeRun::plan_map() {
   timer_.stop();
 }
 
-// Whether the ranks keep one map per node (NodeMap, --node-map on): with work shared by every
-// rank of one node (no recut follows the trace there, and shared work takes no --balance
-// measured). Not for the traced reference or a run without mirror iterations (no map is read
-// across ranks).
+// Whether the ranks of a node keep one map (NodeMap, --node-map on): with work shared between
+// them (node sharing's window holds each rank's part). Not for the traced reference or a run
+// without mirror iterations (no map is read across ranks).
 bool BakeRun::uses_node_map() const {
-  return c_.node_map && c_.share_work && comm_.size() > 1 && comm_.node_size() == comm_.size() &&
-         !c_.trace_reference && iterations_ >= 1 && halo_ != Halo::kOwned;
+  return c_.node_map && c_.share_work && comm_.size() > 1 && !c_.trace_reference &&
+         iterations_ >= 1 && halo_ != Halo::kOwned;
 }
 
-// The node's one map: every vertex at its place in the whole map, both buffers in the node's
-// window; each rank writes its own vertices and reads any. Nothing to plan or exchange.
-void BakeRun::plan_node_map() {
-  layout_ = make_map_layout(host_, std::vector<char>(static_cast<std::size_t>(host_.vertices()), 1));
-  node_map_ = std::make_unique<NodeMap>(comm_, layout_.colors());
-  make_node_share();
-  chef_->set_map_offset(layout_.device);
-  prev_ = share_->map_buffer(0);
-  next_ = share_->map_buffer(1);
-  report_map_plan();
+// The node's one map on the only node: every vertex in it, nothing read from a halo.
+bool BakeRun::node_holds_all() const {
+  return uses_node_map() && comm_.node_size() == comm_.size();
+}
+
+// The vertices this rank's map holds: its own, or with the node's one map every vertex its
+// node's ranks own (collective then).
+std::vector<char> BakeRun::map_vertices() const {
+  if (!uses_node_map()) return owned_vertices();
+  std::vector<char> on_node(static_cast<std::size_t>(comm_.size()), 0);
+  for (const int r : node_member_ranks(comm_)) on_node[static_cast<std::size_t>(r)] = 1;
+  std::vector<char> own(static_cast<std::size_t>(host_.vertices()));
+  for (std::size_t v = 0; v < own.size(); ++v) own[v] = on_node[static_cast<std::size_t>(owner_[v])];
+  return own;
 }
 
 // The room this rank's segment of the node's window needs (node_share.hpp): the maps and the
@@ -1174,7 +1184,8 @@ SegmentSizes BakeRun::node_share_room() const {
 void BakeRun::plan_exchange() {
   exchange_ = std::make_unique<MapExchange>(
       comm_, host_, layout_, c_.changed_exchanges,
-      share_ ? share_->halo(layout_.halo_colors) : Kokkos::View<Vec3f*, MemSpace>());
+      share_ ? share_->halo(layout_.halo_colors) : Kokkos::View<Vec3f*, MemSpace>(),
+      node_map_ != nullptr);
   if (!layout_.sparse.empty()) layout_.sparse.halo = exchange_->halo();
   chef_->set_map_offset(layout_.device, layout_.sparse);
   report_map_plan();
@@ -1187,7 +1198,7 @@ void BakeRun::plan_exchange() {
 // right after it. A restart's first iteration reads a map that varies per viewpoint, so it needs
 // the read set up front: a separate pass over the lookups (read_items).
 bool BakeRun::fuses_halo_plan() const {
-  return halo_ == Halo::kTraced && c_.restart.empty() && iterations_ >= 1 && !uses_node_map();
+  return halo_ == Halo::kTraced && c_.restart.empty() && iterations_ >= 1 && !node_holds_all();
 }
 
 // Until iteration 1 has run, this rank's map holds its own vertices only; the remote vertices'
@@ -1197,6 +1208,7 @@ void BakeRun::start_fused_plan(const std::vector<char>& own) {
   mark_dense(host_, layout_);  // the readers take colour counts from the scene, not the layout
   chef_->set_map_offset(layout_.device, layout_.sparse);
   pending_.remote = remote_layout(own);
+  pending_.own = own;
   pending_.active = true;
   make_node_share();
   pending_.flags =
@@ -1216,7 +1228,7 @@ void BakeRun::start_fused_plan(const std::vector<char>& own) {
   std::vector<Vec3f> remote_base(base.size());
   for (std::size_t k = 0; k < remote.size(); ++k) remote_base[remote[k]] = fetched[k];
   FirstReads first;
-  first.owned = owned_;
+  first.owned = held_;
   first.base = compat::upload<MemSpace>("rtmini::bake::remote_base", remote_base);
   first.at = pending_.remote.device;
   first.flags = pending_.flags;
@@ -1233,7 +1245,7 @@ void BakeRun::finish_fused_plan(int it) {
     // of the largest 16 x 1 rank's 98 MiB peak on bunny_room (results/bake/distributed.md,
     // fifteenth round).
     const auto read = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pending_.flags);
-    layout_ = make_halo_layout(host_, pending_.remote, read.data(), owner_, comm_.rank());
+    layout_ = make_halo_layout(host_, pending_.remote, read.data(), owner_, pending_.own);
   }
   pending_ = PendingHalo{};
   if (share_) {
@@ -1435,6 +1447,8 @@ void BakeRun::replan_first_reads(const std::vector<Batch>& from) {
     chef_->mark_read_items(piece.begin, piece.end, piece.cache_offset, owned_, flags);
   pending_.remote = std::move(remote);
   pending_.flags = flags;
+  pending_.own = own;
+  held_ = owned_;  // (a measured recut never runs with the node's one map: no work sharing)
   layout_ = make_map_layout(host_, own);
   mark_dense(host_, layout_);
   chef_->set_map_offset(layout_.device, layout_.sparse);
@@ -1525,8 +1539,8 @@ void BakeRun::report_map_plan() {
   enum Field { kLocal, kHalo, kSent, kRanges, kReads, kRemote, kFields };
   std::vector<double> mine(kFields);
   // With the node's one map a rank holds its own vertices' part of it (and reads the rest there).
-  mine[kLocal] = static_cast<double>(node_map_ ? my_items_
-                                               : layout_.colors() + layout_.halo_colors);
+  mine[kLocal] = static_cast<double>((node_map_ ? my_items_ : layout_.colors()) +
+                                     layout_.halo_colors);
   mine[kHalo] = static_cast<double>(layout_.halo_colors);
   mine[kSent] = static_cast<double>(exchange_ ? exchange_->send_colors() : 0);
   mine[kRanges] = static_cast<double>(my_ranges_.size());
@@ -1548,10 +1562,11 @@ void BakeRun::report_map_plan() {
   const std::vector<double>& halo_per_rank = per_rank[kHalo];
   const std::vector<double>& send_per_rank = per_rank[kSent];
   const std::vector<double>& ranges_per_rank = per_rank[kRanges];
-  report_.scene["map"] = {{"halo", node_map_               ? "node"
+  report_.scene["map"] = {{"halo", node_holds_all()        ? "node"
                                    : halo_ == Halo::kAll   ? "all"
                                    : halo_ == Halo::kOwned ? "owned"
                                                            : "traced"},
+                          {"node_map", node_map_ != nullptr},
                           {"local_colors_max", max_local},
                           {"local_colors_mean", sum_local / comm_.size()},
                           {"halo_colors_max", max_halo},
@@ -1571,7 +1586,9 @@ void BakeRun::report_map_plan() {
         "mirror reads remote, %s exchanged per iteration%s\n",
         max_local, 100.0 * max_local / std::max<double>(1.0, double(host_.colors())), max_halo,
         reads > 0 ? 100.0 * remote / reads : 0.0, human_bytes(bytes).c_str(),
-        node_map_ ? " (one map per node, read in place)" : "");
+        !node_map_         ? ""
+        : node_holds_all() ? " (one map per node, read in place)"
+                           : " (one map per node; other nodes' colours through the halo)");
 }
 
 // One flag per entry of `remote` (remote_layout): the remote colours this rank's traced lookups
@@ -1580,7 +1597,7 @@ std::vector<char> BakeRun::read_items(const MapLayout& remote) const {
   Kokkos::View<char*, MemSpace> items("rtmini::bake::read_items", remote.colors());
   chef_->set_map_offset(remote.device);
   for (std::size_t k = 0; k < my_ranges_.size(); ++k)
-    chef_->mark_read_items(my_ranges_[k].begin, my_ranges_[k].end, my_cache_offset_[k], owned_,
+    chef_->mark_read_items(my_ranges_[k].begin, my_ranges_[k].end, my_cache_offset_[k], held_,
                            items);
   std::vector<char> read;
   compat::download(items, read);
@@ -1605,31 +1622,30 @@ void BakeRun::restart() {
   if (c_.restart.empty()) return;
   to_storage_order(chef_->view_order(), host_.color_offset, restart_cp_.colors);
   first_ = restart_cp_.iteration + 1;
-  if (node_map_) {
-    // The node's map is laid out as the checkpoint: each rank fills its own vertices.
-    for (const VertexRange& r : my_ranges_) {
-      const std::int64_t a = host_.color_offset[r.begin], b = host_.color_offset[r.end];
-      Kokkos::deep_copy(Kokkos::subview(prev_, std::make_pair(a, b)),
-                        compat::host_view(restart_cp_.colors.data() + a, std::size_t(b - a)));
-    }
-    std::vector<Vec3f>().swap(restart_cp_.colors);
-    node_map_->barrier(comm_);
-  } else {
-    restart_local_map();
-  }
+  restart_local_map();
   if (root_)
     std::printf("  restart: iteration %d of %s done, resuming at %d\n", restart_cp_.iteration,
                 c_.restart.c_str(), first_);
 }
 
-// The checkpoint's map cut to this rank's layout: its own vertices and its halo.
+// The checkpoint's map cut to this rank's layout: its map and its halo. In the node's one map a
+// rank fills its own vertices' entries, its node's other ranks theirs.
 void BakeRun::restart_local_map() {
   std::vector<Vec3f> local = localise_map(host_, layout_, restart_cp_.colors);
   std::vector<Vec3f>().swap(restart_cp_.colors);
   const std::size_t map = static_cast<std::size_t>(layout_.colors());
-  Kokkos::deep_copy(prev_, compat::host_view(local.data(), map));
+  if (node_map_) {
+    for (const VertexRange& r : my_ranges_) {
+      const std::int64_t a = layout_.offset[r.begin], b = layout_.offset[r.end];
+      Kokkos::deep_copy(Kokkos::subview(prev_, std::make_pair(a, b)),
+                        compat::host_view(local.data() + a, static_cast<std::size_t>(b - a)));
+    }
+  } else {
+    Kokkos::deep_copy(prev_, compat::host_view(local.data(), map));
+  }
   if (exchange_ && layout_.halo_colors > 0)
     Kokkos::deep_copy(exchange_->halo(), compat::host_view(local.data() + map, local.size() - map));
+  if (node_map_) node_map_->barrier(comm_);
 }
 
 // Where iteration `it` finds its mirror hits. The first iteration after the start traces them
@@ -1735,10 +1751,12 @@ bool BakeRun::shares_iteration(int it) {
 // (collective; once, when the layout of this rank's map is known). Not for the traced
 // reference or a run without mirror iterations to share.
 void BakeRun::make_node_share() {
-  if (c_.share_work && comm_.size() > 1 && !c_.trace_reference && iterations_ >= 1 &&
-      halo_ != Halo::kOwned)
-    share_ = std::make_unique<NodeShare>(comm_, node_share_room(), node_hits_.get(),
-                                         node_map_.get());
+  if (!c_.share_work || comm_.size() == 1 || c_.trace_reference || iterations_ < 1 ||
+      halo_ == Halo::kOwned)
+    return;
+  // The node's one map: the map layout_ has just been made of the node's vertices.
+  if (uses_node_map()) node_map_ = std::make_unique<NodeMap>(comm_, layout_.colors());
+  share_ = std::make_unique<NodeShare>(comm_, node_share_room(), node_hits_.get(), node_map_.get());
 }
 
 // This rank's part is published in its segment of the node's window (the maps and the halo are
@@ -1839,9 +1857,9 @@ void BakeRun::report_node_sharing() {
         comm_.allgatherv(std::vector<double>{static_cast<double>(trace_stolen_items_)});
     s["segment_bytes_per_rank"] = comm_.allgatherv(
         std::vector<double>{share_ ? static_cast<double>(share_->segment_bytes()) : 0.0});
-    // The node's one map, both buffers (not in the segments); 0: per-rank maps.
-    s["node_map_bytes"] =
-        node_map_ ? 2.0 * static_cast<double>(node_map_->colors()) * sizeof(Vec3f) : 0.0;
+    // The rank's node's one map, both buffers (not in the segments); 0: per-rank maps.
+    s["node_map_bytes_per_rank"] = comm_.allgatherv(std::vector<double>{
+        node_map_ ? 2.0 * static_cast<double>(node_map_->colors()) * sizeof(Vec3f) : 0.0});
   }
   report_.scene["node_shared_work"] = s;
   params_["node_shared_work"] = s;

@@ -240,10 +240,8 @@ MapLayout make_map_layout(const BakeSceneHost& scene, const std::vector<char>& p
 }
 
 MapLayout make_halo_layout(const BakeSceneHost& scene, const MapLayout& remote, const char* read,
-                           const std::vector<int>& owner, int rank) {
+                           const std::vector<int>& owner, const std::vector<char>& own) {
   const std::int64_t nv = scene.vertices();
-  std::vector<char> own(static_cast<std::size_t>(nv));
-  for (std::int64_t v = 0; v < nv; ++v) own[v] = owner[v] == rank;
   MapLayout l = make_map_layout(scene, own);
   const auto held = [&](std::int64_t v) { return !own[v] && remote.in_map(v); };
   const auto sparse = [&](std::int64_t v) { return read && held(v) && scene.color_count(v) > 1; };
@@ -358,8 +356,8 @@ std::vector<Vec3f> fetch_vertex_colors(const Communicator& comm, const std::vect
 
 MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
                          const MapLayout& layout, bool changed_only,
-                         Kokkos::View<Vec3f*, MemSpace> halo_storage)
-    : changed_only_(changed_only) {
+                         Kokkos::View<Vec3f*, MemSpace> halo_storage, bool map_shared)
+    : changed_only_(changed_only), map_shared_(map_shared) {
   const int ranks = comm.size();
   // Requests: the halo entries, which are grouped by owner already (the halo's order). The
   // lists are built in place and freed as soon as they are used: at the plan's peak they were
@@ -405,8 +403,9 @@ MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
 std::int64_t MapExchange::run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
                               Kokkos::View<Vec3f*, MemSpace> other) {
   if (comm.size() == 1) return 0;
-  const std::int64_t bytes =
-      sent_ && changed_only_ ? run_changed(comm, map, other) : run_full(comm, map, other);
+  const Kokkos::View<Vec3f*, MemSpace> scratch = map_shared_ ? Kokkos::View<Vec3f*, MemSpace>() : other;
+  const std::int64_t bytes = sent_ && changed_only_ ? run_changed(comm, map, other, scratch)
+                                                     : run_full(comm, map, scratch);
   sent_ = true;
   Kokkos::fence();
   return bytes;
@@ -570,7 +569,8 @@ KOKKOS_INLINE_FUNCTION std::int64_t changed_before(
 }  // namespace
 
 std::int64_t MapExchange::run_changed(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
-                                      Kokkos::View<Vec3f*, MemSpace> previous) {
+                                      Kokkos::View<Vec3f*, MemSpace> previous,
+                                      Kokkos::View<Vec3f*, MemSpace> scratch) {
   const int ranks = comm.size();
   const std::int64_t n = static_cast<std::int64_t>(send_items_.extent(0));
   const std::int64_t bit_words = mask_words(n);
@@ -641,15 +641,15 @@ std::int64_t MapExchange::run_changed(const Communicator& comm, Kokkos::View<Vec
     recv_words[r] = checked_int(message_words(received[r], recv_counts_[r]));
     recv_total += recv_words[r];
   }
-  // The messages sent and received, one after the other: in the previous map's memory where they
-  // fit (read above for the last time; the next iteration overwrites all of it), else in a
-  // buffer of the exchange's own (kept from run to run). Their own buffer was 4 MiB of the
+  // The messages sent and received, one after the other: in the previous map's memory (scratch)
+  // where they fit (read above for the last time; the next iteration overwrites all of it), else
+  // in a buffer of the exchange's own (kept from run to run). Their own buffer was 4 MiB of the
   // largest 16 x 1 rank's peak on bunny_room.
   MessageBuffer send_buf, recv_buf_words;
   std::uint32_t* words_at = nullptr;
-  if (offset + recv_total <= 3 * static_cast<std::int64_t>(previous.extent(0))) {
-    send_buf.map = recv_buf_words.map = previous;
-    words_at = reinterpret_cast<std::uint32_t*>(previous.data());
+  if (offset + recv_total <= 3 * static_cast<std::int64_t>(scratch.extent(0))) {
+    send_buf.map = recv_buf_words.map = scratch;
+    words_at = reinterpret_cast<std::uint32_t*>(scratch.data());
   } else {
     message_words_ =
         words_for(message_words_, offset + recv_total, "rtmini::bake::exchange_message_words");

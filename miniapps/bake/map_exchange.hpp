@@ -67,12 +67,13 @@ struct MapLayout {
 // count), without a halo.
 MapLayout make_map_layout(const BakeSceneHost& scene, const std::vector<char>& present);
 
-// The layout of a rank of several: its own vertices in the map; in the halo every vertex of
-// another rank that `remote` (a layout without a halo) holds, ordered by owner rank, then by
-// vertex (the order the exchange receives them). With `read` (one flag per entry of `remote`), a
-// view-dependent halo vertex keeps only the viewpoints flagged; without, all.
+// The layout of a rank of several: the vertices flagged in `own` in the map (its own, or with
+// the node's one map every vertex of its node); in the halo every other vertex that `remote` (a
+// layout without a halo) holds, ordered by owner rank, then by vertex (the order the exchange
+// receives them). With `read` (one flag per entry of `remote`), a view-dependent halo vertex
+// keeps only the viewpoints flagged; without, all.
 MapLayout make_halo_layout(const BakeSceneHost& scene, const MapLayout& remote, const char* read,
-                           const std::vector<int>& owner, int rank);
+                           const std::vector<int>& owner, const std::vector<char>& own);
 
 // The colours (global entry numbers) that `rank` holds in its halo, in halo order: all of a
 // dense vertex's, the kept viewpoints of a sparse one.
@@ -102,7 +103,8 @@ class MapExchange {
   // received into `halo_storage` (layout.halo_colors entries, zeros) when given (node work
   // sharing keeps it in the node's window, node_share.hpp), else into a view of its own.
   MapExchange(const Communicator& comm, const BakeSceneHost& scene, const MapLayout& layout,
-              bool changed_only, Kokkos::View<Vec3f*, MemSpace> halo_storage = {});
+              bool changed_only, Kokkos::View<Vec3f*, MemSpace> halo_storage = {},
+              bool map_shared = false);
 
   // The halo's colours (layout.halo_colors, in halo order), as the last run left them: what
   // SparseColors::halo reads. A restart fills it before the first run.
@@ -112,7 +114,9 @@ class MapExchange {
   // sent. `other`: the other of the two map buffers, the map of the iteration before, which the
   // last run sent; the next iteration overwrites all of it. The first run sends every halo
   // entry, packed in `other` (nothing reads it any more); later ones read it, then hold their
-  // messages in it where they fit. With
+  // messages in it where they fit, unless the map is shared (`map_shared`, the node's one map,
+  // whose other buffer the node's other ranks read and pack in too): then in buffers of the
+  // exchange's own. With
   // `changed_only` (bake --exchange changed, the default), later runs send, per destination, only
   // the entries whose colour changed (bit for bit) since the last run, with a bitmask of the
   // destination's entries or a list of their indices, whichever is smaller; the receiver keeps the
@@ -138,7 +142,8 @@ class MapExchange {
   std::int64_t run_full(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
                         Kokkos::View<Vec3f*, MemSpace> spare);
   std::int64_t run_changed(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
-                           Kokkos::View<Vec3f*, MemSpace> previous);
+                           Kokkos::View<Vec3f*, MemSpace> previous,
+                           Kokkos::View<Vec3f*, MemSpace> scratch);
 
   // Frees the buffers (the halo, the colours last sent, the scratch) once no exchange follows;
   // the counts above stay.
@@ -163,6 +168,7 @@ class MapExchange {
   bool direct_ = false;
   bool sent_ = false;                                  // the first (full) run is done
   bool changed_only_ = false;                          // bake --exchange changed
+  bool map_shared_ = false;  // the map buffers are the node's (no scratch in them)
   Kokkos::View<std::int64_t*, MemSpace> first_entry_;  // send_displs_ and the send entries
   // Changed-only runs' scratch, kept from run to run: which send entries changed (a bit each),
   // the changed entries before each word of those bits, and the messages sent and received

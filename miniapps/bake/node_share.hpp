@@ -96,6 +96,9 @@ class NodeScene {
 #endif
 };
 
+// Collective over `comm`: the ranks (of `comm`) on this rank's node, ascending.
+std::vector<int> node_member_ranks(const Communicator& comm);
+
 // The guided self-scheduling of both windows: claims the next pieces [first, end) of `pieces`
 // through `counter` (a share of what is left: 1 / (2 x the node's ranks), at least one piece),
 // so that a rank of several threads runs few, long dispatches (each piece ends in a tail where
@@ -149,17 +152,19 @@ class NodeHits {
 #endif
 };
 
-// The node's one map (--node-map on, with work shared by every rank of one node): both map
-// buffers, every vertex at its place in the whole map (the scene's colour offsets), in one MPI
-// shared-memory window. Each rank writes its own vertices' colours and reads any vertex's, as
-// the threads of one rank do: no halo and no exchange. Per-rank maps with halos cost 16 x 1 on
-// bunny_room 0.10 s of exchanges (0.065 s with the halo plan after iteration 1) and 0.015 s of
-// planning in a 1.37 s bake, where 1 x 16 has neither (results/bake/distributed.md,
-// twenty-fifth round). Across nodes each rank keeps its part and a halo: only a node's ranks
-// share memory. The pages are first touched by the rank that writes them (its own vertices).
+// The node's one map (--node-map on, with work shared between a node's ranks): both map
+// buffers of every vertex the node's ranks own, in one MPI shared-memory window, laid out as one
+// rank holding them would lay them out (MapLayout of the node's vertices). Each rank writes its
+// own vertices' colours and reads any of the node's in place, as the threads of one rank do;
+// only other nodes' vertices come through its halo and the exchanges. On one node that is no
+// halo and no exchange at all: per-rank maps with halos cost 16 x 1 on bunny_room 0.10 s of
+// exchanges (0.065 s with the halo plan after iteration 1) and 0.015 s of planning in a 1.37 s
+// bake, where 1 x 16 has neither (results/bake/distributed.md, twenty-fifth round). The pages
+// are first touched by the rank that writes them (its own vertices).
 class NodeMap {
  public:
-  // Collective over `comm` (every rank on one node): room for `colors` colours twice.
+  // Collective over `comm`: room for `colors` colours twice (the node's; every rank of a node
+  // passes the same).
   NodeMap(const Communicator& comm, std::int64_t colors);
   ~NodeMap();
   NodeMap(const NodeMap&) = delete;

@@ -228,14 +228,17 @@ case $case_name in
       { cat log14.txt; fail "$ranks-rank shared bake with --node-map off failed"; }
     cmp one.bs shared_halo.bs || fail "--node-sharing on --node-map off differs from 1 rank"
     # Across nodes: the test hook cuts this machine into nodes of two ranks (and one at 3 ranks).
-    # Node sharing within each node, per-rank maps with halos and exchanges between all ranks,
-    # the trace per rank and the recut after it; the first rank late, its node-mate takes its
-    # pieces.
+    # Node sharing within each node, the trace per rank and the recut after it, the first rank
+    # late (its node-mate takes its pieces); each node's one map with halos of the other nodes'
+    # colours, and per-rank maps with halos (--node-map off).
     if [ "$ranks" -ge 3 ]; then
-      RTMINI_TEST_RANKS_PER_NODE=2 run "$ranks" "${args[@]}" -o nodes.bs --node-sharing on \
-        --share-test-delay 0.3 --summary nodes.json >log15.txt 2>&1 ||
-        { cat log15.txt; fail "$ranks-rank shared bake on nodes of two ranks failed"; }
-      cmp one.bs nodes.bs || fail "node sharing on nodes of two ranks differs from 1 rank"
+      for layout in on off; do
+        RTMINI_TEST_RANKS_PER_NODE=2 run "$ranks" "${args[@]}" -o "nodes_$layout.bs" \
+          --node-sharing on --node-map "$layout" --share-test-delay 0.3 \
+          --summary "nodes_$layout.json" >"log15_$layout.txt" 2>&1 ||
+          { cat "log15_$layout.txt"; fail "$ranks-rank bake on nodes of two ranks (--node-map $layout) failed"; }
+        cmp one.bs "nodes_$layout.bs" || fail "nodes of two ranks, --node-map $layout: differs from 1 rank"
+      done
     fi
     # Bad input before any work: an unknown value, and the measured recut (it moves vertices
     # between ranks after iteration 1, node sharing balances within each iteration).
@@ -297,7 +300,7 @@ if r > 1:
     node, halo = (json.load(open(n))["scene"]["map"] for n in ("shared.json", "shared_halo.json"))
     print("node map:", node["halo"], node["local_colors_max"], node["exchange_bytes_per_iteration"],
           "per-rank maps:", halo["halo"], halo["local_colors_max"], halo["exchange_bytes_per_iteration"])
-    assert node["halo"] == "node" and node["exchange_bytes_per_iteration"] == 0, node
+    assert node["halo"] == "node" and node["node_map"] and node["exchange_bytes_per_iteration"] == 0, node
     items = json.load(open("shared.json"))["scene"]["work"]["items"]["per_rank"]
     assert node["local_colors_max"] == max(items) < colors, (node, items)
     assert halo["halo"] == "traced" and halo["exchange_bytes_per_iteration"] > 0, halo
@@ -317,16 +320,22 @@ if r > 1:
     # One copy of the scene per node, with the work sharing and alone.
     scene = json.load(open("skew.json"))["scene"]["node_shared_work"]
     assert sh["scene_bytes_per_node"] > 0 and scene["scene_bytes_per_node"] == sh["scene_bytes_per_node"], (sh, scene)
-# Nodes of two ranks: sharing within each (rank 1 takes the late rank 0's pieces), halos and
-# exchanges between the ranks, the trace per rank and recut (hits moved), no node map.
+# Nodes of two ranks: sharing within each (rank 1 takes the late rank 0's pieces), the trace per
+# rank and the recut (hits moved); with each node's one map the exchanges move only the other
+# nodes' colours: fewer bytes than between per-rank maps.
 if r >= 3:
-    nd = json.load(open("nodes.json"))["scene"]
-    sh, m = nd["node_shared_work"], nd["map"]
-    print("nodes of two ranks:", sh, m["halo"], m["exchange_bytes_per_iteration"])
-    assert sh["ranks_per_node"] == 2 and not sh["trace_shared"] and sh["node_map_bytes"] == 0, sh
-    assert sh["stolen_items_per_rank"][1] > 0, sh
-    assert m["halo"] == "traced" and m["exchange_bytes_per_iteration"] > 0, m
-    assert sum(nd["work"]["moved_hits"]["per_rank"]) > 0, nd["work"]["moved_hits"]
+    exchanged = {}
+    for layout in ("on", "off"):
+        nd = json.load(open("nodes_%s.json" % layout))["scene"]
+        sh, m = nd["node_shared_work"], nd["map"]
+        print("nodes of two ranks, --node-map", layout, sh, m["halo"], m["exchange_bytes_per_iteration"])
+        assert sh["ranks_per_node"] == 2 and not sh["trace_shared"], sh
+        assert (min(sh["node_map_bytes_per_rank"]) > 0) == (layout == "on") == m["node_map"], sh
+        assert sh["stolen_items_per_rank"][1] > 0, sh
+        assert m["halo"] == "traced" and m["exchange_bytes_per_iteration"] > 0, m
+        assert sum(nd["work"]["moved_hits"]["per_rank"]) > 0, nd["work"]["moved_hits"]
+        exchanged[layout] = m["exchange_bytes_per_iteration"]
+    assert exchanged["on"] < exchanged["off"], exchanged
 # The skewed recut: rank r measured as 1 + r times its counted cost, so the cut gives the later
 # ranks less counted cost than the earlier ones and moves colours.
 if r > 1:

@@ -26,6 +26,13 @@ std::vector<int> owners() {
   return owner;
 }
 
+// The vertices `rank` owns: what its map holds (make_halo_layout's `own`).
+std::vector<char> owned_by(const std::vector<int>& owner, int rank) {
+  std::vector<char> own(owner.size());
+  for (std::size_t v = 0; v < owner.size(); ++v) own[v] = owner[v] == rank;
+  return own;
+}
+
 TEST(BakeMapLayout, HaloHoldsTheColoursReadInReceiveOrder) {
   const int n = 70, rank = 0;  // two mask words per sparse vertex
   const BakeSceneHost s = scene_of(n);
@@ -38,7 +45,7 @@ TEST(BakeMapLayout, HaloHoldsTheColoursReadInReceiveOrder) {
   for (int v = 0; v < 40; ++v)
     for (std::int64_t j = 0; j < dense.offset[v + 1] - dense.offset[v]; ++j)
       read[dense.offset[v] + j] = (v * 7 + j * 3) % 5 == 0;
-  const MapLayout l = make_halo_layout(s, dense, read.data(), owner, rank);
+  const MapLayout l = make_halo_layout(s, dense, read.data(), owner, owned_by(owner, rank));
 
   // The map: rank 0's vertices, dense, in vertex order.
   std::int64_t own = 0;
@@ -93,7 +100,8 @@ TEST(BakeMapLayout, WithoutReadFlagsTheHaloKeepsEveryColour) {
   const std::vector<int> owner = owners();
   std::vector<char> remote(40, 0);
   for (int v = 0; v < 40; ++v) remote[v] = owner[v] != 2;
-  const MapLayout l = make_halo_layout(s, make_map_layout(s, remote), nullptr, owner, 2);
+  const MapLayout l =
+      make_halo_layout(s, make_map_layout(s, remote), nullptr, owner, owned_by(owner, 2));
   std::int64_t expected = 0;
   for (int v = 0; v < 40; ++v) expected += owner[v] != 2 ? s.color_count(v) : 0;
   EXPECT_EQ(l.halo_colors, expected);
