@@ -403,7 +403,8 @@ MapExchange::MapExchange(const Communicator& comm, const BakeSceneHost& scene,
 std::int64_t MapExchange::run(const Communicator& comm, Kokkos::View<Vec3f*, MemSpace> map,
                               Kokkos::View<Vec3f*, MemSpace> other) {
   if (comm.size() == 1) return 0;
-  const Kokkos::View<Vec3f*, MemSpace> scratch = map_shared_ ? Kokkos::View<Vec3f*, MemSpace>() : other;
+  const Kokkos::View<Vec3f*, MemSpace> scratch =
+      map_shared_ ? Kokkos::View<Vec3f*, MemSpace>() : other;
   const std::int64_t bytes = sent_ && changed_only_ ? run_changed(comm, map, other, scratch)
                                                      : run_full(comm, map, scratch);
   sent_ = true;

@@ -249,7 +249,7 @@ NodeShare::NodeShare(const Communicator& comm, const SegmentSizes& room, const N
   r.hits_elsewhere = hits ? 1 : 0;
   r.map_elsewhere = map ? 1 : 0;
   if (map && map->colors() != r.map_colors)
-    throw std::logic_error("bake: node sharing: the node's map is not the whole map");
+    throw std::logic_error("bake: node sharing: the node's map does not fit the map's layout");
   room_bytes_ = carve(nullptr, r, nullptr);
   mine_ = open_node_window(comm, room_bytes_, "the maps", node_, win_);
   MPI_Comm_rank(node_, &node_rank_);
@@ -390,6 +390,7 @@ NodeMap::NodeMap(const Communicator& comm, std::int64_t colors) : colors_(colors
 NodeMap::~NodeMap() { close_node_window(win_); }
 
 std::vector<int> node_member_ranks(const Communicator& comm) {
+  comm.barrier();  // every rank is alive: the blocking calls below cannot wait on a failed one
   MPI_Comm node = comm.split_node();
   int size = 1;
   MPI_Comm_size(node, &size);
