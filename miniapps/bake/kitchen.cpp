@@ -1144,11 +1144,11 @@ bool BakeRun::node_holds_all() const {
 }
 
 // The vertices this rank's map holds: its own, or with the node's one map every vertex its
-// node's ranks own (collective then).
+// node's ranks own.
 std::vector<char> BakeRun::map_vertices() const {
   if (!uses_node_map()) return owned_vertices();
   std::vector<char> on_node(static_cast<std::size_t>(comm_.size()), 0);
-  for (const int r : node_member_ranks(comm_)) on_node[static_cast<std::size_t>(r)] = 1;
+  for (const int r : comm_.node_ranks()) on_node[static_cast<std::size_t>(r)] = 1;
   std::vector<char> own(static_cast<std::size_t>(host_.vertices()));
   for (std::size_t v = 0; v < own.size(); ++v) own[v] = on_node[static_cast<std::size_t>(owner_[v])];
   return own;

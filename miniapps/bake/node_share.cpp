@@ -389,19 +389,6 @@ NodeMap::NodeMap(const Communicator& comm, std::int64_t colors) : colors_(colors
 
 NodeMap::~NodeMap() { close_node_window(win_); }
 
-std::vector<int> node_member_ranks(const Communicator& comm) {
-  comm.barrier();  // every rank is alive: the blocking calls below cannot wait on a failed one
-  MPI_Comm node = comm.split_node();
-  int size = 1;
-  MPI_Comm_size(node, &size);
-  std::vector<int> ranks(static_cast<std::size_t>(size));
-  int me = comm.rank();
-  MPI_Allgather(&me, 1, MPI_INT, ranks.data(), 1, MPI_INT, node);
-  MPI_Comm_free(&node);
-  std::sort(ranks.begin(), ranks.end());
-  return ranks;
-}
-
 void NodeMap::barrier(const Communicator& comm) const { node_window_barrier(comm, node_, win_); }
 
 void NodeHits::barrier(const Communicator& comm) const { node_window_barrier(comm, node_, win_); }
@@ -429,7 +416,6 @@ NodeMap::NodeMap(const Communicator&, std::int64_t) {
 }
 NodeMap::~NodeMap() = default;
 void NodeMap::barrier(const Communicator&) const {}
-std::vector<int> node_member_ranks(const Communicator& comm) { return {comm.rank()}; }
 
 #endif
 

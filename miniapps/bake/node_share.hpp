@@ -96,9 +96,6 @@ class NodeScene {
 #endif
 };
 
-// Collective over `comm`: the ranks (of `comm`) on this rank's node, ascending.
-std::vector<int> node_member_ranks(const Communicator& comm);
-
 // The guided self-scheduling of both windows: claims the next pieces [first, end) of `pieces`
 // through `counter` (a share of what is left: 1 / (2 x the node's ranks), at least one piece),
 // so that a rank of several threads runs few, long dispatches (each piece ends in a tail where

@@ -66,6 +66,8 @@ class Communicator {
     MPI_Comm node = split_node();
     MPI_Comm_size(node, &node_size_);
     MPI_Comm_rank(node, &node_rank_);
+    node_ranks_.resize(static_cast<std::size_t>(node_size_));
+    MPI_Allgather(&rank_, 1, MPI_INT, node_ranks_.data(), 1, MPI_INT, node);
     MPI_Comm_free(&node);
   }
   MPI_Comm native() const { return comm_; }
@@ -170,6 +172,8 @@ class Communicator {
   // Ranks on this rank's node (shared memory), and this rank's number among them.
   int node_size() const { return node_size_; }
   int node_rank() const { return node_rank_; }
+  // The ranks on this rank's node, ascending (split_node keeps this communicator's order).
+  const std::vector<int>& node_ranks() const { return node_ranks_; }
 
   void barrier() const {
 #ifdef RTMINI_HAVE_MPI
@@ -422,6 +426,7 @@ class Communicator {
   int size_ = 1;
   int node_size_ = 1;
   int node_rank_ = 0;
+  std::vector<int> node_ranks_{0};
   mutable std::int64_t bytes_ = 0;
   mutable std::int64_t messages_ = 0;
 };
